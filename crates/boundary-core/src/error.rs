@@ -1,0 +1,38 @@
+use thiserror::Error;
+
+/// Errors raised while building core values from user input.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum CoreError {
+    /// A coordinate is NaN or infinite.
+    #[error("particle {index}: coordinate {axis} is not finite ({value})")]
+    NonFiniteCoordinate {
+        /// Index of the particle in input order.
+        index: usize,
+        /// Axis (0 = x, 1 = y, 2 = z).
+        axis: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// The resolution is not a positive finite number.
+    #[error("radius must be positive and finite, got {0}")]
+    InvalidRadius(f64),
+    /// The neighbour grid cannot index this scene at this cell size.
+    #[error("neighbour grid: extent {extent:e} is too large for cell size {cell:e}")]
+    GridTooFine {
+        /// Largest extent of the bounding box.
+        extent: f64,
+        /// Requested cell size.
+        cell: f64,
+    },
+    /// Two label vectors that should describe the same particles differ in length.
+    #[error("label vectors differ in length: {predicted} predicted, {truth} reference")]
+    LengthMismatch {
+        /// Length of the predicted labels.
+        predicted: usize,
+        /// Length of the reference labels.
+        truth: usize,
+    },
+    /// The index space of the particle set is exhausted (more than `u32::MAX` particles).
+    #[error("too many particles: {0} (at most {max})", max = u32::MAX)]
+    TooManyParticles(usize),
+}

@@ -1,0 +1,408 @@
+//! Uniform grid for fixed-radius neighbour queries.
+//!
+//! Particles are bucketed into cubic cells of side `cell` (usually `2r`, the widest query any
+//! method makes) and stored cell by cell in one compact array (a counting sort: CSR layout),
+//! together with a copy of their positions so that a query streams through contiguous memory.
+//!
+//! Two layouts, chosen at construction:
+//! - **dense**: an offset table over the full bounding box, used while it has at most
+//!   `max(4n, 4096)` cells, so memory stays `O(n)`;
+//! - **hashed**: only occupied cells, in a hash map from cell coordinates to their range, for
+//!   sparse scenes whose bounding box is huge relative to the cell (a particle at `1e6` and
+//!   one at `0` with `r = 0.01`).
+//!
+//! Queries are exact and closed: a particle at squared distance `d2 <= radius²` (computed in
+//! `f64` from the coordinates) is reported, whatever the cell size. The range of cells visited
+//! is widened by a relative `1e-9` of the radius (plus rounding of the query coordinate), so
+//! that no rounding in the cell computation can drop a particle at exactly `radius`.
+
+use crate::{CoreError, ParticleSet, Point};
+use rayon::prelude::*;
+use rustc_hash::FxHashMap;
+
+/// Largest `extent / cell` ratio accepted: cell coordinates stay exactly representable and
+/// monotone in `f64` and `i64`.
+const MAX_CELLS_PER_AXIS: f64 = (1u64 << 52) as f64;
+
+/// A uniform-grid neighbour index over a [`ParticleSet`]; see the module documentation.
+#[derive(Debug, Clone)]
+pub struct NeighbourGrid<const D: usize> {
+    cell: f64,
+    origin: Point<D>,
+    /// Particle indices (input order) sorted by cell.
+    order: Vec<u32>,
+    /// Positions in the same order as `order`.
+    sorted: Vec<Point<D>>,
+    layout: Layout<D>,
+}
+
+#[derive(Debug, Clone)]
+enum Layout<const D: usize> {
+    /// `starts[c]..starts[c + 1]` is the range of cell `c` (x fastest).
+    Dense { dims: [i64; D], starts: Vec<u32> },
+    /// Occupied cells only.
+    Hashed {
+        ranges: FxHashMap<[i64; D], (u32, u32)>,
+    },
+}
+
+impl<const D: usize> NeighbourGrid<D> {
+    /// Builds the grid with cells of side `cell` (finite, positive).
+    ///
+    /// Fails with [`CoreError::GridTooFine`] when the bounding box spans more than `2^52`
+    /// cells along an axis (e.g. coordinates `1e9` apart with `cell = 1e-9`).
+    pub fn new(set: &ParticleSet<D>, cell: f64) -> Result<Self, CoreError> {
+        if !(cell.is_finite() && cell > 0.0) {
+            return Err(CoreError::InvalidRadius(cell));
+        }
+        let Some((lo, hi)) = set.bounding_box() else {
+            return Ok(NeighbourGrid {
+                cell,
+                origin: Point::<D>::zeros(),
+                order: Vec::new(),
+                sorted: Vec::new(),
+                layout: Layout::Dense {
+                    dims: [1; D],
+                    starts: vec![0, 0],
+                },
+            });
+        };
+        let mut dims = [1i64; D];
+        for k in 0..D {
+            let extent = hi[k] - lo[k];
+            let cells = (extent / cell).floor() + 1.0;
+            if cells.is_nan() || cells > MAX_CELLS_PER_AXIS {
+                return Err(CoreError::GridTooFine { extent, cell });
+            }
+            dims[k] = cells as i64;
+        }
+        let n = set.len();
+        let positions = set.positions();
+        let budget = (4 * n).max(4096) as f64;
+        let total: f64 = dims.iter().map(|&d| d as f64).product();
+        let grid = NeighbourGrid {
+            cell,
+            origin: lo,
+            order: Vec::new(),
+            sorted: Vec::new(),
+            layout: Layout::Hashed {
+                ranges: FxHashMap::default(),
+            },
+        };
+        Ok(if total <= budget {
+            grid.fill_dense(positions, dims)
+        } else {
+            grid.fill_hashed(positions)
+        })
+    }
+
+    fn fill_dense(mut self, positions: &[Point<D>], dims: [i64; D]) -> Self {
+        let ncells = dims.iter().product::<i64>() as usize;
+        let linear: Vec<u32> = positions
+            .par_iter()
+            .map(|p| {
+                let c = self.cell_of(p);
+                let mut idx = 0i64;
+                for k in (0..D).rev() {
+                    idx = idx * dims[k] + c[k].clamp(0, dims[k] - 1);
+                }
+                idx as u32
+            })
+            .collect();
+        let mut starts = vec![0u32; ncells + 1];
+        for &c in &linear {
+            starts[c as usize + 1] += 1;
+        }
+        for c in 0..ncells {
+            starts[c + 1] += starts[c];
+        }
+        let mut next = starts.clone();
+        let mut order = vec![0u32; positions.len()];
+        for (i, &c) in linear.iter().enumerate() {
+            let slot = &mut next[c as usize];
+            order[*slot as usize] = i as u32;
+            *slot += 1;
+        }
+        self.sorted = order.iter().map(|&i| positions[i as usize]).collect();
+        self.order = order;
+        self.layout = Layout::Dense { dims, starts };
+        self
+    }
+
+    fn fill_hashed(mut self, positions: &[Point<D>]) -> Self {
+        let mut keyed: Vec<([i64; D], u32)> = positions
+            .par_iter()
+            .enumerate()
+            .map(|(i, p)| (self.cell_of(p), i as u32))
+            .collect();
+        keyed.par_sort_unstable();
+        let mut ranges = FxHashMap::default();
+        let mut start = 0usize;
+        while start < keyed.len() {
+            let key = keyed[start].0;
+            let mut end = start + 1;
+            while end < keyed.len() && keyed[end].0 == key {
+                end += 1;
+            }
+            ranges.insert(key, (start as u32, end as u32));
+            start = end;
+        }
+        self.order = keyed.iter().map(|&(_, i)| i).collect();
+        self.sorted = self.order.iter().map(|&i| positions[i as usize]).collect();
+        self.layout = Layout::Hashed { ranges };
+        self
+    }
+
+    /// The cell side.
+    pub fn cell_size(&self) -> f64 {
+        self.cell
+    }
+
+    /// Whether the sparse (hashed) layout was chosen.
+    pub fn is_hashed(&self) -> bool {
+        matches!(self.layout, Layout::Hashed { .. })
+    }
+
+    fn axis_cell(&self, x: f64, k: usize) -> i64 {
+        // Monotone in x: subtraction, division and floor are monotone in IEEE arithmetic,
+        // and the saturating cast keeps far query points ordered.
+        ((x - self.origin[k]) / self.cell).floor() as i64
+    }
+
+    fn cell_of(&self, p: &Point<D>) -> [i64; D] {
+        std::array::from_fn(|k| self.axis_cell(p[k], k))
+    }
+
+    /// Calls `f(j, d2)` for every particle `j` (input index) with squared distance
+    /// `d2 <= radius²` from `q`. `q` need not be a particle; if it is particle `i`, `i` itself
+    /// is reported with `d2 = 0`, as are its exact duplicates. The order of the calls is
+    /// unspecified but deterministic.
+    pub fn for_each_within<F: FnMut(usize, f64)>(&self, q: &Point<D>, radius: f64, mut f: F) {
+        if self.order.is_empty() || radius.is_nan() || radius < 0.0 {
+            return;
+        }
+        let r2 = radius * radius;
+        let mut lo = [0i64; D];
+        let mut hi = [0i64; D];
+        for k in 0..D {
+            let pad = radius * (1.0 + 1e-9) + q[k].abs() * 4.0 * f64::EPSILON;
+            lo[k] = self.axis_cell(q[k] - pad, k);
+            hi[k] = self.axis_cell(q[k] + pad, k);
+        }
+        let mut visit = |range: std::ops::Range<usize>| {
+            for s in range {
+                let d2 = (self.sorted[s] - q).norm_squared();
+                if d2 <= r2 {
+                    f(self.order[s] as usize, d2);
+                }
+            }
+        };
+        match &self.layout {
+            Layout::Dense { dims, starts } => {
+                for k in 0..D {
+                    lo[k] = lo[k].max(0);
+                    hi[k] = hi[k].min(dims[k] - 1);
+                    if lo[k] > hi[k] {
+                        return;
+                    }
+                }
+                // Cells along x are contiguous: one slice per (y, z) row.
+                let mut c = lo;
+                loop {
+                    let mut row = 0i64;
+                    for k in (1..D).rev() {
+                        row = row * dims[k] + c[k];
+                    }
+                    let first = (row * dims[0] + lo[0]) as usize;
+                    let last = (row * dims[0] + hi[0]) as usize;
+                    visit(starts[first] as usize..starts[last + 1] as usize);
+                    if !advance(&mut c, &lo, &hi, 1) {
+                        break;
+                    }
+                }
+            }
+            Layout::Hashed { ranges } => {
+                let visited: f64 = (0..D).map(|k| (hi[k] - lo[k] + 1) as f64).product();
+                if visited > 2.0 * ranges.len() as f64 {
+                    // A query box wider than the occupied cells: scan the occupied cells.
+                    for (key, &(a, b)) in ranges {
+                        if (0..D).all(|k| lo[k] <= key[k] && key[k] <= hi[k]) {
+                            visit(a as usize..b as usize);
+                        }
+                    }
+                    return;
+                }
+                let mut c = lo;
+                loop {
+                    if let Some(&(a, b)) = ranges.get(&c) {
+                        visit(a as usize..b as usize);
+                    }
+                    if !advance(&mut c, &lo, &hi, 0) {
+                        break;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Collects `(j, d2)` for the particles within `radius` of `q` into `out` (cleared first),
+    /// sorted by increasing distance, ties by index.
+    pub fn within_sorted(&self, q: &Point<D>, radius: f64, out: &mut Vec<(usize, f64)>) {
+        out.clear();
+        self.for_each_within(q, radius, |j, d2| out.push((j, d2)));
+        out.sort_unstable_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    }
+}
+
+/// Odometer over the box `lo..=hi`, axes `from..D` (lower axes fixed). Returns false when done.
+fn advance<const D: usize>(c: &mut [i64; D], lo: &[i64; D], hi: &[i64; D], from: usize) -> bool {
+    for k in from..D {
+        if c[k] < hi[k] {
+            c[k] += 1;
+            return true;
+        }
+        c[k] = lo[k];
+    }
+    false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    fn brute<const D: usize>(set: &ParticleSet<D>, q: &Point<D>, radius: f64) -> Vec<usize> {
+        let r2 = radius * radius;
+        let mut v: Vec<usize> = (0..set.len())
+            .filter(|&j| (set.positions()[j] - q).norm_squared() <= r2)
+            .collect();
+        v.sort_unstable();
+        v
+    }
+
+    fn grid_query<const D: usize>(g: &NeighbourGrid<D>, q: &Point<D>, radius: f64) -> Vec<usize> {
+        let mut v = Vec::new();
+        g.for_each_within(q, radius, |j, _| v.push(j));
+        v.sort_unstable();
+        v
+    }
+
+    fn random_set<const D: usize>(seed: u64, n: usize, scale: f64, offset: f64) -> ParticleSet<D> {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+        ParticleSet::new(
+            (0..n)
+                .map(|_| Point::<D>::from_fn(|_, _| offset + scale * rng.gen::<f64>()))
+                .collect(),
+        )
+        .unwrap()
+    }
+
+    fn check_against_brute<const D: usize>(set: &ParticleSet<D>, cell: f64, radii: &[f64]) {
+        let g = NeighbourGrid::new(set, cell).unwrap();
+        for q in set.positions() {
+            for &radius in radii {
+                assert_eq!(grid_query(&g, q, radius), brute(set, q, radius));
+            }
+        }
+    }
+
+    #[test]
+    fn matches_brute_force_2d_and_3d() {
+        let s2 = random_set::<2>(1, 400, 1.0, 0.0);
+        check_against_brute(&s2, 0.1, &[0.0, 0.05, 0.1, 0.23]);
+        let s3 = random_set::<3>(2, 400, 1.0, 0.0);
+        check_against_brute(&s3, 0.2, &[0.1, 0.2, 0.5]);
+    }
+
+    #[test]
+    fn far_offset_coordinates() {
+        let s = random_set::<3>(3, 300, 0.2, 1e6);
+        check_against_brute(&s, 0.04, &[0.02, 0.04]);
+    }
+
+    #[test]
+    fn radius_from_tiny_to_huge() {
+        for (k, scale) in [1e-9, 1e-3, 1.0, 1e3, 1e9].into_iter().enumerate() {
+            let s = random_set::<3>(10 + k as u64, 200, 10.0 * scale, -5.0 * scale);
+            check_against_brute(&s, 2.0 * scale, &[scale, 2.0 * scale]);
+            let s = random_set::<2>(20 + k as u64, 200, 10.0 * scale, 3.0 * scale);
+            check_against_brute(&s, 2.0 * scale, &[2.0 * scale]);
+        }
+    }
+
+    #[test]
+    fn sparse_scene_uses_hashing_and_stays_correct() {
+        let mut rows = vec![[0.0, 0.0, 0.0], [1e6, 1e6, 1e6], [0.005, 0.0, 0.0]];
+        rows.push([1e6 + 0.01, 1e6, 1e6]);
+        let s = ParticleSet::<3>::from_rows(&rows).unwrap();
+        let g = NeighbourGrid::new(&s, 0.02).unwrap();
+        assert!(g.is_hashed());
+        check_against_brute(&s, 0.02, &[0.01, 0.02, 3e6]);
+    }
+
+    #[test]
+    fn exactly_at_radius_is_included() {
+        // Distances that are exact in binary: 2r with r = 0.5 and r = 0.375.
+        let s = ParticleSet::<2>::from_rows(&[[0.0, 0.0], [1.0, 0.0], [0.0, 0.75], [3.0, 4.0]])
+            .unwrap();
+        let g = NeighbourGrid::new(&s, 1.0).unwrap();
+        assert_eq!(grid_query(&g, &s.positions()[0], 1.0), vec![0, 1, 2]);
+        assert_eq!(grid_query(&g, &s.positions()[0], 0.75), vec![0, 2]);
+        assert_eq!(grid_query(&g, &s.positions()[0], 5.0), vec![0, 1, 2, 3]);
+    }
+
+    #[test]
+    fn duplicates_and_query_points_off_the_set() {
+        let s = ParticleSet::<2>::from_rows(&[[0.5, 0.5], [0.5, 0.5], [0.9, 0.5]]).unwrap();
+        let g = NeighbourGrid::new(&s, 0.5).unwrap();
+        assert_eq!(grid_query(&g, &s.positions()[0], 0.1), vec![0, 1]);
+        assert_eq!(
+            grid_query(&g, &Point::<2>::new(-10.0, 0.5), 1.0),
+            Vec::<usize>::new()
+        );
+        assert_eq!(grid_query(&g, &Point::<2>::new(1.3, 0.5), 0.4), vec![2]);
+    }
+
+    #[test]
+    fn sorted_query_orders_by_distance() {
+        let s =
+            ParticleSet::<2>::from_rows(&[[0.0, 0.0], [0.3, 0.0], [0.1, 0.0], [0.2, 0.0]]).unwrap();
+        let g = NeighbourGrid::new(&s, 0.5).unwrap();
+        let mut out = Vec::new();
+        g.within_sorted(&s.positions()[0], 0.5, &mut out);
+        assert_eq!(
+            out.iter().map(|p| p.0).collect::<Vec<_>>(),
+            vec![0, 2, 3, 1]
+        );
+    }
+
+    #[test]
+    fn empty_set_and_invalid_cell() {
+        let s = ParticleSet::<3>::new(Vec::new()).unwrap();
+        let g = NeighbourGrid::new(&s, 1.0).unwrap();
+        assert!(grid_query(&g, &Point::<3>::zeros(), 1.0).is_empty());
+        assert!(NeighbourGrid::new(&s, 0.0).is_err());
+        assert!(NeighbourGrid::new(&s, f64::NAN).is_err());
+    }
+
+    #[test]
+    fn too_fine_a_grid_is_an_error_not_a_panic() {
+        let s = ParticleSet::<2>::from_rows(&[[0.0, 0.0], [1e9, 0.0]]).unwrap();
+        assert!(matches!(
+            NeighbourGrid::new(&s, 1e-9),
+            Err(CoreError::GridTooFine { .. })
+        ));
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn random_queries_match_brute_force(
+            seed in 0u64..1000, n in 0usize..60, cell in 0.01f64..2.0, radius in 0.0f64..3.0,
+        ) {
+            let s = random_set::<3>(seed, n, 1.0, -0.5);
+            let g = NeighbourGrid::new(&s, cell).unwrap();
+            let q = Point::<3>::new(0.1, -0.2, 0.3);
+            proptest::prop_assert_eq!(grid_query(&g, &q, radius), brute(&s, &q, radius));
+        }
+    }
+}

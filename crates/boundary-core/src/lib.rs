@@ -1,0 +1,46 @@
+//! Core types for boundary-particle detection.
+//!
+//! A particle `i` at `p_i` with resolution `r` is **interior** iff its sphere `S_i` (radius `r`)
+//! is covered by the closed balls of radius `r` of the other particles within `2r`; otherwise it
+//! is **boundary** (Sandim et al., J. Comput. Phys. 2020, Sec. 2). Coincident duplicates do not
+//! cover each other.
+//!
+//! This crate holds what every method shares and nothing method-specific:
+//!
+//! - [`ParticleSet`]: validated positions (finite `f64`), generic over the dimension `D` (2 or 3),
+//!   and [`AnyParticleSet`] for code that learns the dimension at run time (file readers, the CLI).
+//! - [`Radius`]: a positive, finite resolution `r`.
+//! - [`NeighbourGrid`]: a uniform grid for fixed-radius neighbour queries.
+//! - [`BoundaryDetector`]: the trait every method implements, returning a [`Detection`].
+//! - [`Confusion`]: accuracy metrics (Rec, FPR, M = Rec·(1−FPR), precision, F1).
+//!
+//! Architecture invariant: this crate knows no file format, prints nothing and touches no file.
+//!
+//! ```
+//! use boundary_core::{NeighbourGrid, ParticleSet, Radius};
+//!
+//! let set = ParticleSet::<2>::from_rows(&[[0.0, 0.0], [1.0, 0.0], [5.0, 5.0]]).unwrap();
+//! let r = Radius::new(0.6).unwrap();
+//! let grid = NeighbourGrid::new(&set, 2.0 * r.get()).unwrap();
+//! let mut near = Vec::new();
+//! grid.for_each_within(&set.positions()[0], 2.0 * r.get(), |j, _d2| near.push(j));
+//! near.sort();
+//! assert_eq!(near, vec![0, 1]);
+//! ```
+
+mod detector;
+mod error;
+mod grid;
+mod metrics;
+mod particles;
+
+pub use detector::{
+    BoundaryDetector, DetectError, Detection, Labels, ParamError, ParamInfo, Params,
+};
+pub use error::CoreError;
+pub use grid::NeighbourGrid;
+pub use metrics::Confusion;
+pub use particles::{AnyParticleSet, ParticleSet, Point, Radius};
+
+/// Re-export of the linear-algebra crate used in public signatures.
+pub use nalgebra;

@@ -1,0 +1,203 @@
+use crate::CoreError;
+use nalgebra::SVector;
+
+/// A position in `D` dimensions.
+pub type Point<const D: usize> = SVector<f64, D>;
+
+/// The resolution `r` of a particle set: positive and finite by construction.
+#[derive(Debug, Clone, Copy, PartialEq, PartialOrd)]
+pub struct Radius(f64);
+
+impl Radius {
+    /// Validates `r`: it must be finite and strictly positive.
+    pub fn new(r: f64) -> Result<Self, CoreError> {
+        if r.is_finite() && r > 0.0 {
+            Ok(Radius(r))
+        } else {
+            Err(CoreError::InvalidRadius(r))
+        }
+    }
+
+    /// The value of `r`.
+    pub fn get(self) -> f64 {
+        self.0
+    }
+}
+
+impl std::fmt::Display for Radius {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.0)
+    }
+}
+
+/// Particle positions in `D` dimensions (`D` = 2 or 3), every coordinate finite.
+///
+/// The empty set is valid. Duplicated positions are allowed (they are part of the problem:
+/// coincident duplicates do not cover each other). At most `u32::MAX` particles, so that
+/// indices fit the compact neighbour structures.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParticleSet<const D: usize> {
+    positions: Vec<Point<D>>,
+}
+
+impl<const D: usize> ParticleSet<D> {
+    /// Validates the positions: every coordinate must be finite. The error names the first
+    /// offending particle by its index in input order.
+    pub fn new(positions: Vec<Point<D>>) -> Result<Self, CoreError> {
+        const { assert!(D == 2 || D == 3, "particle sets are 2D or 3D") };
+        if positions.len() > u32::MAX as usize {
+            return Err(CoreError::TooManyParticles(positions.len()));
+        }
+        for (index, p) in positions.iter().enumerate() {
+            for axis in 0..D {
+                let value = p[axis];
+                if !value.is_finite() {
+                    return Err(CoreError::NonFiniteCoordinate { index, axis, value });
+                }
+            }
+        }
+        Ok(ParticleSet { positions })
+    }
+
+    /// Builds a set from coordinate rows, validated as in [`ParticleSet::new`].
+    pub fn from_rows(rows: &[[f64; D]]) -> Result<Self, CoreError> {
+        Self::new(rows.iter().map(|row| Point::<D>::from(*row)).collect())
+    }
+
+    /// The positions, in input order.
+    pub fn positions(&self) -> &[Point<D>] {
+        &self.positions
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Whether the set holds no particle.
+    pub fn is_empty(&self) -> bool {
+        self.positions.is_empty()
+    }
+
+    /// The axis-aligned bounding box `(min, max)`, or `None` for an empty set.
+    pub fn bounding_box(&self) -> Option<(Point<D>, Point<D>)> {
+        let first = *self.positions.first()?;
+        Some(
+            self.positions
+                .iter()
+                .fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p))),
+        )
+    }
+
+    /// Consumes the set, returning the positions.
+    pub fn into_positions(self) -> Vec<Point<D>> {
+        self.positions
+    }
+}
+
+/// A particle set whose dimension is known only at run time (files, the CLI).
+#[derive(Debug, Clone, PartialEq)]
+pub enum AnyParticleSet {
+    /// A 2D set.
+    D2(ParticleSet<2>),
+    /// A 3D set.
+    D3(ParticleSet<3>),
+}
+
+impl AnyParticleSet {
+    /// The spatial dimension, 2 or 3.
+    pub fn dim(&self) -> usize {
+        match self {
+            AnyParticleSet::D2(_) => 2,
+            AnyParticleSet::D3(_) => 3,
+        }
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        match self {
+            AnyParticleSet::D2(s) => s.len(),
+            AnyParticleSet::D3(s) => s.len(),
+        }
+    }
+
+    /// Whether the set holds no particle.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Coordinates of particle `i` as a slice of length `dim()`.
+    pub fn coords(&self, i: usize) -> &[f64] {
+        match self {
+            AnyParticleSet::D2(s) => s.positions()[i].as_slice(),
+            AnyParticleSet::D3(s) => s.positions()[i].as_slice(),
+        }
+    }
+}
+
+impl From<ParticleSet<2>> for AnyParticleSet {
+    fn from(s: ParticleSet<2>) -> Self {
+        AnyParticleSet::D2(s)
+    }
+}
+
+impl From<ParticleSet<3>> for AnyParticleSet {
+    fn from(s: ParticleSet<3>) -> Self {
+        AnyParticleSet::D3(s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn radius_rejects_non_positive_and_non_finite() {
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -0.0] {
+            assert_eq!(
+                Radius::new(bad).map_err(|e| matches!(e, CoreError::InvalidRadius(_))),
+                Err(true),
+                "{bad}"
+            );
+        }
+        assert_eq!(Radius::new(1e-300).map(Radius::get), Ok(1e-300));
+    }
+
+    #[test]
+    fn non_finite_coordinate_names_particle_and_axis() {
+        let err = ParticleSet::<3>::from_rows(&[[0.0; 3], [1.0, 2.0, 3.0], [0.0, f64::NAN, 0.0]])
+            .unwrap_err();
+        assert!(matches!(
+            err,
+            CoreError::NonFiniteCoordinate {
+                index: 2,
+                axis: 1,
+                ..
+            }
+        ));
+        assert!(err.to_string().contains("particle 2"));
+        let err = ParticleSet::<2>::from_rows(&[[f64::NEG_INFINITY, 0.0]]).unwrap_err();
+        assert!(matches!(
+            err,
+            CoreError::NonFiniteCoordinate {
+                index: 0,
+                axis: 0,
+                ..
+            }
+        ));
+    }
+
+    #[test]
+    fn empty_set_is_valid_and_has_no_bounding_box() {
+        let s = ParticleSet::<2>::new(Vec::new()).unwrap();
+        assert!(s.is_empty());
+        assert_eq!(s.bounding_box(), None);
+    }
+
+    #[test]
+    fn bounding_box_spans_all_points() {
+        let s = ParticleSet::<2>::from_rows(&[[1.0, -2.0], [-3.0, 4.0], [0.5, 0.5]]).unwrap();
+        let (lo, hi) = s.bounding_box().unwrap();
+        assert_eq!((lo.x, lo.y, hi.x, hi.y), (-3.0, -2.0, 1.0, 4.0));
+    }
+}
