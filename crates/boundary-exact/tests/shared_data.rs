@@ -1,0 +1,35 @@
+//! The exact detector reproduces the independent boundary counts of `../shared/data/README.md`.
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+mod common;
+
+use boundary_core::{BoundaryDetector, Radius};
+use boundary_exact::{ExactDetector, TIE_TOLERANCE};
+
+#[test]
+fn reproduces_the_reference_boundary_counts() {
+    let mut report = Vec::new();
+    for &(file, dim, r, expected) in common::SHARED_SCENES {
+        let radius = Radius::new(r).unwrap();
+        let det = if dim == 2 {
+            ExactDetector.detect_2d(&common::read_csv::<2>(file), radius)
+        } else {
+            ExactDetector.detect_3d(&common::read_csv::<3>(file), radius)
+        }
+        .unwrap();
+        let margins = det.margin.as_ref().unwrap();
+        let near_ties = margins
+            .iter()
+            .filter(|m| m.abs() <= 1e3 * TIE_TOLERANCE * r)
+            .count();
+        report.push(format!(
+            "{file} r={r}: {} (expected {expected}), {near_ties} within 1e-6 r of a tie",
+            det.labels.boundary_count()
+        ));
+        if det.labels.boundary_count() != expected {
+            panic!("count mismatch:\n{}", report.join("\n"));
+        }
+    }
+    println!("{}", report.join("\n"));
+}
