@@ -89,6 +89,28 @@ impl<const D: usize> ParticleSet<D> {
         )
     }
 
+    /// A copy as an [`AnyParticleSet`], for code generic over `D` that calls a
+    /// [`crate::BoundaryDetector`] (whose methods are per dimension). Costs one copy of the
+    /// positions.
+    pub fn to_any(&self) -> AnyParticleSet {
+        let copy = |k: usize| self.positions.iter().map(move |p| p[k]);
+        match D {
+            2 => AnyParticleSet::D2(ParticleSet {
+                positions: copy(0)
+                    .zip(copy(1))
+                    .map(|(x, y)| Point::<2>::new(x, y))
+                    .collect(),
+            }),
+            _ => AnyParticleSet::D3(ParticleSet {
+                positions: self
+                    .positions
+                    .iter()
+                    .map(|p| Point::<3>::new(p[0], p[1], p[2]))
+                    .collect(),
+            }),
+        }
+    }
+
     /// Consumes the set, returning the positions.
     pub fn into_positions(self) -> Vec<Point<D>> {
         self.positions
@@ -192,6 +214,16 @@ mod tests {
         let s = ParticleSet::<2>::new(Vec::new()).unwrap();
         assert!(s.is_empty());
         assert_eq!(s.bounding_box(), None);
+    }
+
+    #[test]
+    fn to_any_keeps_dimension_and_coordinates() {
+        let s = ParticleSet::<2>::from_rows(&[[1.0, 2.0], [3.0, 4.0]]).unwrap();
+        let a = s.to_any();
+        assert_eq!((a.dim(), a.len()), (2, 2));
+        assert_eq!(a.coords(1), &[3.0, 4.0]);
+        let s3 = ParticleSet::<3>::from_rows(&[[1.0, 2.0, 3.0]]).unwrap();
+        assert_eq!(s3.to_any().coords(0), &[1.0, 2.0, 3.0]);
     }
 
     #[test]
