@@ -221,6 +221,39 @@ pub trait BoundaryDetector: Send + Sync + fmt::Debug {
     /// Classifies a 3D particle set at resolution `r`.
     fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError>;
 
+    /// How far from a particle the method looks: the labels of the particles owned by a
+    /// subdomain equal the global ones when the subdomain holds every particle within this
+    /// distance of an owned one (see [`crate::decompose`]). Default `2r`, the reach of the
+    /// definition itself; methods that look farther (kernel supports, visibility) override it.
+    fn halo_width(&self, r: Radius) -> f64 {
+        2.0 * r.get()
+    }
+
+    /// Classifies only the first `owned` particles of `set`; the others are ghosts (a halo)
+    /// that take part as neighbours. Returns `owned` labels (and margins). The default runs the
+    /// whole set and keeps the owned part; methods may override it to skip the ghosts' work.
+    fn detect_owned(
+        &self,
+        set: &AnyParticleSet,
+        owned: usize,
+        r: Radius,
+    ) -> Result<Detection, DetectError> {
+        if owned > set.len() {
+            return Err(DetectError::Method {
+                method: self.name(),
+                message: format!("{owned} owned particles in a set of {}", set.len()),
+            });
+        }
+        let mut d = self.detect(set, r)?;
+        let mut flags = d.labels.into_vec();
+        flags.truncate(owned);
+        d.labels = Labels::new(flags);
+        if let Some(m) = d.margin.as_mut() {
+            m.truncate(owned);
+        }
+        Ok(d)
+    }
+
     /// Classifies a set whose dimension is known at run time.
     fn detect(&self, set: &AnyParticleSet, r: Radius) -> Result<Detection, DetectError> {
         match set {

@@ -28,6 +28,7 @@
 //! assert_eq!(near, vec![0, 1]);
 //! ```
 
+pub mod decompose;
 mod detector;
 mod error;
 mod grid;

@@ -37,7 +37,7 @@ impl std::fmt::Display for Radius {
 /// indices fit the compact neighbour structures.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParticleSet<const D: usize> {
-    positions: Vec<Point<D>>,
+    pub(crate) positions: Vec<Point<D>>,
 }
 
 impl<const D: usize> ParticleSet<D> {

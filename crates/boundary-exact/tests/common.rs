@@ -1,7 +1,6 @@
 //! Test helpers: locate `../shared/data` and read its CSVs (a few lines; the IO crate is not a
 //! dependency of the method crates).
 #![allow(dead_code)]
-
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
 use boundary_core::{ParticleSet, Point};

@@ -1,0 +1,65 @@
+//! Subdomains with a 2r halo give the owned particles exactly the global labels.
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+mod common;
+
+use boundary_core::decompose::{morton_blocks, slabs, Subdomain};
+use boundary_core::{BoundaryDetector, ParticleSet, Radius};
+use boundary_exact::ExactDetector;
+
+fn check<const D: usize>(set: &ParticleSet<D>, r: f64) {
+    let radius = Radius::new(r).unwrap();
+    let global = ExactDetector.detect(&set.to_any(), radius).unwrap().labels;
+    let halo = ExactDetector.halo_width(radius);
+    let mut layouts: Vec<(String, Vec<Subdomain>)> = Vec::new();
+    for parts in [2, 3, 8] {
+        layouts.push((
+            format!("{parts} slabs"),
+            slabs(set, parts, 0, halo).unwrap(),
+        ));
+        layouts.push((
+            format!("{parts} Morton blocks"),
+            morton_blocks(set, parts, halo).unwrap(),
+        ));
+    }
+    for (name, subs) in layouts {
+        let mut merged = vec![None; set.len()];
+        for sub in &subs {
+            let local = sub.particles(set).to_any();
+            let d = ExactDetector
+                .detect_owned(&local, sub.owned.len(), radius)
+                .unwrap();
+            assert_eq!(d.labels.len(), sub.owned.len());
+            for (k, &i) in sub.owned.iter().enumerate() {
+                merged[i] = Some(d.labels.is_boundary(k));
+            }
+        }
+        let merged: Vec<bool> = merged.into_iter().map(|b| b.unwrap()).collect();
+        assert_eq!(merged, global.as_slice(), "{name}");
+    }
+}
+
+#[test]
+fn split_scenes_match_the_global_run() {
+    check(
+        &common::read_csv::<2>("particles2d/sandim_vortex_spin_frame_100_1698.csv"),
+        0.022105,
+    );
+    check(
+        &common::read_csv::<3>("particles3d/splashsurf_dam_break_frame_9_6859.csv"),
+        0.05,
+    );
+    check(
+        &common::read_csv::<3>("particles3d/dualsphysics_dambreak3d_dp0.02_fluid.csv"),
+        0.0346,
+    );
+}
+
+#[test]
+fn owned_count_larger_than_the_set_is_an_error() {
+    let set = ParticleSet::<2>::from_rows(&[[0.0, 0.0]]).unwrap().to_any();
+    assert!(ExactDetector
+        .detect_owned(&set, 2, Radius::new(1.0).unwrap())
+        .is_err());
+}
