@@ -1,1 +1,206 @@
-fn main() {}
+//! Project tasks, run as `cargo xtask <task>` (alias in `.cargo/config.toml`).
+//!
+//! - `cargo xtask test`: check the system prerequisites, then `cargo fmt --check`,
+//!   `cargo clippy --workspace --all-targets -D warnings` and `cargo test --workspace`; what CI
+//!   runs (`.ci/run`).
+//! - `cargo xtask sweep [ARGS…]`: check the prerequisites, then run the comparison sweep
+//!   (every detector on every scene) in release mode; ARGS go to the sweep (`--help` lists them).
+//! - `cargo xtask fixtures`: regenerate the scenes in `fixtures/`.
+//! - `cargo xtask prereqs`: only check (and where possible install) the prerequisites.
+//!
+//! xtask depends on the standard library only, so that it builds on a machine that lacks the
+//! prerequisites it installs.
+//!
+//! # Prerequisites
+//! The `qhull` crate (HPR detector) runs bindgen at build time, which needs libclang (Debian:
+//! `libclang-dev`). When it is missing, xtask installs it with `apt-get` if it runs as root
+//! with apt-get available (CI, containers), and otherwise stops with the exact command to run.
+
+use std::env;
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode};
+
+fn main() -> ExitCode {
+    let args: Vec<String> = env::args().skip(1).collect();
+    let (task, rest) = match args.split_first() {
+        Some((task, rest)) => (task.as_str(), rest),
+        None => ("help", &[][..]),
+    };
+    let result = match task {
+        "test" => prereqs().and_then(|()| test(rest)),
+        "sweep" => prereqs().and_then(|()| sweep(rest)),
+        "fixtures" => fixtures(rest),
+        "prereqs" => prereqs(),
+        "help" | "--help" | "-h" => {
+            println!("{}", usage());
+            Ok(())
+        }
+        other => Err(format!("unknown task '{other}'\n{}", usage())),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("xtask: error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn usage() -> &'static str {
+    "usage: cargo xtask <task>\n\
+     tasks:\n  \
+     test       prerequisites, rustfmt --check, clippy -D warnings, the whole test suite (CI)\n  \
+     sweep      prerequisites, then every detector on every scene: target/sweep/report.md\n  \
+     fixtures   regenerate the generated scenes in fixtures/\n  \
+     prereqs    check the system prerequisites (install them when root with apt-get)"
+}
+
+/// The workspace root (the parent of this crate's directory).
+fn root() -> PathBuf {
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
+    manifest.parent().unwrap_or(manifest).to_path_buf()
+}
+
+/// Runs `cargo ARGS` in the workspace root, echoing the command; an error if it fails.
+fn cargo(args: &[&str]) -> Result<(), String> {
+    let cargo = env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
+    eprintln!("xtask: cargo {}", args.join(" "));
+    let status = Command::new(&cargo)
+        .args(args)
+        .current_dir(root())
+        .status()
+        .map_err(|e| format!("cannot run {cargo}: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("`cargo {}` failed ({status})", args.join(" ")))
+    }
+}
+
+fn test(rest: &[String]) -> Result<(), String> {
+    cargo(&["fmt", "--all", "--", "--check"])?;
+    cargo(&[
+        "clippy",
+        "--workspace",
+        "--all-targets",
+        "--",
+        "-D",
+        "warnings",
+    ])?;
+    let mut args = vec!["test", "--workspace"];
+    args.extend(rest.iter().map(String::as_str));
+    cargo(&args)
+}
+
+fn sweep(rest: &[String]) -> Result<(), String> {
+    let mut args = vec!["run", "--release", "--quiet", "-p", "boundary-sweep", "--"];
+    args.extend(rest.iter().map(String::as_str));
+    cargo(&args)
+}
+
+fn fixtures(rest: &[String]) -> Result<(), String> {
+    let mut args = vec![
+        "run",
+        "--release",
+        "--quiet",
+        "-p",
+        "boundary-scenes",
+        "--bin",
+        "make-fixtures",
+        "--",
+    ];
+    args.extend(rest.iter().map(String::as_str));
+    cargo(&args)
+}
+
+/// Checks the system prerequisites and installs what is missing where that needs no question.
+fn prereqs() -> Result<(), String> {
+    if libclang_found() {
+        return Ok(());
+    }
+    let install = "apt-get install -y libclang-dev";
+    if is_root() && has_program("apt-get") {
+        eprintln!("xtask: libclang not found (needed by the qhull crate); installing libclang-dev");
+        run_system("apt-get", &["update", "-qq"])?;
+        run_system("apt-get", &["install", "-y", "-qq", "libclang-dev"])?;
+        if libclang_found() {
+            return Ok(());
+        }
+        return Err(
+            "libclang-dev installed but libclang still not found; set LIBCLANG_PATH \
+                    to the directory holding libclang.so"
+                .to_owned(),
+        );
+    }
+    Err(format!(
+        "libclang not found (the qhull crate needs it to build). Install it with:\n    \
+         sudo {install}\n(or set LIBCLANG_PATH to the directory holding libclang.so), then run \
+         the command again"
+    ))
+}
+
+/// Whether libclang is where bindgen (clang-sys) looks for it.
+fn libclang_found() -> bool {
+    let is_libclang = |name: &str| name.starts_with("libclang") && name.contains(".so");
+    let has_libclang = |dir: &Path| -> bool {
+        std::fs::read_dir(dir)
+            .map(|entries| {
+                entries
+                    .flatten()
+                    .any(|e| is_libclang(&e.file_name().to_string_lossy()))
+            })
+            .unwrap_or(false)
+    };
+    if let Ok(dir) = env::var("LIBCLANG_PATH") {
+        if has_libclang(Path::new(&dir)) {
+            return true;
+        }
+    }
+    let mut dirs: Vec<PathBuf> = [
+        "/usr/lib",
+        "/usr/lib64",
+        "/usr/local/lib",
+        "/usr/lib/x86_64-linux-gnu",
+        "/usr/lib/aarch64-linux-gnu",
+    ]
+    .iter()
+    .map(PathBuf::from)
+    .collect();
+    // Debian and Ubuntu keep it under /usr/lib/llvm-N/lib.
+    if let Ok(entries) = std::fs::read_dir("/usr/lib") {
+        for entry in entries.flatten() {
+            if entry.file_name().to_string_lossy().starts_with("llvm") {
+                dirs.push(entry.path().join("lib"));
+            }
+        }
+    }
+    dirs.iter().any(|d| has_libclang(d))
+}
+
+fn is_root() -> bool {
+    Command::new("id")
+        .arg("-u")
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+        .unwrap_or(false)
+}
+
+fn has_program(name: &str) -> bool {
+    env::var_os("PATH")
+        .map(|paths| env::split_paths(&paths).any(|dir| dir.join(name).is_file()))
+        .unwrap_or(false)
+}
+
+fn run_system(program: &str, args: &[&str]) -> Result<(), String> {
+    eprintln!("xtask: {program} {}", args.join(" "));
+    let status = Command::new(program)
+        .args(args)
+        .env("DEBIAN_FRONTEND", "noninteractive")
+        .status()
+        .map_err(|e| format!("cannot run {program}: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("`{program} {}` failed ({status})", args.join(" ")))
+    }
+}
