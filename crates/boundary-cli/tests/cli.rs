@@ -1,0 +1,221 @@
+//! The `boundary` binary end to end: the contract of the CLI (fields of `--json`, output
+//! columns, one-line errors with a non-zero status).
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn boundary(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_boundary"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8(o.stdout.clone()).unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8(o.stderr.clone()).unwrap()
+}
+
+fn shared(rel: &str) -> PathBuf {
+    let dir = std::env::var_os("BOUNDARY_DATA_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data"));
+    dir.join(rel)
+}
+
+const VORTEX: &str = "particles2d/sandim_vortex_spin_frame_001_1698.csv";
+const VORTEX_R: &str = "0.022105";
+
+/// A 7 x 7 x 7 cubic lattice of spacing 1 written as CSV: at r = 1.2 its 5 x 5 x 5 core is
+/// interior (each inner particle's sphere is covered by its 6 axis neighbours and the 12 at
+/// distance √2), so 343 − 125 = 218 are boundary.
+fn lattice_csv(dir: &Path) -> PathBuf {
+    let mut text = String::from("x,y,z\n");
+    for k in 0..343 {
+        text += &format!("{},{},{}\n", k % 7, (k / 7) % 7, k / 49);
+    }
+    let path = dir.join("lattice.csv");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn detect_json_has_the_contract_fields() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = lattice_csv(dir.path());
+    let out = boundary(&[
+        "detect",
+        input.to_str().unwrap(),
+        "--radius",
+        "1.2",
+        "--json",
+        "--threads",
+        "2",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: Value = serde_json::from_str(stdout(&out).trim()).unwrap();
+    assert_eq!(v["method"], "exact");
+    assert_eq!(v["n"], 343);
+    assert_eq!(v["dim"], 3);
+    assert_eq!(v["radius"], 1.2);
+    assert_eq!(v["boundary"], 343 - 125);
+    assert_eq!(v["threads"], 2);
+    assert!(v["seconds"].as_f64().unwrap() >= 0.0);
+}
+
+#[test]
+fn detect_writes_a_boundary_column_in_input_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = lattice_csv(dir.path());
+    let output = dir.path().join("labels.csv");
+    let out = boundary(&[
+        "detect",
+        input.to_str().unwrap(),
+        "-r",
+        "1.2",
+        "--method",
+        "dilts",
+        "--output",
+        output.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    // Human summary: one line on stderr, nothing on stdout.
+    assert_eq!(stderr(&out).lines().count(), 1, "{}", stderr(&out));
+    assert!(stderr(&out).contains("218 of 343"), "{}", stderr(&out));
+    assert!(stdout(&out).is_empty());
+    let text = std::fs::read_to_string(&output).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next().unwrap(), "x,y,z,boundary");
+    for (k, line) in lines.enumerate() {
+        let fields: Vec<f64> = line.split(',').map(|f| f.parse().unwrap()).collect();
+        let (x, y, z) = ((k % 7) as f64, ((k / 7) % 7) as f64, (k / 49) as f64);
+        assert_eq!(&fields[..3], &[x, y, z], "row {k} out of order");
+        let inner = [x, y, z].iter().all(|&c| (1.0..=5.0).contains(&c));
+        assert_eq!(fields[3], if inner { 0.0 } else { 1.0 }, "row {k}");
+    }
+}
+
+#[test]
+fn detect_on_shared_data_matches_the_reference_count() {
+    let input = shared(VORTEX);
+    let out = boundary(&["detect", input.to_str().unwrap(), "-r", VORTEX_R, "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: Value = serde_json::from_str(stdout(&out).trim()).unwrap();
+    // ../shared/data/README.md: 202 boundary particles at r = 0.022105.
+    assert_eq!((v["n"].clone(), v["dim"].clone()), (1698.into(), 2.into()));
+    assert_eq!(v["boundary"], 202);
+}
+
+#[test]
+fn score_against_exact_and_against_a_truth_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = lattice_csv(dir.path());
+    let out = boundary(&[
+        "score",
+        input.to_str().unwrap(),
+        "-r",
+        "1.2",
+        "--method",
+        "dilts",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: Value = serde_json::from_str(stdout(&out).trim()).unwrap();
+    assert_eq!((v["tp"].clone(), v["fn"].clone()), (218.into(), 0.into()));
+    assert_eq!((v["tn"].clone(), v["fp"].clone()), (125.into(), 0.into()));
+    assert_eq!(v["m"], 1.0);
+
+    // A truth file claiming every particle is boundary: dilts then has 125 false negatives.
+    let truth = dir.path().join("truth.csv");
+    let mut text = String::from("x,y,z,boundary\n");
+    for k in 0..343 {
+        text += &format!("{},{},{},1\n", k % 7, (k / 7) % 7, k / 49);
+    }
+    std::fs::write(&truth, text).unwrap();
+    let out = boundary(&[
+        "score",
+        input.to_str().unwrap(),
+        "-r",
+        "1.2",
+        "--method",
+        "dilts",
+        "--truth",
+        truth.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(
+        text.contains("FN  125") && text.contains("TP  218"),
+        "{text}"
+    );
+}
+
+#[test]
+fn methods_lists_every_registered_method() {
+    let out = boundary(&["methods", "--json"]);
+    assert!(out.status.success());
+    let v: Value = serde_json::from_str(stdout(&out).trim()).unwrap();
+    let names: Vec<&str> = v
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, boundary::methods());
+    let text = stdout(&boundary(&["methods"]));
+    assert!(text.contains("exact [certified]"), "{text}");
+}
+
+/// A failing command: non-zero status, nothing on stdout, exactly one line on stderr starting
+/// with `error:` and containing `needle`.
+fn assert_one_line_error(args: &[&str], needle: &str) {
+    let out = boundary(args);
+    assert!(!out.status.success(), "{args:?} succeeded");
+    assert!(stdout(&out).is_empty(), "{args:?}: {}", stdout(&out));
+    let err = stderr(&out);
+    assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+    assert!(err.starts_with("error:"), "{args:?}: {err}");
+    assert!(
+        err.contains(needle),
+        "{args:?}: expected '{needle}' in {err}"
+    );
+}
+
+#[test]
+fn bad_arguments_give_one_clear_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = lattice_csv(dir.path());
+    let input = input.to_str().unwrap();
+    assert_one_line_error(&["detect", input, "-r", "0"], "radius");
+    assert_one_line_error(&["detect", input, "-r", "-1"], "radius");
+    assert_one_line_error(&["detect", input, "-r", "nan"], "radius");
+    assert_one_line_error(&["detect", input, "-r", "inf"], "radius");
+    assert_one_line_error(&["detect", input, "-r", "abc"], "abc");
+    assert_one_line_error(&["detect", input], "--radius");
+    assert_one_line_error(&["detect", input, "-r", "1", "--method", "nope"], "nope");
+    assert_one_line_error(&["detect", input, "-r", "1", "--set", "depth=3"], "depth");
+    assert_one_line_error(&["detect", input, "-r", "1", "--set", "depth"], "KEY=VALUE");
+    assert_one_line_error(&["detect", input, "-r", "1", "--dim", "4"], "4");
+    let missing = dir.path().join("missing.csv");
+    assert_one_line_error(
+        &["detect", missing.to_str().unwrap(), "-r", "1"],
+        "missing.csv",
+    );
+    let out = dir.path().join("labels.unknown");
+    assert_one_line_error(
+        &["detect", input, "-r", "1", "-o", out.to_str().unwrap()],
+        "labels.unknown",
+    );
+    // A malformed file: the error names the file and the line.
+    let bad = dir.path().join("bad.csv");
+    std::fs::write(&bad, "x,y\n0,0\n1,zz\n").unwrap();
+    assert_one_line_error(&["detect", bad.to_str().unwrap(), "-r", "1"], "bad.csv");
+    let out = boundary(&["detect", bad.to_str().unwrap(), "-r", "1"]);
+    assert!(stderr(&out).contains('3'), "line number: {}", stderr(&out));
+}
