@@ -1,0 +1,54 @@
+//! Regenerates `fixtures/` (the generated scenes as CSV) and `fixtures/scenes.toml` (those
+//! scenes plus the public ones). Run by `cargo xtask fixtures`; deterministic.
+
+use boundary_io::{write_particles, Format};
+use boundary_scenes::{all_scenes, fixtures_dir, Manifest, Origin, SceneEntry, SHARED_SCENES};
+
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run() -> Result<(), String> {
+    let dir = fixtures_dir();
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let mut manifest = Manifest::default();
+    for scene in all_scenes() {
+        let file = format!("{}.csv", scene.name);
+        let path = dir.join(&file);
+        write_particles(&path, Some(Format::Csv), &scene.set, &[]).map_err(|e| e.to_string())?;
+        eprintln!("{}: {} particles", path.display(), scene.set.len());
+        manifest.scene.push(SceneEntry {
+            name: scene.name,
+            origin: Origin::Fixture,
+            dim: scene.set.dim(),
+            file,
+            radius: scene.radius,
+            n: scene.set.len(),
+            expected_boundary: None,
+            generator: Some(scene.generator.to_owned()),
+            params: Some(scene.params),
+            provenance: None,
+        });
+    }
+    for &(name, dim, file, radius, n, expected, provenance) in SHARED_SCENES {
+        manifest.scene.push(SceneEntry {
+            name: name.to_owned(),
+            origin: Origin::Shared,
+            dim,
+            file: file.to_owned(),
+            radius,
+            n,
+            expected_boundary: Some(expected),
+            generator: None,
+            params: None,
+            provenance: Some(provenance.to_owned()),
+        });
+    }
+    let path = dir.join("scenes.toml");
+    std::fs::write(&path, manifest.to_toml()).map_err(|e| format!("{}: {e}", path.display()))?;
+    eprintln!("{}: {} scenes", path.display(), manifest.scene.len());
+    Ok(())
+}

@@ -1,0 +1,327 @@
+//! Scene generators: only what each scene needs (analytic velocity fields integrated with RK4,
+//! lattices, jitter from a seeded generator); no fluid solver.
+
+use boundary_core::{AnyParticleSet, ParticleSet, Point};
+use rand::{rngs::StdRng, Rng, SeedableRng};
+use std::f64::consts::PI;
+
+/// A generated scene: particles, resolution and how they were made.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// Unique short name (also the file stem in `fixtures/`).
+    pub name: String,
+    /// The particles.
+    pub set: AnyParticleSet,
+    /// The resolution r.
+    pub radius: f64,
+    /// Generator name.
+    pub generator: &'static str,
+    /// Generator parameters, `key=value` separated by `, `.
+    pub params: String,
+}
+
+/// Lattice points of spacing `h` (plus uniform jitter of `±jitter·h` per axis) in the box
+/// `[lo, hi]` for which `inside` holds (tested on the unjittered point).
+pub fn fill<const D: usize>(
+    lo: [f64; D],
+    hi: [f64; D],
+    h: f64,
+    jitter: f64,
+    rng: &mut StdRng,
+    inside: impl Fn(&Point<D>) -> bool,
+) -> Vec<Point<D>> {
+    let counts: Vec<usize> = (0..D)
+        .map(|a| ((hi[a] - lo[a]) / h).floor() as usize + 1)
+        .collect();
+    let total: usize = counts.iter().product();
+    let mut out = Vec::new();
+    for k in 0..total {
+        let mut p = Point::<D>::zeros();
+        let mut rest = k;
+        for a in 0..D {
+            p[a] = lo[a] + (rest % counts[a]) as f64 * h;
+            rest /= counts[a];
+        }
+        if inside(&p) {
+            if jitter > 0.0 {
+                for a in 0..D {
+                    p[a] += rng.gen_range(-jitter..=jitter) * h;
+                }
+            }
+            out.push(p);
+        }
+    }
+    out
+}
+
+/// Classic fourth-order Runge–Kutta for `dp/dt = v(p, t)` from `t0` to `t1` in `steps` steps.
+pub fn rk4<const D: usize>(
+    p: Point<D>,
+    t0: f64,
+    t1: f64,
+    steps: usize,
+    v: impl Fn(&Point<D>, f64) -> Point<D>,
+) -> Point<D> {
+    let dt = (t1 - t0) / steps as f64;
+    let mut p = p;
+    let mut t = t0;
+    for _ in 0..steps {
+        let k1 = v(&p, t);
+        let k2 = v(&(p + k1 * (0.5 * dt)), t + 0.5 * dt);
+        let k3 = v(&(p + k2 * (0.5 * dt)), t + 0.5 * dt);
+        let k4 = v(&(p + k3 * dt), t + dt);
+        p += (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (dt / 6.0);
+        t += dt;
+    }
+    p
+}
+
+/// The single-vortex field of Bell, Colella & Glaz (1989) with period `T`: stream function
+/// `ψ = sin²(πx) sin²(πy) cos(πt/T)/π`, `u = ∂ψ/∂y`, `v = −∂ψ/∂x`.
+pub fn single_vortex(p: &Point<2>, t: f64, period: f64) -> Point<2> {
+    let (x, y) = (p[0], p[1]);
+    let c = (PI * t / period).cos();
+    Point::<2>::new(
+        (PI * x).sin().powi(2) * (2.0 * PI * y).sin() * c,
+        -(PI * y).sin().powi(2) * (2.0 * PI * x).sin() * c,
+    )
+}
+
+/// The deformation field of Enright et al. (2002) with period `T`.
+pub fn enright(p: &Point<3>, t: f64, period: f64) -> Point<3> {
+    let (x, y, z) = (p[0], p[1], p[2]);
+    let c = (PI * t / period).cos();
+    let s2 = |a: f64| (PI * a).sin().powi(2);
+    let s = |a: f64| (2.0 * PI * a).sin();
+    Point::<3>::new(
+        2.0 * s2(x) * s(y) * s(z) * c,
+        -s(x) * s2(y) * s(z) * c,
+        -s(x) * s(y) * s2(z) * c,
+    )
+}
+
+fn set<const D: usize>(points: Vec<Point<D>>) -> AnyParticleSet {
+    ParticleSet::new(points)
+        .expect("generated coordinates are finite")
+        .to_any()
+}
+
+fn rows<const D: usize>(rows: &[[f64; D]]) -> Vec<Point<D>> {
+    rows.iter().map(|r| Point::<D>::from(*r)).collect()
+}
+
+/// Spacing of the 2D analytic-flow scenes and their resolution factor `r = 1.5 h`.
+const H2: f64 = 0.005;
+/// Spacing of the 3D analytic-flow scenes.
+const H3: f64 = 0.0125;
+/// `r / h` of the generated fluid scenes.
+const R_OVER_H: f64 = 1.5;
+
+/// The disk of radius 0.15 at (0.5, 0.75), filled at spacing `H2` with 5% jitter.
+fn vortex_disk(rng: &mut StdRng) -> Vec<Point<2>> {
+    let c = Point::<2>::new(0.5, 0.75);
+    fill([0.35, 0.6], [0.65, 0.9], H2, 0.05, rng, |p| {
+        (p - c).norm() <= 0.15
+    })
+}
+
+/// Every generated scene, deterministically (fixed seeds).
+pub fn all_scenes() -> Vec<Scene> {
+    let mut scenes = Vec::new();
+    // --- 2D single vortex (T = 8) at several times.
+    let period = 8.0;
+    let disk = vortex_disk(&mut StdRng::seed_from_u64(1));
+    for t in [0.0, 1.0, 2.0, 4.0, 8.0] {
+        let steps = (t / 0.005) as usize;
+        let points = disk
+            .iter()
+            .map(|&p| rk4(p, 0.0, t, steps.max(1), |q, s| single_vortex(q, s, period)))
+            .collect();
+        scenes.push(Scene {
+            name: format!("vortex2d_t{t}"),
+            set: set(points),
+            radius: R_OVER_H * H2,
+            generator: "single_vortex",
+            params: format!("T={period}, t={t}, h={H2}, jitter=0.05h, rk4_dt=0.005, seed=1"),
+        });
+    }
+    // --- Zalesak slotted disk, initial and rotated by 45° about (0.5, 0.5).
+    let mut rng = StdRng::seed_from_u64(2);
+    let c = Point::<2>::new(0.5, 0.75);
+    let zalesak = fill([0.35, 0.6], [0.65, 0.9], H2, 0.05, &mut rng, |p| {
+        let in_disk = (p - c).norm() <= 0.15;
+        let in_slot = (p[0] - 0.5).abs() <= 0.025 && p[1] <= 0.85;
+        in_disk && !in_slot
+    });
+    for degrees in [0.0f64, 45.0] {
+        let (s, co) = degrees.to_radians().sin_cos();
+        let points = zalesak
+            .iter()
+            .map(|p| {
+                let (x, y) = (p[0] - 0.5, p[1] - 0.5);
+                Point::<2>::new(0.5 + co * x - s * y, 0.5 + s * x + co * y)
+            })
+            .collect();
+        scenes.push(Scene {
+            name: format!("zalesak2d_rot{degrees}"),
+            set: set(points),
+            radius: R_OVER_H * H2,
+            generator: "zalesak",
+            params: format!(
+                "R=0.15, slot=0.05x0.25, rotation={degrees}deg, h={H2}, jitter=0.05h, seed=2"
+            ),
+        });
+    }
+    // --- 3D Enright deformation (T = 3) at t = 0, 0.75, 1.5.
+    let period = 3.0;
+    let c3 = Point::<3>::new(0.35, 0.35, 0.35);
+    let ball = fill(
+        [0.2, 0.2, 0.2],
+        [0.5, 0.5, 0.5],
+        H3,
+        0.05,
+        &mut StdRng::seed_from_u64(3),
+        |p| (p - c3).norm() <= 0.15,
+    );
+    for t in [0.0, 0.75, 1.5] {
+        let steps = (t / 0.005) as usize;
+        let points = ball
+            .iter()
+            .map(|&p| rk4(p, 0.0, t, steps.max(1), |q, s| enright(q, s, period)))
+            .collect();
+        scenes.push(Scene {
+            name: format!("enright3d_t{t}"),
+            set: set(points),
+            radius: R_OVER_H * H3,
+            generator: "enright",
+            params: format!("T={period}, t={t}, h={H3}, jitter=0.05h, rk4_dt=0.005, seed=3"),
+        });
+    }
+    // --- A ball with an inner bubble.
+    let mut rng = StdRng::seed_from_u64(4);
+    let bubble = Point::<3>::new(0.2, 0.0, 0.0);
+    let points = fill([-1.0; 3], [1.0; 3], 0.1, 0.1, &mut rng, |p| {
+        p.norm() <= 1.0 && (p - bubble).norm() >= 0.45
+    });
+    scenes.push(Scene {
+        name: "ball_bubble3d".into(),
+        set: set(points),
+        radius: 0.15,
+        generator: "ball_with_bubble",
+        params: "R=1, bubble R=0.45 at (0.2,0,0), h=0.1, jitter=0.1h, seed=4".into(),
+    });
+    // --- A single-layer sheet, a ligament and isolated droplets (3D).
+    let mut rng = StdRng::seed_from_u64(5);
+    let mut sheet: Vec<Point<3>> = fill([0.0; 2], [2.9, 2.9], 0.1, 0.1, &mut rng, |_| true)
+        .into_iter()
+        .map(|p| Point::<3>::new(p[0], p[1], 0.02 * (3.0 * p[0]).sin()))
+        .collect();
+    let thin = sheet.len();
+    // Ligament: a line of 40 particles along x above the sheet.
+    sheet.extend((0..40).map(|k| Point::<3>::new(k as f64 * 0.08, 1.5, 1.0)));
+    // Droplets: a single particle, a pair, a tetrahedron, and a small jittered ball.
+    sheet.push(Point::<3>::new(4.0, 4.0, 4.0));
+    sheet.extend(rows(&[[5.0, 4.0, 4.0], [5.1, 4.0, 4.0]]));
+    let e = 0.1;
+    sheet.extend(rows(&[
+        [6.0, 4.0, 4.0],
+        [6.0 + e, 4.0, 4.0],
+        [6.0 + e / 2.0, 4.0 + e * 0.866, 4.0],
+        [6.0 + e / 2.0, 4.0 + e * 0.289, 4.0 + e * 0.816],
+    ]));
+    let c = Point::<3>::new(7.0, 4.0, 4.0);
+    sheet.extend(fill(
+        [6.7, 3.7, 3.7],
+        [7.3, 3.7 + 0.6, 4.3],
+        0.1,
+        0.1,
+        &mut rng,
+        |p| (p - c).norm() <= 0.25,
+    ));
+    scenes.push(Scene {
+        name: "sheet_ligament_droplets3d".into(),
+        set: set(sheet),
+        radius: 0.15,
+        generator: "sheet_ligament_droplets",
+        params: format!(
+            "sheet 30x30 h=0.1 jitter=0.1h ({thin} particles), ligament 40 at 0.08, droplets \
+             1+2+4+ball R=0.25, seed=5"
+        ),
+    });
+    // --- Hard cases.
+    let square: Vec<Point<2>> = (0..256)
+        .map(|k| Point::<2>::new((k % 16) as f64, (k / 16) as f64))
+        .collect();
+    scenes.push(Scene {
+        name: "square_lattice_tie2d".into(),
+        set: set(square),
+        radius: std::f64::consts::FRAC_1_SQRT_2,
+        generator: "lattice",
+        params: "16x16, a=1, r=a/sqrt(2) (exact ties)".into(),
+    });
+    let cubic: Vec<Point<3>> = (0..1000)
+        .map(|k| Point::<3>::new((k % 10) as f64, ((k / 10) % 10) as f64, (k / 100) as f64))
+        .collect();
+    scenes.push(Scene {
+        name: "cubic_lattice_tie3d".into(),
+        set: set(cubic.clone()),
+        radius: 3f64.sqrt() / 2.0,
+        generator: "lattice",
+        params: "10x10x10, a=1, r=a*sqrt(3)/2 (exact ties)".into(),
+    });
+    let one: Vec<Point<3>> = (0..216)
+        .map(|k| Point::<3>::new((k % 6) as f64, ((k / 6) % 6) as f64, (k / 36) as f64))
+        .collect();
+    let six = one.iter().chain(one.iter()).copied().collect();
+    scenes.push(Scene {
+        name: "duplicates3d".into(),
+        set: set(six),
+        radius: 1.2,
+        generator: "lattice",
+        params: "6x6x6, a=1, every particle twice, r=1.2".into(),
+    });
+    let mut rng = StdRng::seed_from_u64(6);
+    let offset = Point::<3>::new(1e6, -1e6, 1e6);
+    let far = fill([-0.08; 3], [0.08; 3], 0.01, 0.1, &mut rng, |p| {
+        p.norm() <= 0.08
+    })
+    .into_iter()
+    .map(|p| p + offset)
+    .collect();
+    scenes.push(Scene {
+        name: "far_offset3d".into(),
+        set: set(far),
+        radius: 0.012,
+        generator: "ball_offset",
+        params: "ball R=0.08, h=0.01, jitter=0.1h, translated by (1e6,-1e6,1e6), seed=6".into(),
+    });
+    scenes.push(Scene {
+        name: "tiny2d".into(),
+        set: set(rows(&[[0.0, 0.0], [1.0, 0.0], [0.5, 0.8]])),
+        radius: 1.0,
+        generator: "explicit",
+        params: "3 particles".into(),
+    });
+    scenes.push(Scene {
+        name: "tiny3d".into(),
+        set: set(rows(&[[0.0, 0.0, 0.0], [1.5, 0.0, 0.0]])),
+        radius: 1.0,
+        generator: "explicit",
+        params: "2 particles 1.5r apart".into(),
+    });
+    scenes
+}
+
+/// A 3D jittered cubic lattice (spacing 1, jitter `±jitter` per axis) filling the ball with
+/// about `n` particles, for benchmarks; also returns the ball's radius.
+pub fn jittered_lattice_ball(n: usize, jitter: f64, seed: u64) -> (ParticleSet<3>, f64) {
+    let radius = (3.0 * n as f64 / (4.0 * PI)).cbrt();
+    let mut rng = StdRng::seed_from_u64(seed);
+    let points = fill([-radius; 3], [radius; 3], 1.0, jitter, &mut rng, |p| {
+        p.norm() <= radius
+    });
+    (
+        ParticleSet::new(points).expect("generated coordinates are finite"),
+        radius,
+    )
+}

@@ -1,0 +1,50 @@
+//! The scenes of the comparison sweep and the tests: generated fixtures (`fixtures/`, made by
+//! `cargo xtask fixtures`) and the public particle data of `../shared/data`, both listed in the
+//! manifest `fixtures/scenes.toml`.
+//!
+//! Generated scenes use only what each needs: analytic velocity fields integrated with RK4
+//! (Bell–Colella–Glaz single vortex, Zalesak's slotted disk, Enright's 3D deformation),
+//! lattices with seeded jitter, and hard cases (exact ties, duplicates, far offsets, tiny sets).
+//! The public data is never copied: the manifest names its files relative to the data
+//! directory ([`data_dir`]).
+//!
+//! ```
+//! use boundary_scenes::{Manifest, Origin};
+//!
+//! let manifest = Manifest::load(&boundary_scenes::fixtures_dir().join("scenes.toml")).unwrap();
+//! assert!(manifest.scene.iter().any(|s| s.origin == Origin::Fixture && s.dim == 2));
+//! ```
+
+mod generate;
+mod manifest;
+
+pub use generate::{all_scenes, enright, fill, jittered_lattice_ball, rk4, single_vortex, Scene};
+pub use manifest::{Manifest, Origin, SceneEntry, SceneError, SHARED_SCENES};
+
+use std::path::{Path, PathBuf};
+
+/// Environment variable naming the directory of the public particle data.
+pub const DATA_DIR_VAR: &str = "BOUNDARY_DATA_DIR";
+
+/// The directory of the public particle data: `$BOUNDARY_DATA_DIR` if set, else
+/// `../shared/data` beside the workspace root.
+pub fn data_dir() -> PathBuf {
+    match std::env::var_os(DATA_DIR_VAR) {
+        Some(dir) => PathBuf::from(dir),
+        None => workspace_root().join("../shared/data"),
+    }
+}
+
+/// The `fixtures/` directory of the workspace.
+pub fn fixtures_dir() -> PathBuf {
+    workspace_root().join("fixtures")
+}
+
+fn workspace_root() -> PathBuf {
+    let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    crate_dir
+        .parent()
+        .and_then(Path::parent)
+        .unwrap_or(crate_dir)
+        .to_path_buf()
+}
