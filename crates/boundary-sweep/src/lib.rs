@@ -1,0 +1,305 @@
+//! The comparison sweep: every detector over every scene, scored against `exact`, timed on one
+//! thread and on all threads. `cargo xtask sweep` runs the `boundary-sweep` binary, which
+//! writes `target/sweep/{results.csv, report.md, *.svg, *.png}`.
+//!
+//! The library half (this file) runs the sweep and returns rows; [`report`] and [`plots`]
+//! turn rows into files. Scenes come from `fixtures/scenes.toml` (our generated scenes and
+//! references into `../shared/data`).
+
+pub mod plots;
+pub mod published;
+pub mod report;
+
+use boundary::{AnyParticleSet, BoundaryDetector, Confusion, Labels, Radius};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// A scene to sweep: a particle file and its resolution.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneSpec {
+    /// Short unique name.
+    pub name: String,
+    /// Dimension declared by the manifest (2 or 3).
+    pub dim: usize,
+    /// The particle file.
+    pub path: PathBuf,
+    /// The resolution r.
+    pub radius: f64,
+    /// The independently known boundary count, when there is one (shared data).
+    pub expected_boundary: Option<usize>,
+    /// `fixture` or `shared`.
+    pub origin: String,
+}
+
+/// A detector with parameter values.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MethodConfig {
+    /// Registry name.
+    pub method: String,
+    /// `--set` style overrides (empty: the method's defaults).
+    pub params: Vec<(String, String)>,
+}
+
+impl MethodConfig {
+    /// The method at its default parameters.
+    pub fn default_for(method: &str) -> Self {
+        MethodConfig {
+            method: method.to_owned(),
+            params: Vec::new(),
+        }
+    }
+
+    /// The method with one parameter set.
+    pub fn with(method: &str, key: &str, value: &str) -> Self {
+        MethodConfig {
+            method: method.to_owned(),
+            params: vec![(key.to_owned(), value.to_owned())],
+        }
+    }
+}
+
+/// Parameter grids swept besides the defaults: depth 1..8 for the interval methods (the JCP
+/// paper's Fig. 7 / thesis Fig. 27) and a gamma grid for the visibility method.
+pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
+    let mut out = Vec::new();
+    for &m in methods {
+        out.push(MethodConfig::default_for(m));
+        if quick {
+            continue;
+        }
+        match m {
+            "ia" | "ge" => {
+                for depth in 1..=8 {
+                    out.push(MethodConfig::with(m, "depth", &depth.to_string()));
+                }
+            }
+            "hpr" => {
+                for gamma in ["1.1", "1.2", "1.5", "1.75", "2.0"] {
+                    out.push(MethodConfig::with(m, "gamma", gamma));
+                }
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+/// One (scene, method, parameters) result.
+#[derive(Debug, Clone)]
+pub struct Row {
+    /// Scene name.
+    pub scene: String,
+    /// Dimension.
+    pub dim: usize,
+    /// Number of particles.
+    pub n: usize,
+    /// Resolution.
+    pub radius: f64,
+    /// Method name.
+    pub method: String,
+    /// The detector's parameters as `key=value, …` (all of them, defaults included).
+    pub params: String,
+    /// Whether this row ran the method's default parameters.
+    pub is_default: bool,
+    /// Confusion against `exact` (`None` if the detection failed).
+    pub confusion: Option<Confusion>,
+    /// Seconds on one thread (`None` when not measured).
+    pub seconds_1: Option<f64>,
+    /// Seconds on all threads.
+    pub seconds_all: f64,
+    /// Number of threads of the all-thread run.
+    pub threads: usize,
+    /// The error, when the detection failed.
+    pub error: Option<String>,
+}
+
+/// Labels of one 2D scene for the pictures: positions, exact labels, each default method's.
+#[derive(Debug, Clone)]
+pub struct Picture {
+    /// Scene name.
+    pub scene: String,
+    /// 2D positions.
+    pub points: Vec<[f64; 2]>,
+    /// Exact labels.
+    pub truth: Labels,
+    /// (method, labels) at default parameters.
+    pub methods: Vec<(String, Labels)>,
+}
+
+/// What a sweep produced.
+#[derive(Debug, Default)]
+pub struct Outcome {
+    /// One row per (scene, configuration).
+    pub rows: Vec<Row>,
+    /// Scenes skipped, with the reason (missing data directory, unreadable file).
+    pub skipped: Vec<(String, String)>,
+    /// Label pictures of the 2D scenes.
+    pub pictures: Vec<Picture>,
+    /// Scenes whose exact boundary count differs from the expected one.
+    pub count_mismatches: Vec<(String, usize, usize)>,
+}
+
+/// Options of a sweep run.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Scenes to run.
+    pub scenes: Vec<SceneSpec>,
+    /// Configurations to run on every scene (`exact` is always run first as the reference).
+    pub configs: Vec<MethodConfig>,
+    /// Also time every configuration on one thread.
+    pub single_thread: bool,
+    /// Threads of the all-thread run (0: rayon's default).
+    pub threads: usize,
+}
+
+/// A progress event: `done` of `total` runs finished, the one just finished described.
+#[derive(Debug, Clone)]
+pub struct Progress<'a> {
+    /// Runs finished.
+    pub done: usize,
+    /// Runs planned.
+    pub total: usize,
+    /// What just finished.
+    pub what: &'a str,
+}
+
+fn pool(threads: usize) -> Result<rayon::ThreadPool, String> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| e.to_string())
+}
+
+fn timed(
+    detector: &dyn BoundaryDetector,
+    set: &AnyParticleSet,
+    r: Radius,
+    pool: &rayon::ThreadPool,
+) -> (Result<Labels, String>, f64) {
+    let start = Instant::now();
+    let result = pool.install(|| detector.detect(set, r));
+    let seconds = start.elapsed().as_secs_f64();
+    (result.map(|d| d.labels).map_err(|e| e.to_string()), seconds)
+}
+
+/// Runs the sweep. Failures of one scene or one detector are recorded, never fatal.
+pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Outcome, String> {
+    let all = pool(opts.threads)?;
+    let one = pool(1)?;
+    let threads = all.current_num_threads();
+    let mut out = Outcome::default();
+    let total = opts.scenes.len() * (opts.configs.len() + 1);
+    let mut done = 0;
+    for scene in &opts.scenes {
+        let read = boundary_io::read_particles(
+            &scene.path,
+            &boundary_io::ReadOptions {
+                dim: Some(scene.dim),
+                ..Default::default()
+            },
+        );
+        let set = match read {
+            Ok(set) if set.dim() == scene.dim => set,
+            Ok(set) => {
+                out.skipped.push((
+                    scene.name.clone(),
+                    format!("file is {}D, manifest says {}D", set.dim(), scene.dim),
+                ));
+                done += opts.configs.len() + 1;
+                continue;
+            }
+            Err(e) => {
+                out.skipped.push((scene.name.clone(), e.to_string()));
+                done += opts.configs.len() + 1;
+                continue;
+            }
+        };
+        let r = Radius::new(scene.radius).map_err(|e| format!("{}: {e}", scene.name))?;
+        let exact = boundary::detector_by_name("exact").map_err(|e| e.to_string())?;
+        let (truth, t_all) = timed(exact.as_ref(), &set, r, &all);
+        let truth = truth.map_err(|e| format!("{}: exact failed: {e}", scene.name))?;
+        let t_one = opts
+            .single_thread
+            .then(|| timed(exact.as_ref(), &set, r, &one).1);
+        if let Some(expected) = scene.expected_boundary {
+            if truth.boundary_count() != expected {
+                out.count_mismatches
+                    .push((scene.name.clone(), truth.boundary_count(), expected));
+            }
+        }
+        out.rows.push(Row {
+            scene: scene.name.clone(),
+            dim: scene.dim,
+            n: set.len(),
+            radius: scene.radius,
+            method: "exact".into(),
+            params: String::new(),
+            is_default: true,
+            confusion: Confusion::from_labels(truth.as_slice(), truth.as_slice()).ok(),
+            seconds_1: t_one,
+            seconds_all: t_all,
+            threads,
+            error: None,
+        });
+        done += 1;
+        progress(Progress {
+            done,
+            total,
+            what: &format!("{} exact", scene.name),
+        });
+        let mut picture_methods = Vec::new();
+        for config in &opts.configs {
+            if config.method == "exact" && config.params.is_empty() {
+                done += 1;
+                continue;
+            }
+            let detector = boundary::detector_with_params(&config.method, &config.params)
+                .map_err(|e| e.to_string())?;
+            let (labels, t_all) = timed(detector.as_ref(), &set, r, &all);
+            let t_one = (opts.single_thread && labels.is_ok())
+                .then(|| timed(detector.as_ref(), &set, r, &one).1);
+            let (confusion, error) = match &labels {
+                Ok(l) => (
+                    Confusion::from_labels(l.as_slice(), truth.as_slice()).ok(),
+                    None,
+                ),
+                Err(e) => (None, Some(e.clone())),
+            };
+            if config.params.is_empty() {
+                if let (Ok(l), AnyParticleSet::D2(_)) = (&labels, &set) {
+                    picture_methods.push((config.method.clone(), l.clone()));
+                }
+            }
+            let params = detector.params().to_string();
+            done += 1;
+            progress(Progress {
+                done,
+                total,
+                what: &format!("{} {} {}", scene.name, config.method, params),
+            });
+            out.rows.push(Row {
+                scene: scene.name.clone(),
+                dim: scene.dim,
+                n: set.len(),
+                radius: scene.radius,
+                method: config.method.clone(),
+                params,
+                is_default: config.params.is_empty(),
+                confusion,
+                seconds_1: t_one,
+                seconds_all: t_all,
+                threads,
+                error,
+            });
+        }
+        if let AnyParticleSet::D2(s) = &set {
+            out.pictures.push(Picture {
+                scene: scene.name.clone(),
+                points: s.positions().iter().map(|p| [p.x, p.y]).collect(),
+                truth,
+                methods: picture_methods,
+            });
+        }
+    }
+    Ok(out)
+}

@@ -1,0 +1,209 @@
+//! `boundary-sweep`: runs every detector over every scene and writes
+//! `results.csv`, `report.md` and the plots. Normally started by `cargo xtask sweep`, which
+//! first checks the system prerequisites.
+
+use boundary_sweep::{default_configs, plots, report, run, Options, Progress, SceneSpec};
+use clap::Parser;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "boundary-sweep",
+    about = "Speed against error: every detector over every scene"
+)]
+struct Args {
+    /// Output directory.
+    #[arg(long, default_value = "target/sweep")]
+    out: PathBuf,
+    /// The scene manifest.
+    #[arg(long, default_value = "fixtures/scenes.toml")]
+    manifest: PathBuf,
+    /// Directory of the shared data (default: $BOUNDARY_DATA_DIR, else ../shared/data).
+    #[arg(long)]
+    data_dir: Option<PathBuf>,
+    /// Only scenes whose name contains one of these (comma-separated).
+    #[arg(long, value_delimiter = ',')]
+    scenes: Vec<String>,
+    /// Only these methods (comma-separated; default: every registered method).
+    #[arg(long, value_delimiter = ',')]
+    methods: Vec<String>,
+    /// Quick run: default parameters only, no single-thread timing, scenes of at most 10k particles.
+    #[arg(long)]
+    quick: bool,
+    /// Skip the single-thread timing runs.
+    #[arg(long)]
+    no_single_thread: bool,
+    /// Threads for the all-thread runs (default: all cores).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+}
+
+fn main() {
+    if let Err(e) = real_main() {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn real_main() -> Result<(), String> {
+    let args = Args::parse();
+    let data_dir = args
+        .data_dir
+        .clone()
+        .unwrap_or_else(boundary_scenes::data_dir);
+    let (mut scenes, mut skipped) = load_scenes(&args.manifest, &data_dir)?;
+    if !args.scenes.is_empty() {
+        scenes.retain(|s| args.scenes.iter().any(|f| s.name.contains(f.as_str())));
+    }
+    if args.quick {
+        scenes.retain(|s| file_lines(&s.path) <= 10_001);
+    }
+    let available = boundary::methods();
+    for m in &args.methods {
+        if !available.contains(&m.as_str()) {
+            return Err(format!(
+                "unknown method '{m}' (available: {})",
+                available.join(", ")
+            ));
+        }
+    }
+    let methods: Vec<&str> = available
+        .iter()
+        .copied()
+        .filter(|m| args.methods.is_empty() || args.methods.iter().any(|a| a == m))
+        .collect();
+    let opts = Options {
+        scenes,
+        configs: default_configs(&methods, args.quick),
+        single_thread: !(args.quick || args.no_single_thread),
+        threads: args.threads,
+    };
+    eprintln!(
+        "sweep: {} scenes x {} configurations (+ exact), data from {}",
+        opts.scenes.len(),
+        opts.configs.len(),
+        data_dir.display()
+    );
+    for (scene, why) in &skipped {
+        eprintln!("sweep: skipped {scene}: {why}");
+    }
+    let start = Instant::now();
+    let tty = std::io::stderr().is_terminal();
+    let mut progress = |p: Progress<'_>| {
+        let line = format!(
+            "[{:>4}/{}] {:>6.1} s  {}",
+            p.done,
+            p.total,
+            start.elapsed().as_secs_f64(),
+            p.what
+        );
+        let mut err = std::io::stderr();
+        if tty {
+            let _ = write!(err, "\r\x1b[2K{line}");
+            let _ = err.flush();
+        } else {
+            let _ = writeln!(err, "{line}");
+        }
+    };
+    let mut outcome = run(&opts, &mut progress)?;
+    if tty {
+        eprintln!();
+    }
+    skipped.append(&mut outcome.skipped);
+    outcome.skipped = skipped;
+
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
+    let write = |name: &str, text: String| -> Result<PathBuf, String> {
+        let path = args.out.join(name);
+        std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        Ok(path)
+    };
+    let mut written = vec![write("results.csv", report::results_csv(&outcome.rows))?];
+    let header = format!(
+        "{} scenes, {} runs, {} threads for the all-thread runs, {:.1} s in all.{}",
+        report::scene_order(&outcome.rows).len(),
+        outcome.rows.len(),
+        outcome.rows.first().map(|r| r.threads).unwrap_or(0),
+        start.elapsed().as_secs_f64(),
+        if args.quick {
+            " Quick run (--quick)."
+        } else {
+            ""
+        }
+    );
+    written.push(write("report.md", report::report_md(&outcome, &header))?);
+    plots::register_font()?;
+    written.extend(plots::write_all(&outcome, &args.out)?);
+    for path in &written {
+        println!("{}", path.display());
+    }
+    for (scene, got, expected) in &outcome.count_mismatches {
+        eprintln!(
+            "sweep: WARNING {scene}: exact found {got} boundary particles, expected {expected}"
+        );
+    }
+    if !outcome.count_mismatches.is_empty() {
+        return Err("exact labels disagree with the reference counts (see report.md)".into());
+    }
+    eprintln!(
+        "sweep: done in {:.1} s; report: {}",
+        start.elapsed().as_secs_f64(),
+        args.out.join("report.md").display()
+    );
+    Ok(())
+}
+
+/// Number of lines of a text file (a cheap size estimate for `--quick`).
+fn file_lines(path: &Path) -> usize {
+    std::fs::read(path)
+        .map(|b| b.iter().filter(|&&c| c == b'\n').count())
+        .unwrap_or(usize::MAX)
+}
+
+/// A scene left out, with the reason.
+type Skipped = (String, String);
+
+/// Scenes of the manifest, resolved against the fixtures folder (beside the manifest) and the
+/// data directory; scenes whose file is missing are returned as skipped with the reason.
+fn load_scenes(
+    manifest: &Path,
+    data_dir: &Path,
+) -> Result<(Vec<SceneSpec>, Vec<Skipped>), String> {
+    let parsed = boundary_scenes::Manifest::load(manifest).map_err(|e| e.to_string())?;
+    let fixtures = manifest.parent().unwrap_or(Path::new("."));
+    let mut scenes = Vec::new();
+    let mut skipped = Vec::new();
+    for entry in parsed.scene {
+        let path = entry.path(fixtures, data_dir);
+        if !path.is_file() {
+            let why = match entry.origin {
+                boundary_scenes::Origin::Shared => format!(
+                    "{} not found (data directory {}; set {} to use another)",
+                    path.display(),
+                    data_dir.display(),
+                    boundary_scenes::DATA_DIR_VAR
+                ),
+                boundary_scenes::Origin::Fixture => {
+                    format!("{} not found (run `cargo xtask fixtures`)", path.display())
+                }
+            };
+            skipped.push((entry.name, why));
+            continue;
+        }
+        scenes.push(SceneSpec {
+            name: entry.name,
+            dim: entry.dim,
+            path,
+            radius: entry.radius,
+            expected_boundary: entry.expected_boundary,
+            origin: match entry.origin {
+                boundary_scenes::Origin::Shared => "shared".into(),
+                boundary_scenes::Origin::Fixture => "fixture".into(),
+            },
+        });
+    }
+    Ok((scenes, skipped))
+}

@@ -1,0 +1,445 @@
+//! SVG and PNG plots of a sweep (plotters with an embedded DejaVu font: no system font
+//! library is needed).
+//!
+//! - `speed_vs_error_{2d,3d}`: particles/s (all threads) against 1 − M, log scales, one marker
+//!   per method and parameter value, pooled over the scenes of that dimension.
+//! - `depth_{2d,3d}`: false positives and time against depth for `ia` and `ge` (JCP Fig. 7,
+//!   thesis Fig. 27).
+//! - `labels_<scene>`: for each 2D scene, each method's labels with false positives (red) and
+//!   false negatives (blue) highlighted (JCP Fig. 8).
+
+use crate::{Outcome, Picture, Row};
+use boundary::Confusion;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::{Path, PathBuf};
+
+/// 1 − M below this is drawn at this value (log scale; M = 1 is a perfect score).
+pub const ERROR_FLOOR: f64 = 1e-5;
+
+const PALETTE: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
+];
+
+fn colour_of(method: &str, methods: &[String]) -> RGBColor {
+    let k = methods.iter().position(|m| m == method).unwrap_or(0);
+    PALETTE[k % PALETTE.len()]
+}
+
+/// Registers the embedded font once (plotters' text needs one).
+pub fn register_font() -> Result<(), String> {
+    plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
+        .map_err(|_| "the embedded DejaVu font could not be loaded".to_owned())
+}
+
+/// One marker of the speed/error plot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Marker {
+    /// Method name.
+    pub method: String,
+    /// Short parameter tag ("" for defaults).
+    pub tag: String,
+    /// Particles per second over all scenes of the dimension (all threads).
+    pub rate: f64,
+    /// 1 − M of the pooled confusion, floored at [`ERROR_FLOOR`].
+    pub error: f64,
+}
+
+fn short_tag(row: &Row) -> String {
+    if row.is_default {
+        return String::new();
+    }
+    row.params
+        .split(", ")
+        .filter_map(|kv| kv.split_once('='))
+        .map(|(k, v)| format!("{}{v}", k.chars().next().unwrap_or('?')))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Pools the rows of one dimension by (method, parameters).
+pub fn markers(rows: &[Row], dim: usize) -> Vec<Marker> {
+    let mut keys: Vec<(String, String, bool)> = Vec::new();
+    for row in rows
+        .iter()
+        .filter(|r| r.dim == dim && r.confusion.is_some())
+    {
+        let key = (row.method.clone(), row.params.clone(), row.is_default);
+        if !keys.contains(&key) {
+            keys.push(key);
+        }
+    }
+    keys.into_iter()
+        .map(|(method, params, is_default)| {
+            let mut pooled = Confusion::default();
+            let (mut n, mut seconds) = (0usize, 0.0);
+            let mut tag = String::new();
+            for row in rows.iter().filter(|r| {
+                r.dim == dim
+                    && r.method == method
+                    && r.params == params
+                    && r.is_default == is_default
+            }) {
+                if let Some(c) = row.confusion {
+                    pooled.tp += c.tp;
+                    pooled.tn += c.tn;
+                    pooled.fp += c.fp;
+                    pooled.fn_ += c.fn_;
+                    n += row.n;
+                    seconds += row.seconds_all;
+                    tag = short_tag(row);
+                }
+            }
+            Marker {
+                method,
+                tag,
+                rate: if seconds > 0.0 {
+                    n as f64 / seconds
+                } else {
+                    0.0
+                },
+                error: (1.0 - pooled.m()).max(ERROR_FLOOR),
+            }
+        })
+        .filter(|m| m.rate > 0.0)
+        .collect()
+}
+
+fn method_names(rows: &[Row]) -> Vec<String> {
+    let mut names: Vec<String> = Vec::new();
+    for row in rows {
+        if !names.contains(&row.method) {
+            names.push(row.method.clone());
+        }
+    }
+    names
+}
+
+fn err<E: std::fmt::Display>(e: E) -> String {
+    e.to_string()
+}
+
+fn speed_vs_error<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    markers: &[Marker],
+    methods: &[String],
+    dim: usize,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE).map_err(err)?;
+    let xmin = markers.iter().map(|m| m.rate).fold(f64::INFINITY, f64::min) / 2.0;
+    let xmax = markers.iter().map(|m| m.rate).fold(0.0, f64::max) * 2.0;
+    let ymax = markers.iter().map(|m| m.error).fold(ERROR_FLOOR, f64::max) * 2.0;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!("{dim}D: speed against error (pooled over scenes, all threads)"),
+            ("sans-serif", 22),
+        )
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d(
+            (xmin..xmax).log_scale(),
+            (ERROR_FLOOR / 2.0..ymax).log_scale(),
+        )
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("particles per second")
+        .y_desc("1 - M")
+        .x_label_formatter(&|x| format!("{x:.0e}"))
+        .y_label_formatter(&|y| format!("{y:.0e}"))
+        .draw()
+        .map_err(err)?;
+    for method in methods {
+        let colour = colour_of(method, methods);
+        let pts: Vec<&Marker> = markers.iter().filter(|m| &m.method == method).collect();
+        if pts.is_empty() {
+            continue;
+        }
+        chart
+            .draw_series(pts.iter().map(|m| {
+                let size = if m.tag.is_empty() { 7 } else { 4 };
+                Circle::new((m.rate, m.error), size, colour.filled())
+            }))
+            .map_err(err)?
+            .label(method.as_str())
+            .legend(move |(x, y)| Circle::new((x, y), 6, colour.filled()));
+        chart
+            .draw_series(pts.iter().filter(|m| !m.tag.is_empty()).map(|m| {
+                Text::new(
+                    m.tag.clone(),
+                    (m.rate, m.error),
+                    ("sans-serif", 12).into_font(),
+                )
+            }))
+            .map_err(err)?;
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(err)?;
+    root.present().map_err(err)
+}
+
+/// (method, [(depth, FP summed over scenes, seconds summed over scenes)]).
+type DepthSeries = Vec<(String, Vec<(u32, u64, f64)>)>;
+
+fn depth_series(rows: &[Row], dim: usize) -> DepthSeries {
+    let mut series = Vec::new();
+    for method in ["ia", "ge"] {
+        let mut pts = Vec::new();
+        for depth in 1..=12u32 {
+            let tag = format!("depth={depth}");
+            let sel: Vec<&Row> = rows
+                .iter()
+                .filter(|r| r.dim == dim && r.method == method && !r.is_default && r.params == tag)
+                .collect();
+            if sel.is_empty() {
+                continue;
+            }
+            let fp = sel.iter().filter_map(|r| r.confusion).map(|c| c.fp).sum();
+            let s = sel.iter().map(|r| r.seconds_all).sum();
+            pts.push((depth, fp, s));
+        }
+        if !pts.is_empty() {
+            series.push((method.to_owned(), pts));
+        }
+    }
+    series
+}
+
+struct Panel<'a> {
+    title: String,
+    y_desc: &'a str,
+    y_range: std::ops::Range<f64>,
+    value: fn(&(u32, u64, f64)) -> f64,
+}
+
+fn depth_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    panel: Panel<'_>,
+    series: &DepthSeries,
+    max_depth: u32,
+    methods: &[String],
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let floor = panel.y_range.start;
+    let mut chart = ChartBuilder::on(area)
+        .caption(panel.title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(1f64..max_depth.max(2) as f64, panel.y_range.log_scale())
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("depth")
+        .y_desc(panel.y_desc)
+        .y_label_formatter(&|y| format!("{y:.0e}"))
+        .draw()
+        .map_err(err)?;
+    for (method, pts) in series {
+        let colour = colour_of(method, methods);
+        let value = panel.value;
+        chart
+            .draw_series(LineSeries::new(
+                pts.iter().map(|p| (p.0 as f64, value(p).max(floor))),
+                colour.stroke_width(2),
+            ))
+            .map_err(err)?
+            .label(method.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour));
+    }
+    chart
+        .configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.85))
+        .draw()
+        .map_err(err)
+}
+
+fn depth_plot<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    rows: &[Row],
+    methods: &[String],
+    dim: usize,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE).map_err(err)?;
+    let series = depth_series(rows, dim);
+    let all = || series.iter().flat_map(|s| s.1.iter());
+    let max_depth = all().map(|p| p.0).max().unwrap_or(8);
+    let fp_max = all().map(|p| p.1).max().unwrap_or(1).max(1) as f64;
+    let t_max = all().map(|p| p.2).fold(1e-6, f64::max);
+    let panels = root.split_evenly((1, 2));
+    depth_panel(
+        &panels[0],
+        Panel {
+            title: format!("{dim}D: false positives against depth"),
+            y_desc: "false positives (all scenes; 0 drawn at 0.5)",
+            y_range: 0.5..fp_max * 2.0,
+            value: |p| p.1 as f64,
+        },
+        &series,
+        max_depth,
+        methods,
+    )?;
+    depth_panel(
+        &panels[1],
+        Panel {
+            title: format!("{dim}D: time (all threads) against depth"),
+            y_desc: "seconds (all scenes)",
+            y_range: t_max / 1e4..t_max * 2.0,
+            value: |p| p.2,
+        },
+        &series,
+        max_depth,
+        methods,
+    )?;
+    root.present().map_err(err)
+}
+
+fn labels_plot<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    pic: &Picture,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE).map_err(err)?;
+    let count = pic.methods.len().max(1);
+    let cols = count.min(3);
+    let rows = count.div_ceil(cols);
+    let panels = root.split_evenly((rows, cols));
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in &pic.points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let pad = 0.03 * (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-12);
+    for (panel, (method, labels)) in panels.iter().zip(&pic.methods) {
+        let c = Confusion::from_labels(labels.as_slice(), pic.truth.as_slice()).map_err(err)?;
+        let mut chart = ChartBuilder::on(panel)
+            .caption(
+                format!("{method}: FP {} (red), FN {} (blue)", c.fp, c.fn_),
+                ("sans-serif", 16),
+            )
+            .margin(8)
+            .build_cartesian_2d(lo[0] - pad..hi[0] + pad, lo[1] - pad..hi[1] + pad)
+            .map_err(err)?;
+        let mut layers: [Vec<(f64, f64)>; 4] = Default::default();
+        for (k, p) in pic.points.iter().enumerate() {
+            let layer = match (labels.is_boundary(k), pic.truth.is_boundary(k)) {
+                (false, false) => 0,
+                (true, true) => 1,
+                (true, false) => 2,
+                (false, true) => 3,
+            };
+            layers[layer].push((p[0], p[1]));
+        }
+        let styles = [
+            (RGBColor(205, 205, 205), 1),
+            (RGBColor(40, 150, 60), 2),
+            (RGBColor(220, 30, 30), 3),
+            (RGBColor(30, 60, 230), 3),
+        ];
+        for (layer, (colour, size)) in layers.iter().zip(styles) {
+            chart
+                .draw_series(layer.iter().map(|&p| Circle::new(p, size, colour.filled())))
+                .map_err(err)?;
+        }
+    }
+    root.present().map_err(err)
+}
+
+fn file_stem(scene: &str) -> String {
+    scene
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// Writes every plot as SVG and PNG into `dir`; returns the files written.
+pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let methods = method_names(&outcome.rows);
+    let mut written = Vec::new();
+    for dim in [2, 3] {
+        let ms = markers(&outcome.rows, dim);
+        if !ms.is_empty() {
+            let stem = dir.join(format!("speed_vs_error_{dim}d"));
+            let svg = stem.with_extension("svg");
+            speed_vs_error(
+                SVGBackend::new(&svg, (1000, 700)).into_drawing_area(),
+                &ms,
+                &methods,
+                dim,
+            )?;
+            let png = stem.with_extension("png");
+            speed_vs_error(
+                BitMapBackend::new(&png, (1000, 700)).into_drawing_area(),
+                &ms,
+                &methods,
+                dim,
+            )?;
+            written.extend([svg, png]);
+        }
+        let has_depths = outcome
+            .rows
+            .iter()
+            .any(|r| r.dim == dim && (r.method == "ia" || r.method == "ge") && !r.is_default);
+        if has_depths {
+            let stem = dir.join(format!("depth_{dim}d"));
+            let svg = stem.with_extension("svg");
+            depth_plot(
+                SVGBackend::new(&svg, (1200, 500)).into_drawing_area(),
+                &outcome.rows,
+                &methods,
+                dim,
+            )?;
+            let png = stem.with_extension("png");
+            depth_plot(
+                BitMapBackend::new(&png, (1200, 500)).into_drawing_area(),
+                &outcome.rows,
+                &methods,
+                dim,
+            )?;
+            written.extend([svg, png]);
+        }
+    }
+    for pic in outcome.pictures.iter().filter(|p| !p.methods.is_empty()) {
+        let cols = pic.methods.len().min(3) as u32;
+        let rows = (pic.methods.len() as u32).div_ceil(cols);
+        let size = (420 * cols, 420 * rows);
+        let stem = dir.join(format!("labels_{}", file_stem(&pic.scene)));
+        let svg = stem.with_extension("svg");
+        labels_plot(SVGBackend::new(&svg, size).into_drawing_area(), pic)?;
+        let png = stem.with_extension("png");
+        labels_plot(BitMapBackend::new(&png, size).into_drawing_area(), pic)?;
+        written.extend([svg, png]);
+    }
+    Ok(written)
+}

@@ -1,0 +1,63 @@
+//! Classification snapshots: for every scene of the manifest and every registered method at its
+//! default parameters, the confusion counts against `exact` and a fingerprint of the label
+//! vector. Any change of any label fails here until the new snapshot is reviewed
+//! (`cargo insta review`, or `INSTA_UPDATE=always` and a look at the diff).
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+use boundary::{detector_by_name, methods, Confusion, Radius};
+use boundary_io::{read_particles, ReadOptions};
+use boundary_scenes::{data_dir, fixtures_dir, Manifest, Origin};
+use std::fmt::Write;
+
+#[test]
+fn labels_of_every_method_on_every_scene() {
+    let manifest = Manifest::load(&fixtures_dir().join("scenes.toml")).unwrap();
+    let data = data_dir();
+    let mut skipped = Vec::new();
+    for entry in &manifest.scene {
+        let path = entry.path(&fixtures_dir(), &data);
+        if entry.origin == Origin::Shared && !path.is_file() {
+            skipped.push(entry.name.clone());
+            continue;
+        }
+        let options = ReadOptions {
+            dim: Some(entry.dim),
+            ..Default::default()
+        };
+        let set = read_particles(&path, &options).unwrap();
+        let r = Radius::new(entry.radius).unwrap();
+        let truth = detector_by_name("exact").unwrap().detect(&set, r).unwrap();
+        let mut text = format!(
+            "{} particles, {}D, r = {}\n",
+            set.len(),
+            set.dim(),
+            entry.radius
+        );
+        for name in methods() {
+            let detector = detector_by_name(name).unwrap();
+            let labels = detector.detect(&set, r).unwrap().labels;
+            let c = Confusion::from_labels(labels.as_slice(), truth.labels.as_slice()).unwrap();
+            writeln!(
+                text,
+                "{name:<8} {}: boundary {:>6}  TP {:>6} TN {:>6} FP {:>6} FN {:>6}  labels {:016x}",
+                detector.params(),
+                labels.boundary_count(),
+                c.tp,
+                c.tn,
+                c.fp,
+                c.fn_,
+                labels.fingerprint()
+            )
+            .unwrap();
+        }
+        insta::assert_snapshot!(entry.name.clone(), text);
+    }
+    if !skipped.is_empty() {
+        eprintln!(
+            "snapshots: shared data not found under {}; skipped {}",
+            data.display(),
+            skipped.join(", ")
+        );
+    }
+}
