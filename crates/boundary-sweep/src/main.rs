@@ -168,10 +168,7 @@ type Skipped = (String, String);
 
 /// Scenes of the manifest, resolved against the fixtures folder (beside the manifest) and the
 /// data directory; scenes whose file is missing are returned as skipped with the reason.
-fn load_scenes(
-    manifest: &Path,
-    data_dir: &Path,
-) -> Result<(Vec<SceneSpec>, Vec<Skipped>), String> {
+fn load_scenes(manifest: &Path, data_dir: &Path) -> Result<(Vec<SceneSpec>, Vec<Skipped>), String> {
     let parsed = boundary_scenes::Manifest::load(manifest).map_err(|e| e.to_string())?;
     let fixtures = manifest.parent().unwrap_or(Path::new("."));
     let mut scenes = Vec::new();
