@@ -1,161 +1,237 @@
-//! CSV: a header naming the position columns, or headerless numbers.
+//! CSV: a header naming the position columns, or headerless numbers (crate docs, "Reading").
 
-use crate::text::{is_data, number};
-use crate::{Column, IoError, Raw, AXES, MAX_PREALLOCATE};
+use crate::error::{excerpt, IoError, Location};
+use crate::out::{self, Real, AXES};
+use crate::text::{normalise_name, select_position_columns, trim_field, TextLines};
+use crate::{Column, Positions};
 use boundary_core::AnyParticleSet;
-use std::io::Write;
+use std::io::{BufRead, Write};
 
-/// The separator of a line: `;`, else `,`, else tab, else `,` (single column).
-fn separator(line: &str) -> char {
-    if line.contains(';') {
-        ';'
-    } else if line.contains(',') {
-        ','
-    } else if line.contains('\t') {
-        '\t'
-    } else {
-        ','
+/// The separator of a header or first row: the most frequent of `;`, tab and `,` (ties in that
+/// order); `,` when none occurs (a single column).
+fn detect_separator(line: &str) -> char {
+    let mut best = (0, ',');
+    for sep in [';', '\t', ','] {
+        let count = line.matches(sep).count();
+        if count > best.0 {
+            best = (count, sep);
+        }
     }
+    best.1
 }
 
-/// The axis a header names, if any: `x`, `Pos.x [m]`, `position_x`, `px`, `Points:0`, … .
-pub(crate) fn axis_of(header: &str) -> Option<usize> {
-    let mut h = header.trim().trim_matches('"').trim().to_ascii_lowercase();
-    // Drop a unit suffix: `pos.x [m]`, `x (m)`.
-    if let Some(k) = h.find(['[', '(']) {
-        h.truncate(k);
+/// The fields of a line, without the empty field a trailing separator leaves.
+fn fields(line: &str, sep: char) -> impl Iterator<Item = &str> {
+    let line = line.trim_end();
+    line.strip_suffix(sep).unwrap_or(line).split(sep)
+}
+
+/// A field as a number; with `;` as separator a decimal comma is accepted.
+fn number(field: &str, sep: char) -> Option<f64> {
+    let f = trim_field(field);
+    f.parse::<f64>()
+        .ok()
+        .or_else(|| (sep == ';' && f.contains(',')).then(|| f.replace(',', ".").parse().ok())?)
+}
+
+/// The first line that is neither blank nor a `#` comment, with the separator (from a
+/// `sep=X` line if there is one).
+fn first_line<R: BufRead>(
+    lines: &mut TextLines<R>,
+    name: &str,
+) -> Result<Option<(usize, String, char)>, IoError> {
+    let mut forced = None;
+    while let Some((number, line)) = lines.next_line(name)? {
+        let t = line.trim();
+        if t.is_empty() || t.starts_with('#') {
+            continue;
+        }
+        if let Some(rest) = t
+            .get(..4)
+            .filter(|p| forced.is_none() && p.eq_ignore_ascii_case("sep="))
+            .and_then(|_| t.get(4..))
+        {
+            if let Some(sep) = rest.chars().next() {
+                forced = Some(sep);
+                continue;
+            }
+        }
+        let sep = forced.unwrap_or_else(|| detect_separator(t));
+        return Ok(Some((number, line.to_owned(), sep)));
     }
-    let key: String = h
-        .chars()
-        .filter(|c| !matches!(c, '.' | '_' | ':' | ' ' | '-'))
-        .collect();
-    match key.as_str() {
-        "x" | "posx" | "positionx" | "px" | "points0" | "coordx" | "coordsx" | "x0" => Some(0),
-        "y" | "posy" | "positiony" | "py" | "points1" | "coordy" | "coordsy" | "x1" => Some(1),
-        "z" | "posz" | "positionz" | "pz" | "points2" | "coordz" | "coordsz" | "x2" => Some(2),
-        _ => None,
-    }
+    Ok(None)
 }
 
-/// The data lines with their 1-based numbers.
-fn lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
-    text.lines()
-        .enumerate()
-        .map(|(k, l)| (k + 1, l.trim_end_matches('\r')))
-        .filter(|(_, l)| is_data(l))
-}
-
-fn starts_with_number(line: &str, sep: char) -> bool {
-    line.split(sep)
-        .next()
-        .map(|f| f.trim().trim_matches('"').parse::<f64>().is_ok())
-        .unwrap_or(false)
-}
-
-pub(crate) fn read(text: &str, name: &str, dim: Option<usize>) -> Result<Raw, IoError> {
-    let mut rows = lines(text).peekable();
-    let Some(&(first_line, first)) = rows.peek() else {
-        return Err(IoError::Content {
-            file: name.to_owned(),
-            message: "no data (empty file)".into(),
-        });
+/// Reads the positions. `dim` chooses the columns of a headerless file only; the dimension
+/// policy is applied by the caller.
+pub(crate) fn read<R: BufRead>(
+    reader: R,
+    name: &str,
+    dim: Option<usize>,
+) -> Result<Positions, IoError> {
+    let mut lines = TextLines::new(reader);
+    let Some((first_number, first, sep)) = first_line(&mut lines, name)? else {
+        return Err(IoError::parse(
+            name,
+            Location::File,
+            "no header and no particles (empty file)",
+        ));
     };
-    let sep = separator(first);
-    // Column index of each axis, and the header names for messages.
-    let (columns, headers): (Vec<usize>, Vec<String>) = if starts_with_number(first, sep) {
-        let count = first.split(sep).count();
-        let width = dim.unwrap_or(if count >= 3 { 3 } else { 2 });
-        if count < width {
-            return Err(IoError::Line {
-                file: name.to_owned(),
-                line: first_line,
-                message: format!("{count} columns, {width} coordinates needed"),
-            });
-        }
-        ((0..width).collect(), Vec::new())
-    } else {
-        rows.next();
-        let names: Vec<&str> = first.split(sep).collect();
-        let mut found = [None; 3];
-        for (c, h) in names.iter().enumerate() {
-            if let Some(a) = axis_of(h) {
-                found[a].get_or_insert(c);
-            }
-        }
-        let width = match (found[0], found[1], found[2]) {
-            (Some(_), Some(_), Some(_)) => 3,
-            (Some(_), Some(_), None) => 2,
-            _ => {
-                return Err(IoError::Line {
-                    file: name.to_owned(),
-                    line: first_line,
-                    message: format!(
-                        "header has no x and y columns (found: {})",
-                        names
-                            .iter()
-                            .map(|h| h.trim())
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ),
-                })
-            }
+    let first_fields: Vec<&str> = fields(&first, sep).collect();
+    let headerless = first_fields.iter().all(|f| number(f, sep).is_some());
+    // Column index of each position axis, and the names used in messages.
+    let (columns, labels): (Vec<usize>, Vec<String>) = if headerless {
+        let count = first_fields.len();
+        let stride = match dim {
+            Some(d) => d,
+            None if count >= 3 => 3,
+            None => 2,
         };
-        let columns: Vec<usize> = found[..width].iter().map(|c| c.unwrap_or(0)).collect();
-        let headers = columns
+        if count < stride {
+            return Err(IoError::parse(
+                name,
+                Location::Line(first_number),
+                format!("too few columns in a headerless file: {count}, need {stride} coordinates"),
+            ));
+        }
+        (
+            (0..stride).collect(),
+            AXES[..stride].iter().map(|s| (*s).to_owned()).collect(),
+        )
+    } else {
+        let columns = select_position_columns(first_fields.iter().copied())
+            .map_err(|m| IoError::parse(name, Location::Line(first_number), m))?;
+        let labels = columns
             .iter()
-            .map(|&c| names[c].trim().to_owned())
+            .map(|&c| excerpt(trim_field(first_fields[c]), 40))
             .collect();
-        (columns, headers)
+        (columns, labels)
     };
-    let width = columns.len();
+    let stride = columns.len();
     let needed = columns.iter().copied().max().unwrap_or(0) + 1;
-    let mut coords = Vec::with_capacity((text.len() / 8).min(MAX_PREALLOCATE));
-    let mut fields: Vec<&str> = Vec::new();
-    for (line, row) in rows {
-        fields.clear();
-        fields.extend(row.split(sep));
-        if fields.len() < needed {
-            return Err(IoError::Line {
-                file: name.to_owned(),
-                line,
-                message: format!("{} columns, at least {needed} expected", fields.len()),
-            });
-        }
-        for (a, &c) in columns.iter().enumerate() {
-            let header = headers.get(a).map(String::as_str).or(Some(AXES[a]));
-            coords.push(number(fields[c], name, line, c, header)?);
-        }
+    // Position k of the particle's row for each field index < needed, or usize::MAX.
+    let mut slot = vec![usize::MAX; needed];
+    for (k, &c) in columns.iter().enumerate() {
+        slot[c] = k;
     }
-    Ok(Raw { width, coords })
+    let mut coords = Vec::new();
+    let mut row = [0.0f64; 3];
+    let mut index = 0usize;
+    let mut parse_row = |line_number: usize, line: &str, coords: &mut Vec<f64>| {
+        let mut seen = 0;
+        for (c, field) in fields(line, sep).enumerate().take(needed) {
+            seen = c + 1;
+            let k = slot[c];
+            if k == usize::MAX {
+                continue;
+            }
+            let at = Location::Cell {
+                line: line_number,
+                column: c + 1,
+            };
+            let value = number(field, sep).ok_or_else(|| {
+                IoError::parse(
+                    name,
+                    at,
+                    format!(
+                        "invalid number {:?} for {}",
+                        excerpt(trim_field(field), 40),
+                        labels[k]
+                    ),
+                )
+            })?;
+            if !value.is_finite() {
+                return Err(IoError::NonFinite {
+                    file: name.to_owned(),
+                    at,
+                    index,
+                    axis: k,
+                    value,
+                });
+            }
+            row[k] = value;
+        }
+        if seen < needed {
+            return Err(IoError::parse(
+                name,
+                Location::Line(line_number),
+                format!("too few columns: {seen}, need {needed}"),
+            ));
+        }
+        coords.extend_from_slice(&row[..stride]);
+        index += 1;
+        Ok(())
+    };
+    if headerless {
+        parse_row(first_number, &first, &mut coords)?;
+    }
+    while let Some((line_number, line)) = lines.next_line(name)? {
+        let t = line.trim_start();
+        if t.is_empty() || t.starts_with('#') {
+            continue;
+        }
+        parse_row(line_number, line, &mut coords)?;
+    }
+    Ok(Positions {
+        coords,
+        stride,
+        padded_2d: false,
+    })
 }
 
-/// The values of the column named `column` (case-insensitive).
-pub(crate) fn read_column(text: &str, name: &str, column: &str) -> Result<Vec<f64>, IoError> {
-    let mut rows = lines(text);
-    let Some((header_line, header)) = rows.next() else {
-        return Err(IoError::Content {
-            file: name.to_owned(),
-            message: "no data (empty file)".into(),
-        });
+/// The values of the column named `column` of a CSV file with a header.
+pub(crate) fn read_column<R: BufRead>(
+    reader: R,
+    name: &str,
+    column: &str,
+) -> Result<Vec<f64>, IoError> {
+    let mut lines = TextLines::new(reader);
+    let Some((header_number, header, sep)) = first_line(&mut lines, name)? else {
+        return Err(IoError::parse(
+            name,
+            Location::File,
+            "no header (empty file)",
+        ));
     };
-    let sep = separator(header);
-    let index = header
-        .split(sep)
-        .position(|h| h.trim().trim_matches('"').eq_ignore_ascii_case(column))
-        .ok_or_else(|| IoError::Line {
-            file: name.to_owned(),
-            line: header_line,
-            message: format!("no column named '{column}' in the header"),
+    let wanted = normalise_name(column);
+    let index = fields(&header, sep)
+        .position(|h| normalise_name(h) == wanted)
+        .ok_or_else(|| {
+            IoError::parse(
+                name,
+                Location::Line(header_number),
+                format!("no column named {column:?} in the header"),
+            )
         })?;
-    rows.map(|(line, row)| {
-        let field = row.split(sep).nth(index).ok_or_else(|| IoError::Line {
-            file: name.to_owned(),
-            line,
-            message: format!("no value for column '{column}'"),
+    let mut values = Vec::new();
+    while let Some((line_number, line)) = lines.next_line(name)? {
+        let t = line.trim_start();
+        if t.is_empty() || t.starts_with('#') {
+            continue;
+        }
+        let field = fields(line, sep).nth(index).ok_or_else(|| {
+            IoError::parse(
+                name,
+                Location::Line(line_number),
+                format!("too few columns: no value for {column:?}"),
+            )
         })?;
-        number(field, name, line, index, Some(column))
-    })
-    .collect()
+        let value = number(field, sep).ok_or_else(|| {
+            IoError::parse(
+                name,
+                Location::Cell {
+                    line: line_number,
+                    column: index + 1,
+                },
+                format!(
+                    "invalid number {:?} for {column}",
+                    excerpt(trim_field(field), 40)
+                ),
+            )
+        })?;
+        values.push(value);
+    }
+    Ok(values)
 }
 
 pub(crate) fn write(
@@ -164,13 +240,60 @@ pub(crate) fn write(
     columns: &[(&str, Column<'_>)],
 ) -> std::io::Result<()> {
     let dim = set.dim();
-    let mut header: Vec<&str> = AXES[..dim].to_vec();
-    header.extend(columns.iter().map(|(n, _)| *n));
-    writeln!(out, "{}", header.join(","))?;
+    write!(out, "{}", AXES[..dim].join(","))?;
+    for (name, _) in columns {
+        write!(out, ",{name}")?;
+    }
+    writeln!(out)?;
     for i in 0..set.len() {
-        let mut fields: Vec<String> = set.coords(i).iter().map(|v| v.to_string()).collect();
-        fields.extend(columns.iter().map(|(_, c)| c.text(i)));
-        writeln!(out, "{}", fields.join(","))?;
+        for (k, v) in set.coords(i).iter().enumerate() {
+            if k > 0 {
+                write!(out, ",")?;
+            }
+            write!(out, "{}", Real(*v))?;
+        }
+        for (_, column) in columns {
+            write!(out, ",")?;
+            out::value(out, column, i)?;
+        }
+        writeln!(out)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn separator_is_the_most_frequent() {
+        assert_eq!(detect_separator("x,y,z"), ',');
+        assert_eq!(detect_separator("Pos.x [m];Pos.y [m];Pos.z [m]"), ';');
+        assert_eq!(detect_separator("x\ty\tz"), '\t');
+        assert_eq!(detect_separator("a,b;c"), ';');
+        assert_eq!(detect_separator("x"), ',');
+    }
+
+    #[test]
+    fn decimal_comma_only_with_semicolons() {
+        assert_eq!(number(" 0,5 ", ';'), Some(0.5));
+        assert_eq!(number("0,5", ','), None);
+        assert_eq!(number("\"-1e-3\"", ','), Some(-1e-3));
+    }
+
+    #[test]
+    fn multibyte_text_at_the_sep_prefix_is_not_sliced() {
+        // Found by the fuzz test: byte 4 inside a two-byte character.
+        let e = read("|U\u{212}i\n".as_bytes(), "m.csv", None).unwrap_err();
+        assert!(e.to_string().contains("missing position column"), "{e}");
+        assert!(read("sep\u{212}\n".as_bytes(), "m.csv", None).is_err());
+    }
+
+    #[test]
+    fn trailing_separator_and_excel_sep_line() {
+        let text = "sep=;\nx;y;\n1,5;2;\n";
+        let p = read(text.as_bytes(), "t.csv", None).unwrap();
+        assert_eq!((p.stride, p.coords), (2, vec![1.5, 2.0]));
+    }
 }

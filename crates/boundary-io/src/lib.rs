@@ -1,73 +1,135 @@
-//! Particle files: read positions from CSV, XYZ, PLY and legacy VTK, write them back with
-//! per-particle columns such as the `boundary` label. The only crate of the workspace (with the
-//! CLI and xtask) that touches particle files.
+//! Particle files: read positions from CSV, XYZ, PLY and legacy VTK into an
+//! [`AnyParticleSet`], write them back with per-particle columns such as the `boundary` label.
 //!
-//! | format | read | write |
-//! |---|---|---|
-//! | CSV (`.csv`) | header naming `x,y[,z]` (also `Pos.x [m]`, `Points:0`, `position_x`, `px`), `,` `;` or tab separated; or headerless numbers | `x,y[,z],<columns>` |
-//! | XYZ (`.xyz`, `.txt`, `.dat`) | whitespace-separated numbers per line; the chemistry header (count line + comment line, element symbol first) is recognised | `# x y [z] <columns>` then rows |
-//! | PLY (`.ply`) | ascii, binary little and big endian (via `ply-rs-bw`); element `vertex`, properties `x, y[, z]` | ascii, columns as vertex properties |
-//! | VTK legacy (`.vtk`) | `POINTS` of POLYDATA / UNSTRUCTURED_GRID / any dataset, ascii or binary (big endian) | ascii POLYDATA with `VERTICES` and `POINT_DATA` scalars |
+//! Architecture invariant: this is the only crate of the workspace that parses or writes
+//! particle files; `boundary-core` and the detector crates know no file format.
+//!
+//! | format | extension | read | write |
+//! |---|---|---|---|
+//! | CSV | `.csv` | header naming the position columns, `,` `;` or tab separated; or headerless numbers | `x,y[,z],<columns>` |
+//! | XYZ | `.xyz`, `.txt`, `.dat` | whitespace-separated numbers, one particle per line; optional count + comment lines | `# x y [z] <columns>` then rows |
+//! | PLY | `.ply` | ascii, binary little and big endian; element `vertex`, properties `x, y[, z]` | ascii, columns as vertex properties |
+//! | VTK legacy | `.vtk` | `POINTS` (float or double) of POLYDATA, UNSTRUCTURED_GRID or STRUCTURED_GRID, ascii or binary | ascii POLYDATA: `POINTS`, `VERTICES`, `POINT_DATA` scalars |
+//!
+//! # Reading
+//!
+//! **CSV.** The separator is `;`, tab or `,`, whichever occurs most often in the first
+//! non-comment line (ties in that order), or the one an Excel-style `sep=;` first line names.
+//! If that line has a field that is not a number it is a header, and the position columns are
+//! found by name, case-insensitively, after trimming spaces and quotes and dropping a unit
+//! suffix in brackets or parentheses: `x`, `y`, `z`; also `pos.x`, `Pos.x [m]` (DualSPHysics'
+//! CSV export), `position_x`, `px`, `Points:0` (ParaView's CSV export), `coords.x`. A bare `x`
+//! wins over a prefixed name; two columns of equal standing for one axis are an error. Other
+//! columns are ignored (not even parsed). With exactly two position columns (`x,y`, or `x,z` as
+//! in DualSPHysics' 2D runs) the file is 2D. A headerless file takes its first 2 or 3 columns as
+//! positions: as many as [`ReadOptions::dim`] says, else 3 if the first row has at least 3
+//! fields, else 2. Blank lines and lines starting with `#` are skipped; a trailing separator is
+//! allowed; with `;` as separator a decimal comma (`0,5`) is accepted.
+//!
+//! **XYZ.** One particle per line, whitespace-separated numbers: 2 columns are x y, 3 or more
+//! are x y z (further columns ignored). A comment line `# x y [z] …` before the data (what the
+//! writer puts first) names the columns, found as in CSV, so a written 2D file with extra
+//! columns reads back as 2D. The common `.xyz` header, a first line holding only a particle
+//! count and a free comment line after it, is recognised: then exactly that many particle lines
+//! are read (further lines, such as later frames of a trajectory, are ignored), a leading
+//! element symbol (`H 0.0 1.0 2.0`) is skipped, and fewer lines than declared is an error.
+//!
+//! **PLY** (through `ply-rs-bw`): ascii and binary of both endiannesses. The element `vertex`
+//! must have scalar properties `x` and `y`, optionally `z`, of any numeric type (converted
+//! exactly to `f64`); other properties and elements are skipped.
+//!
+//! **VTK legacy** (hand-written; see the `vtk` module for why not `vtkio`): the `POINTS` of a
+//! POLYDATA, UNSTRUCTURED_GRID or STRUCTURED_GRID dataset, `float` or `double`, ascii or binary
+//! (big endian, as the format prescribes; splashsurf and SPlisHSPlasH write these). A `FIELD`
+//! block before `POINTS` is skipped. Everything after `POINTS` is ignored.
 //!
 //! # Dimension
-//! A file with two coordinates is a 2D set. A file with three is 3D unless
-//! [`ReadOptions::dim`] is `Some(2)`: then the one axis whose coordinate is the same for every
-//! particle is dropped (DualSPHysics' 2D runs live in the x–z plane at constant y; other tools
-//! write z = 0); if several are constant, z goes first, then y; if none is, it is an error. A
-//! 2D set is never padded with z = 0, except in VTK output, whose `POINTS` always have three
-//! components.
+//!
+//! A file with two coordinates per particle (CSV or XYZ with x and y only, PLY without `z`) is a
+//! 2D set; asking for `dim = Some(3)` on it is an error. A file with three coordinates is a 3D
+//! set, unless `dim = Some(2)`: then the **one** axis whose coordinate is the same (`==`) for
+//! every particle is dropped (DualSPHysics' 2D runs live in the x–z plane at constant y; other
+//! tools write z = 0); if several axes are constant, z is dropped first, then y, then x; if none
+//! is, it is an error. A 3D file whose z is all zero is still read as 3D without `dim` (it is the
+//! user's file), with one exception: VTK files written by this crate from a 2D set carry
+//! `dim=2` in their title line and read back as 2D when their z is all zero.
+//!
+//! # Writing
+//!
+//! [`write_particles`] writes the positions and extra named [`Column`]s. Reals are written in
+//! the shortest form that reads back to the same `f64` (Rust's `{}`, or `{:e}` for magnitudes
+//! below 1e-5 or from 1e16 on), integers as integers. Column names must be non-empty printable
+//! ASCII without spaces, quotes, `,`, `;` or `#`, unique, and must not name a position (`x`,
+//! `Pos.x`, …); a column's length must equal the number of particles. In PLY and VTK an integer
+//! column is written as `int` when every value fits 32 bits, as `double` otherwise (neither
+//! format has a portable 64-bit integer). VTK points always have three components, so a 2D set
+//! is written there with z = 0 (and the `dim=2` title marker above); it is the only place a 2D
+//! set gets a z coordinate. NaN and infinite reals in a [`Column::Float`] are written as `NaN`
+//! and `inf` in CSV and XYZ (Rust reads them back); PLY and VTK readers have no common text for
+//! them, so writing one there is an error naming the column and the particle.
 //!
 //! # Errors and robustness
-//! Every error names the file, and the line (text formats) or the particle index (binary
-//! formats). Non-finite coordinates are rejected. Readers never panic and never allocate from a
-//! header's declared count before the data is there to back it.
+//!
+//! Every [`IoError`] names the file, and the line and column (text formats and ascii PLY) or the
+//! item index (binary formats) where that is known. NaN and infinite coordinates are rejected
+//! with the particle index and its line. Non-UTF-8 text is an error, not a panic. Readers never
+//! panic, and never reserve memory from a count declared in a header beyond a fixed cap
+//! ([`MAX_PREALLOCATE`] values; for PLY, `ply-rs-bw`'s own cap of 65536 elements) before the
+//! data backing it has been read: a binary VTK block is checked against the bytes present.
 //!
 //! # Example
+//!
 //! ```
-//! use boundary_core::{AnyParticleSet, ParticleSet};
+//! use boundary_core::ParticleSet;
 //! use boundary_io::{read_particles, write_particles, Column, ReadOptions};
 //!
-//! let dir = tempfile::tempdir().unwrap();
+//! let dir = tempfile::tempdir().expect("temporary directory");
 //! let path = dir.path().join("labels.csv");
-//! let set = ParticleSet::from_rows(&[[0.0, 0.5], [1.0, 0.25]]).unwrap().to_any();
-//! write_particles(&path, None, &set, &[("boundary", Column::Int(&[1, 0]))]).unwrap();
-//! assert_eq!(std::fs::read_to_string(&path).unwrap(), "x,y,boundary\n0,0.5,1\n1,0.25,0\n");
+//! let set = ParticleSet::from_rows(&[[0.0, 0.5], [1.0, 0.25]])?.to_any();
+//! write_particles(&path, None, &set, &[("boundary", Column::Int(&[1, 0]))])?;
+//! assert_eq!(std::fs::read_to_string(&path)?, "x,y,boundary\n0,0.5,1\n1,0.25,0\n");
 //!
-//! let back = read_particles(&path, &ReadOptions::default()).unwrap();
+//! let back = read_particles(&path, &ReadOptions::default())?;
 //! assert_eq!(back, set);
-//! let labels = boundary_io::read_csv_column(&path, "boundary").unwrap();
-//! assert_eq!(labels, vec![1.0, 0.0]);
+//! assert_eq!(boundary_io::read_csv_column(&path, "boundary")?, vec![1.0, 0.0]);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 mod csv;
+mod error;
 mod ply;
 mod text;
 mod vtk;
 mod xyz;
 
-use boundary_core::{AnyParticleSet, ParticleSet, Point};
+pub use error::{IoError, Location};
+
+use boundary_core::{AnyParticleSet, CoreError, ParticleSet, Point};
 use std::fmt;
-use std::io::{BufWriter, Read, Write};
+use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::Path;
 use std::str::FromStr;
-use thiserror::Error;
+
+/// The most values a reader reserves memory for from a count declared in a file header before
+/// the data is read; beyond it, vectors grow only as data actually arrives.
+pub const MAX_PREALLOCATE: usize = 1 << 20;
 
 /// A particle file format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Format {
-    /// Comma/semicolon/tab separated values with a header.
+    /// Comma, semicolon or tab separated values, with or without a header.
     Csv,
-    /// Whitespace-separated numbers.
+    /// Whitespace-separated numbers, one particle per line.
     Xyz,
-    /// Stanford polygon format.
+    /// The Stanford polygon format (ascii or binary).
     Ply,
-    /// Legacy VTK.
+    /// Legacy VTK (ascii or binary).
     Vtk,
 }
 
 impl Format {
-    /// The format of `path` by its extension (case-insensitive): `csv`; `xyz`, `txt`, `dat`;
-    /// `ply`; `vtk`.
+    /// The format named by the extension of `path`, case-insensitive: `csv`; `xyz`, `txt`,
+    /// `dat`; `ply`; `vtk`.
     pub fn from_path(path: &Path) -> Option<Format> {
         let ext = path.extension()?.to_str()?.to_ascii_lowercase();
         match ext.as_str() {
@@ -79,7 +141,7 @@ impl Format {
         }
     }
 
-    /// The format's short name.
+    /// The format's short name: `"csv"`, `"xyz"`, `"ply"`, `"vtk"`.
     pub fn name(self) -> &'static str {
         match self {
             Format::Csv => "csv",
@@ -99,13 +161,16 @@ impl fmt::Display for Format {
 impl FromStr for Format {
     type Err = String;
 
+    /// Parses a format name, case-insensitive: `csv`, `xyz` (also `txt`, `dat`), `ply`, `vtk`.
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s.to_ascii_lowercase().as_str() {
+        match s.trim().to_ascii_lowercase().as_str() {
             "csv" => Ok(Format::Csv),
             "xyz" | "txt" | "dat" => Ok(Format::Xyz),
             "ply" => Ok(Format::Ply),
             "vtk" => Ok(Format::Vtk),
-            _ => Err(format!("unknown format '{s}' (csv, xyz, ply, vtk)")),
+            _ => Err(format!(
+                "unknown format {s:?} (expected csv, xyz, ply or vtk)"
+            )),
         }
     }
 }
@@ -113,9 +178,10 @@ impl FromStr for Format {
 /// How to read a particle file.
 #[derive(Debug, Clone, Default)]
 pub struct ReadOptions {
-    /// `None`: from the file; `Some(2)` drops the constant axis of a 3D file; `Some(3)`.
+    /// `None`: the file's own dimension; `Some(2)`: a 3D file loses its one constant axis;
+    /// `Some(3)`: a 3D file is required. See the crate docs, "Dimension".
     pub dim: Option<usize>,
-    /// `None`: from the extension.
+    /// `None`: from the extension (an error naming the file if it names no format).
     pub format: Option<Format>,
 }
 
@@ -129,110 +195,33 @@ pub enum Column<'a> {
 }
 
 impl Column<'_> {
-    fn len(&self) -> usize {
+    /// Number of values.
+    pub fn len(&self) -> usize {
         match self {
             Column::Int(v) => v.len(),
             Column::Float(v) => v.len(),
         }
     }
 
-    /// The value of particle `i` as text (integers without a decimal point, reals so that
-    /// they read back to the same `f64`).
-    fn text(&self, i: usize) -> String {
-        match self {
-            Column::Int(v) => v[i].to_string(),
-            Column::Float(v) => v[i].to_string(),
-        }
+    /// Whether the column holds no value.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
     }
 }
 
-/// A particle file that cannot be read or written.
-#[derive(Debug, Error)]
-pub enum IoError {
-    /// The file cannot be opened, read or written.
-    #[error("{file}: {source}")]
-    Io {
-        /// The file.
-        file: String,
-        /// The operating system's reason.
-        source: std::io::Error,
-    },
-    /// The format cannot be told from the file name.
-    #[error("{file}: unknown format (extension .csv, .xyz, .txt, .dat, .ply or .vtk, or give the format)")]
-    UnknownFormat {
-        /// The file.
-        file: String,
-    },
-    /// Malformed text at a line (1-based).
-    #[error("{file}:{line}: {message}")]
-    Line {
-        /// The file.
-        file: String,
-        /// 1-based line number.
-        line: usize,
-        /// What is wrong.
-        message: String,
-    },
-    /// Malformed content not tied to a line (binary data, missing sections).
-    #[error("{file}: {message}")]
-    Content {
-        /// The file.
-        file: String,
-        /// What is wrong.
-        message: String,
-    },
-    /// A non-finite coordinate in a binary file.
-    #[error("{file}: particle {index}: coordinate {axis} is {value}")]
-    NonFinite {
-        /// The file.
-        file: String,
-        /// 0-based particle index.
-        index: usize,
-        /// Axis (0 = x).
-        axis: usize,
-        /// The value.
-        value: f64,
-    },
-    /// The dimension asked for does not fit the file.
-    #[error("{file}: {message}")]
-    Dimension {
-        /// The file.
-        file: String,
-        /// What is wrong.
-        message: String,
-    },
-    /// An output column's length differs from the particle count.
-    #[error("{file}: column '{column}' has {got} values for {expected} particles")]
-    ColumnLength {
-        /// The file.
-        file: String,
-        /// The column.
-        column: String,
-        /// Its length.
-        got: usize,
-        /// The particle count.
-        expected: usize,
-    },
-}
-
-/// Coordinates as read, before the dimension policy: `width` values per particle (2 or 3).
+/// Coordinates as a reader found them, before the dimension policy.
 #[derive(Debug, Default)]
-pub(crate) struct Raw {
-    pub width: usize,
+pub(crate) struct Positions {
+    /// `stride` values per particle, in file order.
     pub coords: Vec<f64>,
+    /// 2 or 3.
+    pub stride: usize,
+    /// The file says it holds a 2D set padded with z = 0 (VTK written by this crate).
+    pub padded_2d: bool,
 }
 
-/// Preallocation cap for counts declared in headers.
-pub(crate) const MAX_PREALLOCATE: usize = 1 << 20;
-
-fn io_error(file: &str) -> impl FnOnce(std::io::Error) -> IoError + '_ {
-    move |source| IoError::Io {
-        file: file.to_owned(),
-        source,
-    }
-}
-
-/// Reads the particles of `path`.
+/// Reads the particles of the file at `path`; the format is `options.format` or the one the
+/// extension names. See the crate docs for the formats and the dimension policy.
 pub fn read_particles(path: &Path, options: &ReadOptions) -> Result<AnyParticleSet, IoError> {
     let name = path.display().to_string();
     let format = match options.format {
@@ -241,101 +230,134 @@ pub fn read_particles(path: &Path, options: &ReadOptions) -> Result<AnyParticleS
             Format::from_path(path).ok_or_else(|| IoError::UnknownFormat { file: name.clone() })?
         }
     };
-    let file = std::fs::File::open(path).map_err(io_error(&name))?;
+    let file = std::fs::File::open(path).map_err(|e| IoError::read(&name, e))?;
     read_particles_from(file, &name, format, options)
 }
 
-/// Reads particles in `format` from `reader`; `name` names the source in errors.
+/// Reads particles in `format` from `reader`; `name` names the source in error messages.
+/// `options.format` is ignored (the format is given).
 pub fn read_particles_from(
-    mut reader: impl Read,
+    reader: impl Read,
     name: &str,
     format: Format,
     options: &ReadOptions,
 ) -> Result<AnyParticleSet, IoError> {
     if let Some(d) = options.dim {
         if d != 2 && d != 3 {
-            return Err(IoError::Dimension {
-                file: name.to_owned(),
-                message: format!("dimension must be 2 or 3, got {d}"),
-            });
+            return Err(IoError::dimension(
+                name,
+                format!("dimension must be 2 or 3, got {d}"),
+            ));
         }
     }
-    let mut bytes = Vec::new();
-    reader.read_to_end(&mut bytes).map_err(io_error(name))?;
-    let raw = match format {
-        Format::Csv => csv::read(text::utf8(&bytes, name)?, name, options.dim)?,
-        Format::Xyz => xyz::read(text::utf8(&bytes, name)?, name, options.dim)?,
-        Format::Ply => ply::read(&bytes, name)?,
-        Format::Vtk => vtk::read(&bytes, name)?,
+    let reader = BufReader::new(reader);
+    let positions = match format {
+        Format::Csv => csv::read(reader, name, options.dim)?,
+        Format::Xyz => xyz::read(reader, name)?,
+        Format::Ply => ply::read(reader, name)?,
+        Format::Vtk => vtk::read(reader, name)?,
     };
-    finish(raw, name, options.dim)
+    apply_dimension(positions, name, options.dim)
 }
 
-/// Applies the dimension policy (crate docs) and builds the set.
-fn finish(raw: Raw, name: &str, dim: Option<usize>) -> Result<AnyParticleSet, IoError> {
-    let n = raw.coords.len() / raw.width.max(1);
-    for (k, &v) in raw.coords.iter().enumerate() {
-        if !v.is_finite() {
-            return Err(IoError::NonFinite {
-                file: name.to_owned(),
-                index: k / raw.width,
-                axis: k % raw.width,
-                value: v,
-            });
-        }
+/// Whether coordinate `axis` has the same value for every particle (vacuously for none).
+fn is_constant(coords: &[f64], stride: usize, axis: usize) -> bool {
+    let mut values = coords.iter().skip(axis).step_by(stride);
+    match values.next() {
+        Some(&first) => values.all(|&v| v == first),
+        None => true,
     }
-    match (raw.width, dim) {
-        (2, Some(3)) => Err(IoError::Dimension {
-            file: name.to_owned(),
-            message: "the file has 2 coordinates per particle, but 3D was asked for".into(),
-        }),
-        (2, _) => Ok(build::<2>(&raw.coords, 2, [0, 1, 0])),
-        (3, Some(2)) => {
-            let constant = |axis: usize| {
-                let first = raw.coords.get(axis).copied();
-                (0..n).all(|i| Some(raw.coords[3 * i + axis]) == first)
-            };
+}
+
+/// The dimension policy of the crate docs.
+fn apply_dimension(
+    p: Positions,
+    name: &str,
+    dim: Option<usize>,
+) -> Result<AnyParticleSet, IoError> {
+    debug_assert!(p.stride == 2 || p.stride == 3);
+    if p.stride == 2 {
+        if dim == Some(3) {
+            return Err(IoError::dimension(
+                name,
+                "dim = 3 requested but the file holds 2D positions (no z coordinate)",
+            ));
+        }
+        return build::<2>(&p.coords, 2, [0, 1], name);
+    }
+    match dim {
+        Some(3) => build::<3>(&p.coords, 3, [0, 1, 2], name),
+        None if !(p.padded_2d && p.coords.iter().skip(2).step_by(3).all(|&z| z == 0.0)) => {
+            build::<3>(&p.coords, 3, [0, 1, 2], name)
+        }
+        _ => {
             let dropped = [2, 1, 0]
                 .into_iter()
-                .find(|&a| constant(a))
-                .ok_or_else(|| IoError::Dimension {
-                    file: name.to_owned(),
-                    message: "2D was asked for, but no coordinate axis is constant over all \
-                              particles"
-                        .into(),
+                .find(|&axis| is_constant(&p.coords, 3, axis))
+                .ok_or_else(|| {
+                    IoError::dimension(
+                        name,
+                        "dim = 2 requested but none of x, y, z is constant over all particles, so \
+                         no axis can be dropped",
+                    )
                 })?;
-            let kept: Vec<usize> = (0..3).filter(|&a| a != dropped).collect();
-            Ok(build::<2>(&raw.coords, 3, [kept[0], kept[1], 0]))
+            let kept = match dropped {
+                2 => [0, 1],
+                1 => [0, 2],
+                _ => [1, 2],
+            };
+            build::<2>(&p.coords, 3, kept, name)
         }
-        (3, _) => Ok(build::<3>(&raw.coords, 3, [0, 1, 2])),
-        (w, _) => Err(IoError::Content {
-            file: name.to_owned(),
-            message: format!("{w} coordinates per particle"),
-        }),
     }
 }
 
-fn build<const D: usize>(coords: &[f64], width: usize, axes: [usize; 3]) -> AnyParticleSet {
+/// Builds a `D`-dimensional set from rows of `stride` values, taking the axes `axes`.
+fn build<const D: usize>(
+    coords: &[f64],
+    stride: usize,
+    axes: [usize; D],
+    name: &str,
+) -> Result<AnyParticleSet, IoError>
+where
+    AnyParticleSet: From<ParticleSet<D>>,
+{
     let points: Vec<Point<D>> = coords
-        .chunks_exact(width)
+        .chunks_exact(stride)
         .map(|row| Point::<D>::from_fn(|a, _| row[axes[a]]))
         .collect();
-    // Finite coordinates were checked by `finish`.
+    // Readers reject non-finite values where they know the line; this is the backstop.
     ParticleSet::new(points)
-        .expect("coordinates checked finite")
-        .to_any()
+        .map(AnyParticleSet::from)
+        .map_err(|e| match e {
+            CoreError::NonFiniteCoordinate { index, axis, value } => IoError::NonFinite {
+                file: name.to_owned(),
+                at: Location::Item {
+                    kind: "particle",
+                    index,
+                },
+                index,
+                axis: axes[axis],
+                value,
+            },
+            other => IoError::Particles {
+                file: name.to_owned(),
+                source: other,
+            },
+        })
 }
 
-/// Reads the numeric column `column` (by header name, case-insensitive) of a CSV file, e.g. the
-/// `boundary` labels written by `boundary detect`.
+/// Reads the numeric column named `column` (matched like position names: case-insensitive,
+/// spaces, quotes and unit suffix ignored) of a CSV file with a header, e.g. the `boundary`
+/// labels written by `boundary detect`. Errors name the file and the line.
 pub fn read_csv_column(path: &Path, column: &str) -> Result<Vec<f64>, IoError> {
     let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(io_error(&name))?;
-    csv::read_column(text::utf8(&bytes, &name)?, &name, column)
+    let file = std::fs::File::open(path).map_err(|e| IoError::read(&name, e))?;
+    csv::read_column(BufReader::new(file), &name, column)
 }
 
-/// Writes the particles of `set` and extra `columns` to `path` (format from `format` or the
-/// extension).
+/// Writes the positions of `set` and the extra `columns` to `path`; the format is `format` or
+/// the one the extension of `path` names. The columns are checked (length, names) before the
+/// file is created.
 pub fn write_particles(
     path: &Path,
     format: Option<Format>,
@@ -349,37 +371,80 @@ pub fn write_particles(
             Format::from_path(path).ok_or_else(|| IoError::UnknownFormat { file: name.clone() })?
         }
     };
-    check_columns(&name, set, columns)?;
-    let file = std::fs::File::create(path).map_err(io_error(&name))?;
+    check_columns(&name, format, set, columns)?;
+    let file = std::fs::File::create(path).map_err(|e| IoError::write(&name, e))?;
     let mut out = BufWriter::new(file);
-    write_body(&mut out, format, set, columns).map_err(io_error(&name))?;
-    out.flush().map_err(io_error(&name))
+    write_body(&mut out, format, set, columns).map_err(|e| IoError::write(&name, e))?;
+    out.flush().map_err(|e| IoError::write(&name, e))
 }
 
-/// Writes particles in `format` to `writer`.
+/// Writes particles in `format` to `writer`; errors call the destination `<output>`.
 pub fn write_particles_to(
-    mut writer: impl Write,
+    writer: impl Write,
     format: Format,
     set: &AnyParticleSet,
     columns: &[(&str, Column<'_>)],
 ) -> Result<(), IoError> {
-    check_columns("<output>", set, columns)?;
-    write_body(&mut writer, format, set, columns).map_err(io_error("<output>"))
+    const NAME: &str = "<output>";
+    check_columns(NAME, format, set, columns)?;
+    let mut out = BufWriter::new(writer);
+    write_body(&mut out, format, set, columns).map_err(|e| IoError::write(NAME, e))?;
+    out.flush().map_err(|e| IoError::write(NAME, e))
 }
 
 fn check_columns(
     name: &str,
+    format: Format,
     set: &AnyParticleSet,
     columns: &[(&str, Column<'_>)],
 ) -> Result<(), IoError> {
-    for (column, values) in columns {
+    let column_error = |column: &str, message: String| IoError::Column {
+        file: name.to_owned(),
+        name: column.to_owned(),
+        message,
+    };
+    for (k, (column, values)) in columns.iter().enumerate() {
         if values.len() != set.len() {
-            return Err(IoError::ColumnLength {
-                file: name.to_owned(),
-                column: (*column).to_owned(),
-                got: values.len(),
-                expected: set.len(),
-            });
+            return Err(column_error(
+                column,
+                format!("{} values for {} particles", values.len(), set.len()),
+            ));
+        }
+        if column.is_empty()
+            || !column
+                .chars()
+                .all(|c| c.is_ascii_graphic() && !",;#\"'".contains(c))
+        {
+            return Err(column_error(
+                column,
+                "a column name must be non-empty printable ASCII without spaces, quotes, ',', ';' \
+                 or '#'"
+                    .into(),
+            ));
+        }
+        if text::position_axis(column).is_some() {
+            return Err(column_error(
+                column,
+                "the name would be read back as a position column".into(),
+            ));
+        }
+        if columns[..k]
+            .iter()
+            .any(|(other, _)| other.eq_ignore_ascii_case(column))
+        {
+            return Err(column_error(column, "duplicate column name".into()));
+        }
+        if let (Format::Ply | Format::Vtk, Column::Float(values)) = (format, values) {
+            if let Some((i, v)) = values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+                return Err(column_error(
+                    column,
+                    format!(
+                        "value {v} of particle {i} cannot be written in {}, which has no text \
+                         for non-finite reals",
+                        format.name().to_ascii_uppercase()
+                    ),
+                ));
+            }
         }
     }
     Ok(())
@@ -399,5 +464,205 @@ fn write_body(
     }
 }
 
-/// Axis names for headers.
-pub(crate) const AXES: [&str; 3] = ["x", "y", "z"];
+/// Writing helpers shared by the formats.
+pub(crate) mod out {
+    use super::Column;
+    use std::fmt;
+
+    /// A real in the shortest text that reads back to the same `f64`: plain decimal for
+    /// moderate magnitudes, scientific notation below 1e-5 and from 1e16 on (so that `1e300`
+    /// is not written as 301 digits).
+    pub(crate) struct Real(pub f64);
+
+    impl fmt::Display for Real {
+        fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            let v = self.0;
+            let a = v.abs();
+            if v == 0.0 || !v.is_finite() || (1e-5..1e16).contains(&a) {
+                write!(f, "{v}")
+            } else {
+                write!(f, "{v:e}")
+            }
+        }
+    }
+
+    /// Writes value `i` of `column`.
+    pub(crate) fn value(
+        out: &mut dyn std::io::Write,
+        column: &Column<'_>,
+        i: usize,
+    ) -> std::io::Result<()> {
+        match column {
+            Column::Int(v) => write!(out, "{}", v[i]),
+            Column::Float(v) => write!(out, "{}", Real(v[i])),
+        }
+    }
+
+    /// The PLY / VTK type of a column: `int` when every value fits 32 bits, else `double`.
+    pub(crate) fn binary_type(column: &Column<'_>) -> &'static str {
+        match column {
+            Column::Int(v) if v.iter().all(|&x| i32::try_from(x).is_ok()) => "int",
+            _ => "double",
+        }
+    }
+
+    /// Writes value `i` of `column` as the type [`binary_type`] chose.
+    pub(crate) fn typed_value(
+        out: &mut dyn std::io::Write,
+        column: &Column<'_>,
+        ty: &str,
+        i: usize,
+    ) -> std::io::Result<()> {
+        match (column, ty) {
+            (Column::Int(v), "double") => write!(out, "{}", Real(v[i] as f64)),
+            _ => value(out, column, i),
+        }
+    }
+
+    /// Axis names.
+    pub(crate) const AXES: [&str; 3] = ["x", "y", "z"];
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn format_names_and_extensions() {
+        for f in [Format::Csv, Format::Xyz, Format::Ply, Format::Vtk] {
+            assert_eq!(f.name().parse::<Format>(), Ok(f));
+            assert_eq!(f.to_string(), f.name());
+        }
+        assert_eq!(Format::from_path(Path::new("a/b.CSV")), Some(Format::Csv));
+        assert_eq!(Format::from_path(Path::new("b.txt")), Some(Format::Xyz));
+        assert_eq!(Format::from_path(Path::new("b.Ply")), Some(Format::Ply));
+        assert_eq!(Format::from_path(Path::new("b.vtk")), Some(Format::Vtk));
+        assert_eq!(Format::from_path(Path::new("b.vtu")), None);
+        assert_eq!(Format::from_path(Path::new("noext")), None);
+        assert!("bgeo".parse::<Format>().unwrap_err().contains("bgeo"));
+    }
+
+    #[test]
+    fn real_text_reads_back_exactly() {
+        for v in [
+            0.0,
+            -0.0,
+            1.0,
+            0.1,
+            1.0 / 3.0,
+            1e-7,
+            -2.5e-300,
+            1e300,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            5e-324,
+            123456789.123,
+            1e16 - 2.0,
+        ] {
+            let text = out::Real(v).to_string();
+            assert_eq!(
+                text.parse::<f64>().unwrap().to_bits(),
+                v.to_bits(),
+                "{text}"
+            );
+            assert!(text.len() <= 25, "{text}");
+        }
+    }
+
+    fn positions(rows: &[[f64; 3]]) -> Positions {
+        Positions {
+            coords: rows.iter().flatten().copied().collect(),
+            stride: 3,
+            padded_2d: false,
+        }
+    }
+
+    #[test]
+    fn dim_2_drops_the_one_constant_axis() {
+        let rows = [[0.0, 5.0, 1.0], [1.0, 5.0, 2.0], [2.0, 5.0, 0.5]];
+        let set = apply_dimension(positions(&rows), "f", Some(2)).unwrap();
+        assert_eq!(set.dim(), 2);
+        assert_eq!(set.coords(2), &[2.0, 0.5]);
+        // Without dim the file is 3D.
+        assert_eq!(
+            apply_dimension(positions(&rows), "f", None).unwrap().dim(),
+            3
+        );
+    }
+
+    #[test]
+    fn several_constant_axes_drop_z_then_y() {
+        let rows = [[0.0, 5.0, 1.0], [1.0, 5.0, 1.0]];
+        let set = apply_dimension(positions(&rows), "f", Some(2)).unwrap();
+        assert_eq!(set.coords(1), &[1.0, 5.0]);
+        let rows = [[3.0, 5.0, 1.0], [3.0, 5.0, 2.0]];
+        let set = apply_dimension(positions(&rows), "f", Some(2)).unwrap();
+        assert_eq!(set.coords(1), &[3.0, 2.0]);
+        let rows = [[3.0, 5.0, 1.0], [3.0, 6.0, 2.0]];
+        let set = apply_dimension(positions(&rows), "f", Some(2)).unwrap();
+        assert_eq!(set.coords(1), &[6.0, 2.0]);
+    }
+
+    #[test]
+    fn dim_2_without_constant_axis_and_dim_3_on_2d_are_errors() {
+        let rows = [[0.0, 5.0, 1.0], [1.0, 6.0, 2.0]];
+        let e = apply_dimension(positions(&rows), "f.csv", Some(2)).unwrap_err();
+        assert!(e.to_string().contains("f.csv"), "{e}");
+        let p = Positions {
+            coords: vec![0.0, 1.0],
+            stride: 2,
+            padded_2d: false,
+        };
+        let e = apply_dimension(p, "g.csv", Some(3)).unwrap_err();
+        assert!(matches!(e, IoError::Dimension { .. }), "{e}");
+        assert!(e.to_string().contains("g.csv"), "{e}");
+    }
+
+    #[test]
+    fn padded_2d_marker_only_applies_to_zero_z() {
+        let mut p = positions(&[[0.0, 5.0, 0.0], [1.0, 6.0, 0.0]]);
+        p.padded_2d = true;
+        assert_eq!(apply_dimension(p, "f", None).unwrap().dim(), 2);
+        let mut p = positions(&[[0.0, 5.0, 0.0], [1.0, 6.0, 1.0]]);
+        p.padded_2d = true;
+        assert_eq!(apply_dimension(p, "f", None).unwrap().dim(), 3);
+    }
+
+    #[test]
+    fn column_checks() {
+        let set = ParticleSet::from_rows(&[[0.0, 0.0]]).unwrap().to_any();
+        for (name, needle) in [
+            ("a b", "printable"),
+            ("", "printable"),
+            ("Pos.x", "position"),
+            ("z", "position"),
+        ] {
+            let e = check_columns("o.csv", Format::Csv, &set, &[(name, Column::Int(&[1]))])
+                .unwrap_err();
+            assert!(e.to_string().contains(needle), "{e}");
+        }
+        let e = check_columns(
+            "o.csv",
+            Format::Csv,
+            &set,
+            &[("b", Column::Float(&[1.0, 2.0]))],
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("2 values for 1 particles"), "{e}");
+        let e = check_columns(
+            "o.csv",
+            Format::Csv,
+            &set,
+            &[("b", Column::Int(&[1])), ("B", Column::Int(&[1]))],
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("duplicate"), "{e}");
+        let nan = [f64::NAN];
+        assert!(check_columns("o.csv", Format::Csv, &set, &[("m", Column::Float(&nan))]).is_ok());
+        for format in [Format::Ply, Format::Vtk] {
+            let e = check_columns("o", format, &set, &[("m", Column::Float(&nan))]).unwrap_err();
+            assert!(e.to_string().contains("particle 0"), "{e}");
+        }
+    }
+}

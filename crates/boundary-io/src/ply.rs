@@ -1,71 +1,205 @@
-//! PLY through `ply-rs-bw` (ascii, binary little and big endian): element `vertex` with
-//! properties `x, y[, z]` of any numeric type.
+//! PLY through `ply-rs-bw`: ascii, binary little and big endian. The element `vertex` must have
+//! scalar properties `x`, `y`, optionally `z`, of any numeric type; everything else is skipped.
+//!
+//! `ply-rs-bw` caps its preallocation from declared counts and reports errors with the line (for
+//! binary payloads: a running element counter, from which the vertex index is recovered). The
+//! writer is hand-written: ascii PLY is a few header lines and one line per vertex, while the
+//! crate's writer wants one owned property map per vertex.
 
-use crate::{Column, IoError, Raw, AXES};
+use crate::error::{IoError, Location};
+use crate::out::{self, Real, AXES};
+use crate::{Column, Positions};
 use boundary_core::AnyParticleSet;
-use ply_rs_bw::parser::Parser;
-use ply_rs_bw::ply::{DefaultElement, Property};
-use std::io::Write;
+use ply_rs_bw::parser::{ParseError, Parser, Reader};
+use ply_rs_bw::ply::{Encoding, PropertyAccess, PropertyType};
+use std::io::{BufRead, Write};
 
-fn scalar(p: &Property) -> Option<f64> {
-    Some(match *p {
-        Property::Char(v) => f64::from(v),
-        Property::UChar(v) => f64::from(v),
-        Property::Short(v) => f64::from(v),
-        Property::UShort(v) => f64::from(v),
-        Property::Int(v) => f64::from(v),
-        Property::UInt(v) => f64::from(v),
-        Property::Float(v) => f64::from(v),
-        Property::Double(v) => v,
-        _ => return None,
-    })
+/// An element the reader does not need: every property is ignored (lists are still read
+/// through, with the parser's capped preallocation).
+struct Skip;
+
+impl PropertyAccess for Skip {
+    fn new() -> Self {
+        Skip
+    }
 }
 
-pub(crate) fn read(bytes: &[u8], name: &str) -> Result<Raw, IoError> {
-    let content = |message: String| IoError::Content {
-        file: name.to_owned(),
-        message,
-    };
-    // The parser is a third-party crate: a panic inside it must not reach the user.
-    let parsed = std::panic::catch_unwind(|| {
-        let mut source = bytes;
-        Parser::<DefaultElement>::new().read_ply(&mut source)
-    })
-    .map_err(|_| content("malformed PLY (the parser gave up)".into()))?
-    .map_err(|e| content(format!("malformed PLY: {e}")))?;
-    let vertices = parsed
-        .payload
-        .get("vertex")
-        .ok_or_else(|| content("no element 'vertex'".into()))?;
-    let declared = parsed
-        .header
-        .elements
-        .get("vertex")
-        .map(|e| e.properties.keys().cloned().collect::<Vec<String>>())
-        .unwrap_or_default();
-    let has = |p: &str| declared.iter().any(|k| k == p);
-    let width = match (has("x"), has("y"), has("z")) {
-        (true, true, true) => 3,
-        (true, true, false) => 2,
-        _ => {
-            return Err(content(format!(
-                "element 'vertex' has no x and y properties (found: {})",
-                declared.join(", ")
-            )))
+/// A vertex: its x, y, z.
+struct Vertex([f64; 3]);
+
+impl Vertex {
+    fn set(&mut self, name: &str, value: f64) -> ply_rs_bw::ply::PropertyAccessResult {
+        use ply_rs_bw::ply::PropertyAccessResult::{Ignored, Set};
+        match name {
+            "x" => self.0[0] = value,
+            "y" => self.0[1] = value,
+            "z" => self.0[2] = value,
+            _ => return Ignored,
         }
+        Set
+    }
+}
+
+impl PropertyAccess for Vertex {
+    fn new() -> Self {
+        Vertex([0.0; 3])
+    }
+    fn set_char(&mut self, n: &str, v: i8) -> ply_rs_bw::ply::PropertyAccessResult {
+        self.set(n, f64::from(v))
+    }
+    fn set_uchar(&mut self, n: &str, v: u8) -> ply_rs_bw::ply::PropertyAccessResult {
+        self.set(n, f64::from(v))
+    }
+    fn set_short(&mut self, n: &str, v: i16) -> ply_rs_bw::ply::PropertyAccessResult {
+        self.set(n, f64::from(v))
+    }
+    fn set_ushort(&mut self, n: &str, v: u16) -> ply_rs_bw::ply::PropertyAccessResult {
+        self.set(n, f64::from(v))
+    }
+    fn set_int(&mut self, n: &str, v: i32) -> ply_rs_bw::ply::PropertyAccessResult {
+        self.set(n, f64::from(v))
+    }
+    fn set_uint(&mut self, n: &str, v: u32) -> ply_rs_bw::ply::PropertyAccessResult {
+        self.set(n, f64::from(v))
+    }
+    fn set_float(&mut self, n: &str, v: f32) -> ply_rs_bw::ply::PropertyAccessResult {
+        self.set(n, f64::from(v))
+    }
+    fn set_double(&mut self, n: &str, v: f64) -> ply_rs_bw::ply::PropertyAccessResult {
+        self.set(n, v)
+    }
+}
+
+/// The parser's message as one lower-case line without its `Line N:` prefix, shortened.
+fn flatten(e: &ParseError) -> String {
+    let text = e.to_string();
+    let text = match e.line() {
+        Some(line) => text
+            .strip_prefix(&format!("Line {line}: "))
+            .unwrap_or(&text)
+            .to_owned(),
+        None => text,
     };
-    let mut coords = Vec::with_capacity(vertices.len() * width);
-    for (i, v) in vertices.iter().enumerate() {
-        for axis in AXES.iter().take(width) {
-            let value = v.get(*axis).and_then(scalar).ok_or_else(|| {
-                content(format!(
-                    "vertex {i}: property {axis} missing or not a scalar"
+    let one_line: Vec<&str> = text.split_whitespace().collect();
+    let mut message = crate::error::excerpt(&one_line.join(" "), 160);
+    if let Some(first) = message.get(..1) {
+        let lower = first.to_ascii_lowercase();
+        message.replace_range(..1, &lower);
+    }
+    let message = message.trim_end_matches('.').to_owned();
+    format!("malformed PLY: {message}")
+}
+
+pub(crate) fn read<R: BufRead>(reader: R, name: &str) -> Result<Positions, IoError> {
+    let mut reader = Reader::new(reader);
+    let header = Parser::<Skip>::new()
+        .read_header(&mut reader)
+        .map_err(|e| {
+            let at = e.line().map_or(Location::File, Location::Line);
+            IoError::parse(name, at, flatten(&e))
+        })?;
+    let Some(vertex) = header.elements.get("vertex") else {
+        return Err(IoError::parse(
+            name,
+            Location::File,
+            "malformed PLY: no element \"vertex\"",
+        ));
+    };
+    let mut stride = 0;
+    for (axis, label) in AXES.iter().enumerate() {
+        match vertex.properties.get(*label).map(|p| &p.data_type) {
+            Some(PropertyType::Scalar(_)) if stride == axis => stride += 1,
+            Some(PropertyType::Scalar(_)) => {}
+            Some(PropertyType::List(..)) => {
+                return Err(IoError::parse(
+                    name,
+                    Location::File,
+                    format!("malformed PLY: vertex property {label} is a list, not a number"),
                 ))
-            })?;
-            coords.push(value);
+            }
+            None => {}
         }
     }
-    Ok(Raw { width, coords })
+    if stride < 2 {
+        let found: Vec<&str> = vertex.properties.keys().map(String::as_str).collect();
+        return Err(IoError::parse(
+            name,
+            Location::File,
+            format!(
+                "the PLY vertex element lacks property {} (it has: {})",
+                if stride == 0 { "x" } else { "y" },
+                crate::error::excerpt(&found.join(", "), 160)
+            ),
+        ));
+    }
+    let binary = header.encoding != Encoding::Ascii;
+    // Elements before `vertex` are read through and dropped.
+    for (key, element) in &header.elements {
+        if key == "vertex" {
+            break;
+        }
+        if element.properties.is_empty() && element.count > 0 {
+            // Nothing to read per element: a huge count would spin without consuming input.
+            return Err(IoError::parse(
+                name,
+                Location::File,
+                format!(
+                    "malformed PLY: element {:?} declares {} items but no properties",
+                    crate::error::excerpt(key, 40),
+                    element.count
+                ),
+            ));
+        }
+        Parser::<Skip>::new()
+            .read_payload_for_element(&mut reader, element, &header)
+            .map_err(|e| {
+                let at = match (binary, e.line()) {
+                    (false, Some(line)) => Location::Line(line),
+                    _ => Location::File,
+                };
+                IoError::parse(name, at, flatten(&e))
+            })?;
+    }
+    // The line of the first vertex (ascii), or the parser's element counter (binary).
+    let first = reader.line().max(1);
+    let locate = |i: usize| {
+        if binary {
+            Location::Item {
+                kind: "vertex",
+                index: i,
+            }
+        } else {
+            Location::Line(first + i)
+        }
+    };
+    let vertices = Parser::<Vertex>::new()
+        .read_payload_for_element(&mut reader, vertex, &header)
+        .map_err(|e| {
+            let at = e
+                .line()
+                .map_or(Location::File, |line| locate(line.saturating_sub(first)));
+            IoError::parse(name, at, flatten(&e))
+        })?;
+    let mut coords = Vec::with_capacity(vertices.len() * stride);
+    for (index, v) in vertices.iter().enumerate() {
+        for (axis, &value) in v.0[..stride].iter().enumerate() {
+            if !value.is_finite() {
+                return Err(IoError::NonFinite {
+                    file: name.to_owned(),
+                    at: locate(index),
+                    index,
+                    axis,
+                    value,
+                });
+            }
+        }
+        coords.extend_from_slice(&v.0[..stride]);
+    }
+    Ok(Positions {
+        coords,
+        stride,
+        padded_2d: false,
+    })
 }
 
 pub(crate) fn write(
@@ -78,18 +212,23 @@ pub(crate) fn write(
     for axis in &AXES[..set.dim()] {
         writeln!(out, "property double {axis}")?;
     }
-    for (name, column) in columns {
-        let ty = match column {
-            Column::Int(_) => "int",
-            Column::Float(_) => "double",
-        };
+    let types: Vec<&str> = columns.iter().map(|(_, c)| out::binary_type(c)).collect();
+    for ((name, _), ty) in columns.iter().zip(&types) {
         writeln!(out, "property {ty} {name}")?;
     }
     writeln!(out, "end_header")?;
     for i in 0..set.len() {
-        let mut fields: Vec<String> = set.coords(i).iter().map(|v| v.to_string()).collect();
-        fields.extend(columns.iter().map(|(_, c)| c.text(i)));
-        writeln!(out, "{}", fields.join(" "))?;
+        for (k, v) in set.coords(i).iter().enumerate() {
+            if k > 0 {
+                write!(out, " ")?;
+            }
+            write!(out, "{}", Real(*v))?;
+        }
+        for ((_, column), ty) in columns.iter().zip(&types) {
+            write!(out, " ")?;
+            out::typed_value(out, column, ty, i)?;
+        }
+        writeln!(out)?;
     }
     Ok(())
 }

@@ -1,52 +1,249 @@
-//! Helpers shared by the text formats.
+//! Line-oriented reading of text formats, and the naming conventions of position columns shared
+//! by the CSV header and the XYZ comment header.
 
-use crate::IoError;
+use crate::error::{excerpt, IoError, Location};
+use std::io::BufRead;
 
-/// The bytes as UTF-8 text (a leading byte-order mark is skipped).
-pub(crate) fn utf8<'a>(bytes: &'a [u8], name: &str) -> Result<&'a str, IoError> {
-    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-    std::str::from_utf8(bytes).map_err(|e| {
-        let line = 1 + bytes[..e.valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count();
-        IoError::Line {
-            file: name.to_owned(),
-            line,
-            message: "not UTF-8 text (a binary file with a text extension?)".into(),
-        }
-    })
-}
-
-/// Parses a number field; the error says which column and what was found.
-pub(crate) fn number(
-    field: &str,
-    name: &str,
+/// Reads a text file line by line, counting lines (1-based) and checking UTF-8 per line, so that
+/// a non-UTF-8 byte is reported with its line and nothing is decoded twice.
+pub(crate) struct TextLines<R> {
+    reader: R,
+    buf: Vec<u8>,
     line: usize,
-    column: usize,
-    header: Option<&str>,
-) -> Result<f64, IoError> {
-    let field = field.trim().trim_matches('"');
-    let value: f64 = field.parse().map_err(|_| IoError::Line {
-        file: name.to_owned(),
-        line,
-        message: match header {
-            Some(h) => format!("column {} ('{h}'): '{field}' is not a number", column + 1),
-            None => format!("column {}: '{field}' is not a number", column + 1),
-        },
-    })?;
-    if !value.is_finite() {
-        return Err(IoError::Line {
-            file: name.to_owned(),
-            line,
-            message: format!("column {}: coordinate '{field}' is not finite", column + 1),
-        });
-    }
-    Ok(value)
 }
 
-/// Whether the line carries data (not blank, not a `#` comment).
-pub(crate) fn is_data(line: &str) -> bool {
-    let t = line.trim();
-    !t.is_empty() && !t.starts_with('#')
+impl<R: BufRead> TextLines<R> {
+    pub(crate) fn new(reader: R) -> Self {
+        TextLines {
+            reader,
+            buf: Vec::new(),
+            line: 0,
+        }
+    }
+
+    /// The next line without its `\n` / `\r\n` terminator, with its 1-based number; `None` at
+    /// the end of the input. A UTF-8 byte-order mark at the start of the file is dropped.
+    pub(crate) fn next_line(&mut self, file: &str) -> Result<Option<(usize, &str)>, IoError> {
+        self.buf.clear();
+        let n = self
+            .reader
+            .read_until(b'\n', &mut self.buf)
+            .map_err(|e| IoError::read(file, e))?;
+        if n == 0 {
+            return Ok(None);
+        }
+        self.line += 1;
+        if self.buf.last() == Some(&b'\n') {
+            self.buf.pop();
+        }
+        if self.buf.last() == Some(&b'\r') {
+            self.buf.pop();
+        }
+        let text = std::str::from_utf8(&self.buf).map_err(|e| {
+            IoError::parse(
+                file,
+                Location::Line(self.line),
+                format!(
+                    "invalid UTF-8 text (byte {} of the line)",
+                    e.valid_up_to() + 1
+                ),
+            )
+        })?;
+        let text = if self.line == 1 {
+            text.strip_prefix('\u{feff}').unwrap_or(text)
+        } else {
+            text
+        };
+        Ok(Some((self.line, text)))
+    }
+}
+
+/// Trims spaces and quotes around a field.
+pub(crate) fn trim_field(field: &str) -> &str {
+    field.trim_matches(|c: char| c.is_whitespace() || c == '"' || c == '\'')
+}
+
+/// Parses a decimal number (Rust's `f64` syntax: `1`, `-2.5e-3`, `inf`, `NaN`; finiteness is
+/// checked by the caller, which knows the particle and the line).
+pub(crate) fn parse_number(field: &str) -> Option<f64> {
+    trim_field(field).parse::<f64>().ok()
+}
+
+/// Normalises a column name for matching: spaces and quotes trimmed, a unit suffix in brackets
+/// or parentheses removed (`Pos.x [m]` → `pos.x`), lower-cased.
+pub(crate) fn normalise_name(name: &str) -> String {
+    let name = trim_field(name);
+    let cut = name.find(['[', '(']).unwrap_or(name.len());
+    trim_field(&name[..cut]).to_ascii_lowercase()
+}
+
+/// Prefixes that, followed by an optional separator (`.`, `_`, `:`, `-`, space) and an axis,
+/// name a position column: `pos.x`, `Position_y`, `Points:2`, `coords.z`. Longest first, so
+/// that `positions` is not read as `position` + `s`.
+const POSITION_PREFIXES: [&str; 9] = [
+    "coordinates",
+    "positions",
+    "position",
+    "coords",
+    "coord",
+    "points",
+    "point",
+    "pos",
+    "p",
+];
+
+/// The position axis (0, 1, 2) a column name denotes, with a priority: 0 for the bare names
+/// `x`, `y`, `z`; 1 for prefixed names (`pos.x`, `Pos.x [m]`, `position_x`, `px`,
+/// `Points:0`). An axis given by a digit (`Points:0`, ParaView's CSV export) needs a prefix
+/// longer than `p` and a separator, so that `p0` (say, a pressure) is not a position.
+pub(crate) fn position_axis(name: &str) -> Option<(usize, u8)> {
+    let n = normalise_name(name);
+    let letter = |s: &str| match s {
+        "x" => Some(0),
+        "y" => Some(1),
+        "z" => Some(2),
+        _ => None,
+    };
+    if let Some(axis) = letter(&n) {
+        return Some((axis, 0));
+    }
+    for prefix in POSITION_PREFIXES {
+        let Some(rest) = n.strip_prefix(prefix) else {
+            continue;
+        };
+        let (separated, rest) = match rest.strip_prefix(['.', '_', ':', '-', ' ']) {
+            Some(r) => (true, r),
+            None => (false, rest),
+        };
+        if let Some(axis) = letter(rest) {
+            return Some((axis, 1));
+        }
+        if separated && prefix != "p" {
+            if let Some(axis) = match rest {
+                "0" => Some(0),
+                "1" => Some(1),
+                "2" => Some(2),
+                _ => None,
+            } {
+                return Some((axis, 1));
+            }
+        }
+    }
+    None
+}
+
+/// Chooses the position columns among named columns: for each axis the column of best
+/// priority (see [`position_axis`]); two columns of the same best priority for one axis are
+/// ambiguous. At least two axes must be present; with exactly two (`x,y`, or `x,z` as in
+/// DualSPHysics' 2D runs) the positions are 2D.
+///
+/// Returns the column indices in axis order (2 or 3 of them), or a message.
+pub(crate) fn select_position_columns<'a>(
+    names: impl IntoIterator<Item = &'a str>,
+) -> Result<Vec<usize>, String> {
+    let mut best: [Option<(u8, usize)>; 3] = [None; 3];
+    let mut all = Vec::new();
+    for (column, name) in names.into_iter().enumerate() {
+        all.push(name);
+        let Some((axis, priority)) = position_axis(name) else {
+            continue;
+        };
+        match best[axis] {
+            Some((p, other)) if p == priority => {
+                return Err(format!(
+                    "columns {} ({:?}) and {} ({:?}) both name the {} position",
+                    other + 1,
+                    trim_field(all[other]),
+                    column + 1,
+                    trim_field(name),
+                    ["x", "y", "z"][axis]
+                ));
+            }
+            Some((p, _)) if p < priority => {}
+            _ => best[axis] = Some((priority, column)),
+        }
+    }
+    let chosen: Vec<usize> = best.iter().flatten().map(|&(_, c)| c).collect();
+    if chosen.len() < 2 {
+        let missing: Vec<&str> = ["x", "y"]
+            .into_iter()
+            .zip(&best)
+            .filter(|(_, b)| b.is_none())
+            .map(|(a, _)| a)
+            .collect();
+        let listed: Vec<String> = all
+            .iter()
+            .map(|s| format!("{:?}", excerpt(trim_field(s), 40)))
+            .collect();
+        return Err(format!(
+            "missing position column {} (need x and y, optionally z, also spelled like pos.x, \
+             \"Pos.x [m]\", position_x or px); the header has {}",
+            missing.join(" and "),
+            excerpt(&listed.join(", "), 200)
+        ));
+    }
+    Ok(chosen)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn position_names_of_common_tools() {
+        for (name, axis, priority) in [
+            ("x", 0, 0),
+            (" \"Z\" ", 2, 0),
+            ("Pos.x [m]", 0, 1),
+            ("pos.y", 1, 1),
+            ("position_z", 2, 1),
+            ("Positions:1", 1, 1),
+            ("px", 0, 1),
+            ("Points:0", 0, 1),
+            ("\"Points:2\"", 2, 1),
+            ("coords.y", 1, 1),
+            ("x (m)", 0, 1 - 1),
+        ] {
+            assert_eq!(position_axis(name), Some((axis, priority)), "{name}");
+        }
+        for name in [
+            "vx",
+            "Vel.x [m/s]",
+            "p0",
+            "idp",
+            "Rhop",
+            "pressure",
+            "xx",
+            "",
+        ] {
+            assert_eq!(position_axis(name), None, "{name}");
+        }
+    }
+
+    #[test]
+    fn bare_names_win_over_prefixed_ones() {
+        assert_eq!(
+            select_position_columns(["px", "x", "y", "py", "z"]),
+            Ok(vec![1, 2, 4])
+        );
+        assert_eq!(select_position_columns(["x", "vx", "z"]), Ok(vec![0, 2]));
+    }
+
+    #[test]
+    fn ambiguous_and_missing_columns_are_errors() {
+        let e = select_position_columns(["pos.x", "px", "y"]).unwrap_err();
+        assert!(
+            e.contains("columns 1") && e.contains("both name the x"),
+            "{e}"
+        );
+        let e = select_position_columns(["x", "vel"]).unwrap_err();
+        assert!(e.starts_with("missing position column y"), "{e}");
+    }
+
+    #[test]
+    fn normalise_strips_units_quotes_case() {
+        assert_eq!(normalise_name(" 'Pos.X [m]' "), "pos.x");
+        assert_eq!(normalise_name("Vel.z (m/s)"), "vel.z");
+    }
 }

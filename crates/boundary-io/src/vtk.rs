@@ -1,140 +1,403 @@
-//! Legacy VTK: the `POINTS` section of any dataset, ascii or binary (big endian, as the format
-//! prescribes).
+//! Legacy VTK (`.vtk`): the `POINTS` of a POLYDATA, UNSTRUCTURED_GRID or STRUCTURED_GRID
+//! dataset, `float` or `double`, ascii or binary (big endian, as the legacy format prescribes).
 //!
-//! Hand-written rather than through `vtkio`: only `POINTS` is needed, the reader must never
-//! panic on real files (vtkio 0.6's legacy parser can), and it must not allocate from the
-//! declared count before the bytes are there.
+//! Hand-written rather than through `vtkio` 0.6: only `POINTS` is needed, and vtkio's legacy
+//! parser (nom 3 `many_m_n!`) reserves a vector of the declared size before reading, so a
+//! header declaring billions of points aborts the process; it also reports no line or point.
+//! This reader checks a binary block's declared size against the bytes present before reading
+//! it, and caps preallocation for ascii data.
 
-use crate::{Column, IoError, Raw, MAX_PREALLOCATE};
+use crate::error::{excerpt, IoError, Location};
+use crate::out::{self, Real};
+use crate::{Column, Positions, MAX_PREALLOCATE};
 use boundary_core::AnyParticleSet;
-use std::io::Write;
+use std::io::{BufRead, Write};
 
-/// Splits the next whitespace-delimited token off `bytes[*pos..]`.
-fn token<'a>(bytes: &'a [u8], pos: &mut usize) -> Option<&'a [u8]> {
-    while *pos < bytes.len() && bytes[*pos].is_ascii_whitespace() {
-        *pos += 1;
-    }
-    let start = *pos;
-    while *pos < bytes.len() && !bytes[*pos].is_ascii_whitespace() {
-        *pos += 1;
-    }
-    (start < *pos).then(|| &bytes[start..*pos])
+/// The title token by which this crate marks a 2D set padded with z = 0.
+const DIM2_MARKER: &str = "dim=2";
+
+/// A cursor over the whole file: text lines for the header, tokens or raw bytes for data.
+struct Cursor<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+    /// 1-based line of `pos` (counted as the cursor moves, never over binary data twice).
+    line: usize,
 }
 
-/// Position just after the end of the line containing `pos`.
-fn next_line(bytes: &[u8], pos: usize) -> usize {
-    bytes[pos..]
-        .iter()
-        .position(|&b| b == b'\n')
-        .map_or(bytes.len(), |k| pos + k + 1)
+impl<'a> Cursor<'a> {
+    fn advance(&mut self, n: usize) {
+        let end = (self.pos + n).min(self.bytes.len());
+        self.line += self.bytes[self.pos..end]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        self.pos = end;
+    }
+
+    /// The next line that is not blank (whitespace skipped first), without its terminator, and
+    /// its line number; the cursor moves past its `\n`.
+    fn next_text_line(&mut self) -> Option<(usize, &'a [u8])> {
+        let rest = &self.bytes[self.pos..];
+        let skip = rest
+            .iter()
+            .position(|b| !b.is_ascii_whitespace())
+            .unwrap_or(rest.len());
+        self.advance(skip);
+        if self.pos == self.bytes.len() {
+            return None;
+        }
+        let line = self.line;
+        let rest = &self.bytes[self.pos..];
+        let len = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
+        let text = &rest[..len];
+        self.advance((len + 1).min(rest.len()));
+        Some((line, text.strip_suffix(b"\r").unwrap_or(text)))
+    }
+
+    /// The raw line at the cursor (may be empty), for the title.
+    fn raw_line(&mut self) -> Option<&'a [u8]> {
+        if self.pos == self.bytes.len() {
+            return None;
+        }
+        let rest = &self.bytes[self.pos..];
+        let len = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
+        self.advance((len + 1).min(rest.len()));
+        Some(&rest[..len])
+    }
+
+    /// The next whitespace-delimited token and its line.
+    fn token(&mut self) -> Option<(usize, &'a [u8])> {
+        let rest = &self.bytes[self.pos..];
+        let skip = rest
+            .iter()
+            .position(|b| !b.is_ascii_whitespace())
+            .unwrap_or(rest.len());
+        self.advance(skip);
+        let rest = &self.bytes[self.pos..];
+        let len = rest
+            .iter()
+            .position(|b| b.is_ascii_whitespace())
+            .unwrap_or(rest.len());
+        if len == 0 {
+            return None;
+        }
+        let line = self.line;
+        self.pos += len;
+        Some((line, &rest[..len]))
+    }
+
+    /// `n` raw bytes, or `None` if fewer remain (the cursor does not move then).
+    fn take(&mut self, n: usize) -> Option<&'a [u8]> {
+        let end = self.pos.checked_add(n)?;
+        let data = self.bytes.get(self.pos..end)?;
+        self.pos = end;
+        Some(data)
+    }
+
+    fn remaining(&self) -> usize {
+        self.bytes.len() - self.pos
+    }
 }
 
-pub(crate) fn read(bytes: &[u8], name: &str) -> Result<Raw, IoError> {
-    let content = |message: String| IoError::Content {
-        file: name.to_owned(),
-        message,
+/// Text of a header token for messages.
+fn show(bytes: &[u8]) -> String {
+    excerpt(&String::from_utf8_lossy(bytes), 40)
+}
+
+/// Size in bytes of a legacy VTK data type, `None` if unknown.
+fn type_size(name: &[u8]) -> Option<usize> {
+    let name = name.to_ascii_lowercase();
+    Some(match name.as_slice() {
+        b"bit" => 0,
+        b"char" | b"unsigned_char" => 1,
+        b"short" | b"unsigned_short" => 2,
+        b"int" | b"unsigned_int" | b"float" | b"vtkidtype" => 4,
+        b"long" | b"unsigned_long" | b"double" | b"vtktypeint64" | b"vtktypeuint64" => 8,
+        _ => return None,
+    })
+}
+
+pub(crate) fn read<R: BufRead>(mut reader: R, name: &str) -> Result<Positions, IoError> {
+    let mut bytes = Vec::new();
+    reader
+        .read_to_end(&mut bytes)
+        .map_err(|e| IoError::read(name, e))?;
+    let mut c = Cursor {
+        bytes: &bytes,
+        pos: 0,
+        line: 1,
     };
-    if !bytes.starts_with(b"# vtk DataFile") {
-        return Err(content(
-            "not a legacy VTK file (no '# vtk DataFile' line)".into(),
+    let err = |at: Location, message: String| IoError::parse(name, at, message);
+    let version = c.raw_line().unwrap_or_default();
+    if !version
+        .get(..5)
+        .is_some_and(|v| v.eq_ignore_ascii_case(b"# vtk"))
+    {
+        return Err(err(
+            Location::Line(1),
+            "not a legacy VTK file: the first line must start with \"# vtk DataFile\"".into(),
         ));
     }
-    // Line 2 is a free title, line 3 the encoding.
-    let title_start = next_line(bytes, 0);
-    let encoding_start = next_line(bytes, title_start);
-    let mut pos = encoding_start;
-    let encoding = token(bytes, &mut pos)
-        .unwrap_or_default()
-        .to_ascii_uppercase();
-    let binary = match encoding.as_slice() {
+    let title = c.raw_line().unwrap_or_default();
+    let padded_2d = String::from_utf8_lossy(title)
+        .split_whitespace()
+        .any(|t| t == DIM2_MARKER);
+    let (line, encoding) = c.next_text_line().ok_or_else(|| {
+        err(
+            Location::File,
+            "truncated VTK header: no ASCII or BINARY line".into(),
+        )
+    })?;
+    let binary = match encoding.trim_ascii().to_ascii_uppercase().as_slice() {
         b"ASCII" => false,
         b"BINARY" => true,
         other => {
-            return Err(content(format!(
-                "line 3: expected ASCII or BINARY, got '{}'",
-                String::from_utf8_lossy(other)
-            )))
+            return Err(err(
+                Location::Line(line),
+                format!("expected ASCII or BINARY, found {:?}", show(other)),
+            ))
         }
     };
-    // Find the POINTS keyword (sections before it, like DATASET, are skipped).
+    let (line, dataset) = c.next_text_line().ok_or_else(|| {
+        err(
+            Location::File,
+            "truncated VTK header: no DATASET line".into(),
+        )
+    })?;
+    let mut words = dataset
+        .split(|b| b.is_ascii_whitespace())
+        .filter(|w| !w.is_empty());
+    let keyword = words.next().unwrap_or_default();
+    let kind = words.next().unwrap_or_default().to_ascii_uppercase();
+    if !keyword.eq_ignore_ascii_case(b"DATASET") {
+        return Err(err(
+            Location::Line(line),
+            format!("expected DATASET, found {:?}", show(keyword)),
+        ));
+    }
+    if !matches!(
+        kind.as_slice(),
+        b"POLYDATA" | b"UNSTRUCTURED_GRID" | b"STRUCTURED_GRID"
+    ) {
+        return Err(err(
+            Location::Line(line),
+            format!(
+                "unsupported dataset {:?} (POLYDATA, UNSTRUCTURED_GRID or STRUCTURED_GRID hold POINTS)",
+                show(&kind)
+            ),
+        ));
+    }
+    // Sections before POINTS: FIELD data (skipped), DIMENSIONS of a structured grid.
     loop {
-        match token(bytes, &mut pos) {
-            Some(t) if t.eq_ignore_ascii_case(b"POINTS") => break,
-            Some(_) => {}
-            None => return Err(content("no POINTS section".into())),
+        let (line, text) = c
+            .next_text_line()
+            .ok_or_else(|| err(Location::File, "no POINTS section".into()))?;
+        let mut words = text
+            .split(|b| b.is_ascii_whitespace())
+            .filter(|w| !w.is_empty());
+        let keyword = words.next().unwrap_or_default().to_ascii_uppercase();
+        match keyword.as_slice() {
+            b"POINTS" => {
+                let count = words.next().unwrap_or_default();
+                let count: usize = std::str::from_utf8(count)
+                    .ok()
+                    .and_then(|s| s.parse().ok())
+                    .ok_or_else(|| {
+                        err(
+                            Location::Line(line),
+                            format!("invalid POINTS count {:?}", show(count)),
+                        )
+                    })?;
+                let ty = words.next().unwrap_or_default().to_ascii_lowercase();
+                let size = match ty.as_slice() {
+                    b"float" => 4,
+                    b"double" => 8,
+                    other => {
+                        return Err(err(
+                            Location::Line(line),
+                            format!(
+                                "unsupported POINTS type {:?}: float or double expected",
+                                show(other)
+                            ),
+                        ))
+                    }
+                };
+                let coords = if binary {
+                    read_binary_points(&mut c, name, line, count, size)?
+                } else {
+                    read_ascii_points(&mut c, name, line, count)?
+                };
+                return Ok(Positions {
+                    coords,
+                    stride: 3,
+                    padded_2d,
+                });
+            }
+            b"FIELD" => skip_field(&mut c, name, line, words.nth(1), binary)?,
+            b"DIMENSIONS" => {}
+            other => {
+                return Err(err(
+                    Location::Line(line),
+                    format!("expected POINTS, found {:?}", show(other)),
+                ))
+            }
         }
     }
-    let count_text = token(bytes, &mut pos).unwrap_or_default();
-    let count: usize = std::str::from_utf8(count_text)
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .ok_or_else(|| {
-            content(format!(
-                "POINTS: bad count '{}'",
-                String::from_utf8_lossy(count_text)
-            ))
-        })?;
-    let ty = token(bytes, &mut pos)
-        .unwrap_or_default()
-        .to_ascii_lowercase();
-    let size = match ty.as_slice() {
-        b"float" => 4,
-        b"double" => 8,
-        other => {
-            return Err(content(format!(
-                "POINTS of type '{}' (float or double supported)",
-                String::from_utf8_lossy(other)
-            )))
-        }
-    };
-    let values = count
-        .checked_mul(3)
-        .ok_or_else(|| content(format!("POINTS count {count} too large")))?;
-    let mut coords = Vec::with_capacity(values.min(MAX_PREALLOCATE));
-    if binary {
-        let start = next_line(bytes, pos);
-        let need = values
-            .checked_mul(size)
-            .ok_or_else(|| content(format!("POINTS count {count} too large")))?;
-        let data = bytes
-            .get(start..start.saturating_add(need))
-            .ok_or_else(|| {
-                content(format!(
-                    "POINTS declares {count} points ({need} bytes) but only {} bytes follow",
-                    bytes.len().saturating_sub(start)
-                ))
-            })?;
-        for chunk in data.chunks_exact(size) {
-            coords.push(if size == 4 {
-                f64::from(f32::from_be_bytes([chunk[0], chunk[1], chunk[2], chunk[3]]))
-            } else {
-                let mut b = [0u8; 8];
-                b.copy_from_slice(chunk);
-                f64::from_be_bytes(b)
+}
+
+fn read_binary_points(
+    c: &mut Cursor<'_>,
+    name: &str,
+    line: usize,
+    count: usize,
+    size: usize,
+) -> Result<Vec<f64>, IoError> {
+    let need = count.checked_mul(3 * size);
+    let data = need.and_then(|n| c.take(n)).ok_or_else(|| {
+        IoError::parse(
+            name,
+            Location::Line(line),
+            format!(
+                "the POINTS line declares {count} points ({} bytes) but only {} bytes follow",
+                need.map_or_else(|| "too many".to_owned(), |n| n.to_string()),
+                c.remaining()
+            ),
+        )
+    })?;
+    let mut coords = Vec::with_capacity(3 * count);
+    for (k, chunk) in data.chunks_exact(size).enumerate() {
+        let value = match *chunk {
+            [a, b, c, d] => f64::from(f32::from_be_bytes([a, b, c, d])),
+            [a, b, c, d, e, f, g, h] => f64::from_be_bytes([a, b, c, d, e, f, g, h]),
+            _ => unreachable!("chunks are 4 or 8 bytes"),
+        };
+        if !value.is_finite() {
+            return Err(IoError::NonFinite {
+                file: name.to_owned(),
+                at: Location::Item {
+                    kind: "point",
+                    index: k / 3,
+                },
+                index: k / 3,
+                axis: k % 3,
+                value,
             });
         }
-    } else {
-        for k in 0..values {
-            let t = token(bytes, &mut pos).ok_or_else(|| {
-                content(format!(
-                    "POINTS declares {count} points but the data ends after {}",
-                    k / 3
-                ))
+        coords.push(value);
+    }
+    Ok(coords)
+}
+
+fn read_ascii_points(
+    c: &mut Cursor<'_>,
+    name: &str,
+    line: usize,
+    count: usize,
+) -> Result<Vec<f64>, IoError> {
+    let values = count.saturating_mul(3);
+    // Each value takes at least two bytes ("0 "): no more can be there.
+    let mut coords = Vec::with_capacity(values.min(c.remaining() / 2).min(MAX_PREALLOCATE));
+    for k in 0..values {
+        let (at_line, token) = c.token().ok_or_else(|| {
+            IoError::parse(
+                name,
+                Location::Line(line),
+                format!(
+                    "the POINTS line declares {count} points but the data ends after {} values",
+                    k
+                ),
+            )
+        })?;
+        let at = Location::Line(at_line);
+        let value: f64 = std::str::from_utf8(token)
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .ok_or_else(|| {
+                IoError::parse(
+                    name,
+                    at,
+                    format!(
+                        "invalid number {:?} in POINTS (point {})",
+                        show(token),
+                        k / 3
+                    ),
+                )
             })?;
-            let v: f64 = std::str::from_utf8(t)
-                .ok()
-                .and_then(|s| s.parse().ok())
-                .ok_or_else(|| {
-                    content(format!(
-                        "point {}: '{}' is not a number",
-                        k / 3,
-                        String::from_utf8_lossy(t)
-                    ))
+        if !value.is_finite() {
+            return Err(IoError::NonFinite {
+                file: name.to_owned(),
+                at,
+                index: k / 3,
+                axis: k % 3,
+                value,
+            });
+        }
+        coords.push(value);
+    }
+    Ok(coords)
+}
+
+/// Skips a `FIELD name n` block: `n` arrays, each `name components tuples type` then data.
+fn skip_field(
+    c: &mut Cursor<'_>,
+    name: &str,
+    line: usize,
+    arrays: Option<&[u8]>,
+    binary: bool,
+) -> Result<(), IoError> {
+    let bad = |line: usize, message: String| IoError::parse(name, Location::Line(line), message);
+    let arrays: usize = arrays
+        .and_then(|a| std::str::from_utf8(a).ok()?.parse().ok())
+        .ok_or_else(|| bad(line, "invalid FIELD line: expected FIELD name count".into()))?;
+    for _ in 0..arrays {
+        let (line, header) = c
+            .next_text_line()
+            .ok_or_else(|| bad(line, "truncated FIELD data".into()))?;
+        let words: Vec<&[u8]> = header
+            .split(|b| b.is_ascii_whitespace())
+            .filter(|w| !w.is_empty())
+            .collect();
+        let number =
+            |k: usize| -> Option<usize> { std::str::from_utf8(words.get(k)?).ok()?.parse().ok() };
+        let (Some(components), Some(tuples), Some(size)) = (
+            number(1),
+            number(2),
+            words.get(3).and_then(|t| type_size(t)),
+        ) else {
+            return Err(bad(
+                line,
+                "invalid FIELD array line: expected name components tuples type".into(),
+            ));
+        };
+        let values = components
+            .checked_mul(tuples)
+            .ok_or_else(|| bad(line, "the FIELD array is too large".into()))?;
+        if binary {
+            let bytes = if size == 0 {
+                values.div_ceil(8)
+            } else {
+                values
+                    .checked_mul(size)
+                    .ok_or_else(|| bad(line, "the FIELD array is too large".into()))?
+            };
+            c.take(bytes).ok_or_else(|| {
+                bad(
+                    line,
+                    "a FIELD array declares more data than the file holds".into(),
+                )
+            })?;
+        } else {
+            for _ in 0..values {
+                c.token().ok_or_else(|| {
+                    bad(
+                        line,
+                        "a FIELD array declares more data than the file holds".into(),
+                    )
                 })?;
-            coords.push(v);
+            }
         }
     }
-    Ok(Raw { width: 3, coords })
+    Ok(())
 }
 
 pub(crate) fn write(
@@ -143,16 +406,14 @@ pub(crate) fn write(
     columns: &[(&str, Column<'_>)],
 ) -> std::io::Result<()> {
     let n = set.len();
-    writeln!(
-        out,
-        "# vtk DataFile Version 3.0\nparticles written by boundary-io\nASCII\nDATASET POLYDATA"
-    )?;
-    writeln!(out, "POINTS {n} double")?;
+    writeln!(out, "# vtk DataFile Version 3.0")?;
+    writeln!(out, "particles written by boundary-io dim={}", set.dim())?;
+    writeln!(out, "ASCII\nDATASET POLYDATA\nPOINTS {n} double")?;
     for i in 0..n {
         let c = set.coords(i);
-        // VTK points always have three components: a 2D set gets z = 0 here only.
+        // VTK points have three components: a 2D set gets z = 0 here, and `dim=2` in the title.
         let z = c.get(2).copied().unwrap_or(0.0);
-        writeln!(out, "{} {} {}", c[0], c[1], z)?;
+        writeln!(out, "{} {} {}", Real(c[0]), Real(c[1]), Real(z))?;
     }
     writeln!(out, "VERTICES {n} {}", 2 * n)?;
     for i in 0..n {
@@ -161,15 +422,49 @@ pub(crate) fn write(
     if !columns.is_empty() {
         writeln!(out, "POINT_DATA {n}")?;
         for (name, column) in columns {
-            let ty = match column {
-                Column::Int(_) => "int",
-                Column::Float(_) => "double",
-            };
+            let ty = out::binary_type(column);
             writeln!(out, "SCALARS {name} {ty} 1\nLOOKUP_TABLE default")?;
             for i in 0..n {
-                writeln!(out, "{}", column.text(i))?;
+                out::typed_value(out, column, ty, i)?;
+                writeln!(out)?;
             }
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn field_block_before_points_is_skipped_in_binary() {
+        let mut file = b"# vtk DataFile Version 3.0\nt\nBINARY\nDATASET POLYDATA\nFIELD FieldData 2\nTIME 1 1 double\n".to_vec();
+        // The binary value starts with bytes that look like whitespace and "POINTS".
+        file.extend_from_slice(b"\n POINTS");
+        file.extend_from_slice(b"\nCYCLE 1 1 int\n");
+        file.extend_from_slice(&7i32.to_be_bytes());
+        file.extend_from_slice(b"\nPOINTS 1 double\n");
+        for v in [1.5f64, -2.0, 0.25] {
+            file.extend_from_slice(&v.to_be_bytes());
+        }
+        let p = read(file.as_slice(), "f.vtk").unwrap();
+        assert_eq!(p.coords, vec![1.5, -2.0, 0.25]);
+    }
+
+    #[test]
+    fn ascii_points_across_lines() {
+        let file = "# vtk DataFile Version 2.0\ntitle\nASCII\n\nDATASET UNSTRUCTURED_GRID\nPOINTS 2 float\n1 2\n3 4 5 6\nCELLS 0 0\n";
+        let p = read(file.as_bytes(), "a.vtk").unwrap();
+        assert_eq!(p.coords, vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+        assert!(!p.padded_2d);
+    }
+
+    #[test]
+    fn ascii_error_names_the_line_of_the_token() {
+        let file = "# vtk DataFile Version 2.0\ntitle\nASCII\nDATASET POLYDATA\nPOINTS 2 float\n1 2 3\n4 x 6\n";
+        let e = read(file.as_bytes(), "a.vtk").unwrap_err();
+        assert_eq!(e.location(), Some(Location::Line(7)), "{e}");
+    }
 }

@@ -1,77 +1,159 @@
-//! XYZ: whitespace-separated numbers, one particle per line.
+//! XYZ: whitespace-separated numbers, one particle per line (crate docs, "Reading").
 
-use crate::text::{is_data, number};
-use crate::{Column, IoError, Raw, AXES, MAX_PREALLOCATE};
+use crate::error::{excerpt, IoError, Location};
+use crate::out::{self, Real, AXES};
+use crate::text::{parse_number, position_axis, select_position_columns, TextLines};
+use crate::{Column, Positions, MAX_PREALLOCATE};
 use boundary_core::AnyParticleSet;
-use std::io::Write;
+use std::io::{BufRead, Write};
 
-pub(crate) fn read(text: &str, name: &str, dim: Option<usize>) -> Result<Raw, IoError> {
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(k, l)| (k + 1, l.trim_end_matches('\r')))
-        .peekable();
-    // The chemistry convention: a count line, a free comment line, then `Symbol x y z` rows.
-    let mut declared = None;
-    if let Some(&(_, first)) = lines.peek() {
-        let tokens: Vec<&str> = first.split_whitespace().collect();
-        if let [count] = tokens.as_slice() {
-            if let Ok(count) = count.parse::<usize>() {
-                declared = Some(count);
-                lines.next();
-                lines.next();
+/// How the columns of the data lines are chosen.
+enum Layout {
+    /// Not yet known: the first data line decides (2 values: x y; 3 or more: x y z).
+    Unknown,
+    /// Named by a `# x y [z] …` comment: these column indices, in axis order.
+    Named(Vec<usize>),
+    /// The first `stride` columns.
+    Leading(usize),
+}
+
+pub(crate) fn read<R: BufRead>(reader: R, name: &str) -> Result<Positions, IoError> {
+    let mut lines = TextLines::new(reader);
+    let mut layout = Layout::Unknown;
+    // `(line of the count, count)` for the count + comment header.
+    let mut declared: Option<(usize, usize)> = None;
+    let mut coords = Vec::new();
+    let mut index = 0usize;
+    let mut first = true;
+    while let Some((line_number, line)) = lines.next_line(name)? {
+        let t = line.trim();
+        if first && !t.is_empty() {
+            first = false;
+            if let Ok(count) = t.parse::<usize>() {
+                if t.bytes().all(|b| b.is_ascii_digit()) {
+                    declared = Some((line_number, count));
+                    coords.reserve(count.saturating_mul(3).min(MAX_PREALLOCATE));
+                    // The next line is a free comment, whatever it holds.
+                    lines.next_line(name)?;
+                    continue;
+                }
             }
         }
-    }
-    // A comment line naming the columns (`# x y [z] …`, as our writer puts first) says whether
-    // there is a z column; otherwise three or more values per line mean 3D.
-    let named = text
-        .lines()
-        .take_while(|l| !is_data(l))
-        .filter_map(|l| l.trim().strip_prefix('#'))
-        .map(|l| {
-            l.split_whitespace()
-                .filter_map(crate::csv::axis_of)
-                .collect::<Vec<_>>()
-        })
-        .find(|axes| axes.contains(&0) && axes.contains(&1));
-    let mut width = dim.or_else(|| named.map(|axes| if axes.contains(&2) { 3 } else { 2 }));
-    let mut coords = Vec::with_capacity((text.len() / 8).min(MAX_PREALLOCATE));
-    let mut rows = 0usize;
-    for (line, row) in lines.filter(|(_, l)| is_data(l)) {
-        let mut tokens: Vec<&str> = row.split_whitespace().collect();
-        // A leading element symbol (chemistry XYZ) is skipped.
-        if declared.is_some() && tokens.first().is_some_and(|t| t.parse::<f64>().is_err()) {
+        if t.is_empty() {
+            continue;
+        }
+        if let Some(comment) = t.strip_prefix('#') {
+            if index == 0 && matches!(layout, Layout::Unknown) {
+                let names: Vec<&str> = comment.split_whitespace().collect();
+                let named = |axis| {
+                    names
+                        .iter()
+                        .any(|n| position_axis(n).map(|a| a.0) == Some(axis))
+                };
+                if named(0) && named(1) {
+                    let columns = select_position_columns(names.iter().copied())
+                        .map_err(|m| IoError::parse(name, Location::Line(line_number), m))?;
+                    layout = Layout::Named(columns);
+                }
+            }
+            continue;
+        }
+        if let Some((_, count)) = declared {
+            if index == count {
+                // Later lines (further frames of a trajectory) are not read.
+                break;
+            }
+        }
+        let mut tokens: Vec<&str> = t.split_whitespace().collect();
+        // A leading element symbol in the chemistry convention (`H 0.0 1.0 2.0`).
+        if declared.is_some()
+            && tokens.first().is_some_and(|s| {
+                s.starts_with(|c: char| c.is_ascii_alphabetic()) && parse_number(s).is_none()
+            })
+        {
             tokens.remove(0);
         }
-        let w = *width.get_or_insert(if tokens.len() >= 3 { 3 } else { 2 });
-        if tokens.len() < w {
-            return Err(IoError::Line {
-                file: name.to_owned(),
-                line,
-                message: format!("{} values, {w} coordinates expected", tokens.len()),
-            });
+        if matches!(layout, Layout::Unknown) {
+            layout = match tokens.len() {
+                0 | 1 => {
+                    return Err(IoError::parse(
+                        name,
+                        Location::Line(line_number),
+                        format!("too few columns: {}, need 2 or 3 coordinates", tokens.len()),
+                    ))
+                }
+                2 => Layout::Leading(2),
+                _ => Layout::Leading(3),
+            };
         }
-        for (c, t) in tokens[..w].iter().enumerate() {
-            coords.push(number(t, name, line, c, Some(AXES[c]))?);
+        let columns: &[usize] = match &layout {
+            Layout::Named(c) => c,
+            Layout::Leading(2) => &[0, 1],
+            _ => &[0, 1, 2],
+        };
+        let needed = columns.iter().copied().max().unwrap_or(0) + 1;
+        if tokens.len() < needed {
+            return Err(IoError::parse(
+                name,
+                Location::Line(line_number),
+                format!("too few columns: {}, need {needed}", tokens.len()),
+            ));
         }
-        rows += 1;
+        for (axis, &c) in columns.iter().enumerate() {
+            let at = Location::Cell {
+                line: line_number,
+                column: c + 1,
+            };
+            let value = parse_number(tokens[c]).ok_or_else(|| {
+                IoError::parse(
+                    name,
+                    at,
+                    format!(
+                        "invalid number {:?} for {}",
+                        excerpt(tokens[c], 40),
+                        AXES[axis]
+                    ),
+                )
+            })?;
+            if !value.is_finite() {
+                return Err(IoError::NonFinite {
+                    file: name.to_owned(),
+                    at,
+                    index,
+                    axis,
+                    value,
+                });
+            }
+            coords.push(value);
+        }
+        index += 1;
     }
-    if let Some(count) = declared {
-        if count != rows {
-            return Err(IoError::Content {
-                file: name.to_owned(),
-                message: format!("the first line declares {count} particles, {rows} found"),
-            });
+    if let Some((line, count)) = declared {
+        if index < count {
+            return Err(IoError::parse(
+                name,
+                Location::Line(line),
+                format!("declared {count} particles but the file holds {index}"),
+            ));
         }
     }
-    match width {
-        Some(width) => Ok(Raw { width, coords }),
-        None => Err(IoError::Content {
-            file: name.to_owned(),
-            message: "no data (empty file)".into(),
-        }),
-    }
+    let stride = match layout {
+        Layout::Named(c) => c.len(),
+        Layout::Leading(s) => s,
+        Layout::Unknown if declared.is_some() => 3,
+        Layout::Unknown => {
+            return Err(IoError::parse(
+                name,
+                Location::File,
+                "no particles (empty file)",
+            ))
+        }
+    };
+    Ok(Positions {
+        coords,
+        stride,
+        padded_2d: false,
+    })
 }
 
 pub(crate) fn write(
@@ -79,13 +161,48 @@ pub(crate) fn write(
     set: &AnyParticleSet,
     columns: &[(&str, Column<'_>)],
 ) -> std::io::Result<()> {
-    let mut header: Vec<&str> = AXES[..set.dim()].to_vec();
-    header.extend(columns.iter().map(|(n, _)| *n));
-    writeln!(out, "# {}", header.join(" "))?;
+    write!(out, "# {}", AXES[..set.dim()].join(" "))?;
+    for (name, _) in columns {
+        write!(out, " {name}")?;
+    }
+    writeln!(out)?;
     for i in 0..set.len() {
-        let mut fields: Vec<String> = set.coords(i).iter().map(|v| v.to_string()).collect();
-        fields.extend(columns.iter().map(|(_, c)| c.text(i)));
-        writeln!(out, "{}", fields.join(" "))?;
+        for (k, v) in set.coords(i).iter().enumerate() {
+            if k > 0 {
+                write!(out, " ")?;
+            }
+            write!(out, "{}", Real(*v))?;
+        }
+        for (_, column) in columns {
+            write!(out, " ")?;
+            out::value(out, column, i)?;
+        }
+        writeln!(out)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn count_header_with_zero_particles_is_an_empty_3d_file() {
+        let p = read("0\ncomment\n".as_bytes(), "e.xyz").unwrap();
+        assert_eq!((p.stride, p.coords.len()), (3, 0));
+    }
+
+    #[test]
+    fn named_comment_picks_columns() {
+        let p = read("# id x y\n7 1 2\n8 3 4\n".as_bytes(), "n.xyz").unwrap();
+        assert_eq!((p.stride, p.coords), (2, vec![1.0, 2.0, 3.0, 4.0]));
+    }
+
+    #[test]
+    fn later_frames_are_not_read() {
+        let text = "2\nframe 0\nH 0 0 0\nH 1 0 0\n2\nframe 1\nH 5 5 5\nH 6 5 5\n";
+        let p = read(text.as_bytes(), "t.xyz").unwrap();
+        assert_eq!(p.coords, vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
+    }
 }

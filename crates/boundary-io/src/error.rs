@@ -1,0 +1,177 @@
+use boundary_core::CoreError;
+use std::fmt;
+
+/// Where in a file an error was found.
+///
+/// Lines and columns are 1-based (as an editor shows them); item indices (particles of a binary
+/// file) are 0-based, as particle indices are everywhere else in the project.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Location {
+    /// The file as a whole (an empty file, a dimension policy that cannot be met).
+    File,
+    /// A line of a text file or of a text header.
+    Line(usize),
+    /// A field of a delimited text file.
+    Cell {
+        /// 1-based line.
+        line: usize,
+        /// 1-based column (field) number.
+        column: usize,
+    },
+    /// An item of binary data, such as `vertex 12` of a binary PLY file or `point 12` of a binary
+    /// VTK file.
+    Item {
+        /// What the item is (`"vertex"`, `"point"`).
+        kind: &'static str,
+        /// 0-based index of the item.
+        index: usize,
+    },
+}
+
+impl fmt::Display for Location {
+    /// Renders as a suffix of a file name: `""`, `" line 3"`, `" line 3 column 2"`, `" vertex 7"`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Location::File => Ok(()),
+            Location::Line(line) => write!(f, " line {line}"),
+            Location::Cell { line, column } => write!(f, " line {line} column {column}"),
+            Location::Item { kind, index } => write!(f, " {kind} {index}"),
+        }
+    }
+}
+
+/// Errors of reading or writing particle files.
+///
+/// Every message is one line, starts lower-case, has no trailing period and names the file (for
+/// [`crate::read_particles_from`] and [`crate::write_particles_to`], the name the caller gave, or
+/// `<output>`), followed by the line, column or item where that is known.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum IoError {
+    /// The operating system refused to open or read the file.
+    #[error("cannot read {file}: {source}")]
+    Read {
+        /// The file.
+        file: String,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The operating system refused to create or write the file.
+    #[error("cannot write {file}: {source}")]
+    Write {
+        /// The file.
+        file: String,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// No format was given and the file's extension names none.
+    #[error(
+        "unknown particle file format for {file}: expected extension .csv, .xyz, .txt, .ply or .vtk, \
+         or name the format"
+    )]
+    UnknownFormat {
+        /// The file.
+        file: String,
+    },
+    /// The content does not follow the format.
+    #[error("{message} in {file}{at}")]
+    Parse {
+        /// The file.
+        file: String,
+        /// Where.
+        at: Location,
+        /// What is wrong, lower-case, one line.
+        message: String,
+    },
+    /// A coordinate is NaN or infinite.
+    #[error("particle {index}: coordinate {axis} is not finite ({value}) in {file}{at}")]
+    NonFinite {
+        /// The file.
+        file: String,
+        /// Where the particle is written.
+        at: Location,
+        /// 0-based particle index in file order.
+        index: usize,
+        /// Axis in the file (0 = x, 1 = y, 2 = z).
+        axis: usize,
+        /// The value read.
+        value: f64,
+    },
+    /// The requested dimension cannot be produced from the file's positions.
+    #[error("{message} in {file}")]
+    Dimension {
+        /// The file.
+        file: String,
+        /// Why, lower-case, one line.
+        message: String,
+    },
+    /// A per-particle output column does not fit the set or the format.
+    #[error("column {name:?}: {message} (writing {file})")]
+    Column {
+        /// The file being written.
+        file: String,
+        /// The column's name.
+        name: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The positions were read but do not form a valid particle set (for instance more than
+    /// `u32::MAX` particles).
+    #[error("invalid particle set in {file}: {source}")]
+    Particles {
+        /// The file.
+        file: String,
+        /// The core error.
+        source: CoreError,
+    },
+}
+
+impl IoError {
+    pub(crate) fn parse(file: &str, at: Location, message: impl Into<String>) -> Self {
+        IoError::Parse {
+            file: file.to_owned(),
+            at,
+            message: message.into(),
+        }
+    }
+
+    pub(crate) fn read(file: &str, source: std::io::Error) -> Self {
+        IoError::Read {
+            file: file.to_owned(),
+            source,
+        }
+    }
+
+    pub(crate) fn write(file: &str, source: std::io::Error) -> Self {
+        IoError::Write {
+            file: file.to_owned(),
+            source,
+        }
+    }
+
+    pub(crate) fn dimension(file: &str, message: impl Into<String>) -> Self {
+        IoError::Dimension {
+            file: file.to_owned(),
+            message: message.into(),
+        }
+    }
+
+    /// The location inside the file, where the error has one.
+    pub fn location(&self) -> Option<Location> {
+        match self {
+            IoError::Parse { at, .. } | IoError::NonFinite { at, .. } => Some(*at),
+            _ => None,
+        }
+    }
+}
+
+/// Shortens a text quoted in an error message to at most `max` characters.
+pub(crate) fn excerpt(text: &str, max: usize) -> String {
+    if text.chars().count() <= max {
+        text.to_owned()
+    } else {
+        let mut s: String = text.chars().take(max).collect();
+        s.push('…');
+        s
+    }
+}
