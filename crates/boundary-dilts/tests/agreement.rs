@@ -4,7 +4,7 @@
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
-mod common;
+use boundary_scenes::{cubic_lattice, shared_set, square_lattice, SHARED_SCENES};
 
 use boundary_core::{BoundaryDetector, Detection, ParticleSet, Radius};
 use boundary_dilts::DiltsDetector;
@@ -41,11 +41,11 @@ fn assert_agree<const D: usize>(what: &str, set: &ParticleSet<D>, r: f64) {
 
 #[test]
 fn shared_scenes_agree_particle_by_particle() {
-    for &(file, dim, r, _) in common::SHARED_SCENES {
+    for &(_, dim, file, r, _, _, _) in SHARED_SCENES {
         if dim == 2 {
-            assert_agree(file, &common::read_csv::<2>(file), r);
+            assert_agree(file, &shared_set::<2>(file).unwrap(), r);
         } else {
-            assert_agree(file, &common::read_csv::<3>(file), r);
+            assert_agree(file, &shared_set::<3>(file).unwrap(), r);
         }
     }
 }
@@ -53,7 +53,7 @@ fn shared_scenes_agree_particle_by_particle() {
 #[test]
 fn perfect_lattices_at_tie_and_generic_radii_agree_exactly() {
     // Ties are interior for both methods, so perfect lattices agree even at tie radii.
-    let square = ParticleSet::from_rows(&common::square_lattice(9, 1.0)).unwrap();
+    let square = ParticleSet::from_rows(&square_lattice(9, 1.0)).unwrap();
     for r in [
         0.6,
         std::f64::consts::FRAC_1_SQRT_2,
@@ -66,7 +66,7 @@ fn perfect_lattices_at_tie_and_generic_radii_agree_exactly() {
         let (e, d) = both(&square, r);
         assert_eq!(e.labels, d.labels, "square lattice r={r}");
     }
-    let cubic = ParticleSet::from_rows(&common::cubic_lattice(7, 1.0)).unwrap();
+    let cubic = ParticleSet::from_rows(&cubic_lattice(7, 1.0)).unwrap();
     for r in [
         0.8,
         3f64.sqrt() / 2.0,
@@ -114,7 +114,7 @@ fn jittered_lattices_agree_across_radii() {
 fn duplicates_far_offsets_and_flat_sets() {
     // Every particle of a lattice doubled: duplicates do not cover each other, but the copy's
     // neighbours do, so labels equal those of the single lattice for both methods.
-    let rows = common::cubic_lattice(5, 1.0);
+    let rows = cubic_lattice(5, 1.0);
     let doubled: Vec<[f64; 3]> = rows.iter().chain(rows.iter()).copied().collect();
     let set = ParticleSet::from_rows(&doubled).unwrap();
     let (e, d) = both(&set, 1.2);
@@ -130,7 +130,7 @@ fn duplicates_far_offsets_and_flat_sets() {
     assert_agree("far offset", &ParticleSet::from_rows(&far).unwrap(), 0.012);
 
     // A planar sheet in 3D: every particle is boundary for both.
-    let sheet: Vec<[f64; 3]> = common::square_lattice(6, 1.0)
+    let sheet: Vec<[f64; 3]> = square_lattice(6, 1.0)
         .iter()
         .map(|p| [p[0], p[1], 0.0])
         .collect();

@@ -2,7 +2,7 @@
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
-mod common;
+use boundary_scenes::{shared_set, SHARED_SCENES};
 
 use boundary_core::{BoundaryDetector, Radius};
 use boundary_dilts::DiltsDetector;
@@ -12,13 +12,13 @@ use std::time::Instant;
 fn reproduces_the_reference_boundary_counts() {
     let mut report = Vec::new();
     let mut mismatch = false;
-    for &(file, dim, r, expected) in common::SHARED_SCENES {
+    for &(_, dim, file, r, _, expected, _) in SHARED_SCENES {
         let radius = Radius::new(r).unwrap();
         let start = Instant::now();
         let det = if dim == 2 {
-            DiltsDetector.detect_2d(&common::read_csv::<2>(file), radius)
+            DiltsDetector.detect_2d(&shared_set::<2>(file).unwrap(), radius)
         } else {
-            DiltsDetector.detect_3d(&common::read_csv::<3>(file), radius)
+            DiltsDetector.detect_3d(&shared_set::<3>(file).unwrap(), radius)
         }
         .unwrap();
         let count = det.labels.boundary_count();

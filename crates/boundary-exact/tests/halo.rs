@@ -2,7 +2,7 @@
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
-mod common;
+use boundary_scenes::shared_set;
 
 use boundary_core::decompose::{morton_blocks, slabs, Subdomain};
 use boundary_core::{BoundaryDetector, ParticleSet, Radius};
@@ -43,15 +43,15 @@ fn check<const D: usize>(set: &ParticleSet<D>, r: f64) {
 #[test]
 fn split_scenes_match_the_global_run() {
     check(
-        &common::read_csv::<2>("particles2d/sandim_vortex_spin_frame_100_1698.csv"),
+        &shared_set::<2>("particles2d/sandim_vortex_spin_frame_100_1698.csv").unwrap(),
         0.022105,
     );
     check(
-        &common::read_csv::<3>("particles3d/splashsurf_dam_break_frame_9_6859.csv"),
+        &shared_set::<3>("particles3d/splashsurf_dam_break_frame_9_6859.csv").unwrap(),
         0.05,
     );
     check(
-        &common::read_csv::<3>("particles3d/dualsphysics_dambreak3d_dp0.02_fluid.csv"),
+        &shared_set::<3>("particles3d/dualsphysics_dambreak3d_dp0.02_fluid.csv").unwrap(),
         0.0346,
     );
 }

@@ -2,7 +2,7 @@
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
-mod common;
+use boundary_scenes::{cubic_lattice, shared_set, square_lattice};
 
 use boundary_core::{BoundaryDetector, Detection, ParticleSet, Point, Radius};
 use boundary_exact::{ExactDetector, TIE_TOLERANCE};
@@ -24,24 +24,6 @@ fn run3(rows: &[[f64; 3]], r: f64) -> Detection {
             Radius::new(r).unwrap(),
         )
         .unwrap()
-}
-
-fn square_lattice(n: usize, a: f64) -> Vec<[f64; 2]> {
-    (0..n * n)
-        .map(|k| [(k % n) as f64 * a, (k / n) as f64 * a])
-        .collect()
-}
-
-fn cubic_lattice(n: usize, a: f64) -> Vec<[f64; 3]> {
-    (0..n * n * n)
-        .map(|k| {
-            [
-                (k % n) as f64 * a,
-                ((k / n) % n) as f64 * a,
-                (k / (n * n)) as f64 * a,
-            ]
-        })
-        .collect()
 }
 
 /// Number of lattice points not on the outer layer of an n^D block.
@@ -193,7 +175,7 @@ fn radius_from_tiny_to_huge() {
 
 #[test]
 fn thread_count_does_not_change_labels() {
-    let set = common::read_csv::<3>("particles3d/splashsurf_dam_break_frame_9_6859.csv");
+    let set = shared_set::<3>("particles3d/splashsurf_dam_break_frame_9_6859.csv").unwrap();
     let r = Radius::new(0.05).unwrap();
     let run = |threads: usize| {
         rayon::ThreadPoolBuilder::new()

@@ -2,7 +2,7 @@
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
-mod common;
+use boundary_scenes::{shared_set, SHARED_SCENES};
 
 use boundary_core::{BoundaryDetector, Radius};
 use boundary_exact::{ExactDetector, TIE_TOLERANCE};
@@ -10,12 +10,12 @@ use boundary_exact::{ExactDetector, TIE_TOLERANCE};
 #[test]
 fn reproduces_the_reference_boundary_counts() {
     let mut report = Vec::new();
-    for &(file, dim, r, expected) in common::SHARED_SCENES {
+    for &(_, dim, file, r, _, expected, _) in SHARED_SCENES {
         let radius = Radius::new(r).unwrap();
         let det = if dim == 2 {
-            ExactDetector.detect_2d(&common::read_csv::<2>(file), radius)
+            ExactDetector.detect_2d(&shared_set::<2>(file).unwrap(), radius)
         } else {
-            ExactDetector.detect_3d(&common::read_csv::<3>(file), radius)
+            ExactDetector.detect_3d(&shared_set::<3>(file).unwrap(), radius)
         }
         .unwrap();
         let margins = det.margin.as_ref().unwrap();

@@ -4,7 +4,7 @@
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
-mod common;
+use boundary_scenes::{cubic_lattice, shared_set, square_lattice, SHARED_SCENES};
 
 use boundary_core::{BoundaryDetector, Labels, ParticleSet, Radius};
 use boundary_exact::ExactDetector;
@@ -47,11 +47,11 @@ fn certify<const D: usize>(what: &str, set: &ParticleSet<D>, r: f64, max_depth: 
 
 #[test]
 fn shared_scenes_depth_1_to_8() {
-    for &(file, dim, r, _) in common::SHARED_SCENES {
+    for &(_, dim, file, r, _, _, _) in SHARED_SCENES {
         let fps = if dim == 2 {
-            certify(file, &common::read_csv::<2>(file), r, 8)
+            certify(file, &shared_set::<2>(file).unwrap(), r, 8)
         } else {
-            certify(file, &common::read_csv::<3>(file), r, 8)
+            certify(file, &shared_set::<3>(file).unwrap(), r, 8)
         };
         println!("{file} r={r}: FP by depth {fps:?}");
     }
@@ -75,16 +75,16 @@ fn jittered<const D: usize>(n_side: usize, jitter: f64, seed: u64) -> ParticleSe
 
 #[test]
 fn hard_cases_depth_1_to_8() {
-    let square = ParticleSet::from_rows(&common::square_lattice(12, 1.0)).unwrap();
+    let square = ParticleSet::from_rows(&square_lattice(12, 1.0)).unwrap();
     for r in [std::f64::consts::FRAC_1_SQRT_2, 0.8, 1.0, 1.5] {
         certify("square lattice", &square, r, 8);
     }
-    let cubic = ParticleSet::from_rows(&common::cubic_lattice(7, 1.0)).unwrap();
+    let cubic = ParticleSet::from_rows(&cubic_lattice(7, 1.0)).unwrap();
     for r in [3f64.sqrt() / 2.0, 1.0, 1.2] {
         certify("cubic lattice", &cubic, r, 8);
     }
     // Duplicates: every particle twice.
-    let rows = common::cubic_lattice(5, 1.0);
+    let rows = cubic_lattice(5, 1.0);
     let doubled: Vec<[f64; 3]> = rows.iter().chain(rows.iter()).copied().collect();
     certify(
         "duplicates",
@@ -117,7 +117,7 @@ fn hard_cases_depth_1_to_8() {
     // Flat sets: a line in 2D, a plane in 3D, all boundary.
     let line: Vec<[f64; 2]> = (0..20).map(|k| [k as f64 * 0.5, 0.0]).collect();
     certify("line", &ParticleSet::from_rows(&line).unwrap(), 1.0, 8);
-    let plane: Vec<[f64; 3]> = common::square_lattice(6, 1.0)
+    let plane: Vec<[f64; 3]> = square_lattice(6, 1.0)
         .iter()
         .map(|p| [p[0], p[1], 0.0])
         .collect();

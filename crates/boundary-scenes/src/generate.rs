@@ -249,9 +249,7 @@ pub fn all_scenes() -> Vec<Scene> {
         ),
     });
     // --- Hard cases.
-    let square: Vec<Point<2>> = (0..256)
-        .map(|k| Point::<2>::new((k % 16) as f64, (k / 16) as f64))
-        .collect();
+    let square = rows(&crate::square_lattice(16, 1.0));
     scenes.push(Scene {
         name: "square_lattice_tie2d".into(),
         set: set(square),
@@ -259,19 +257,15 @@ pub fn all_scenes() -> Vec<Scene> {
         generator: "lattice",
         params: "16x16, a=1, r=a/sqrt(2) (exact ties)".into(),
     });
-    let cubic: Vec<Point<3>> = (0..1000)
-        .map(|k| Point::<3>::new((k % 10) as f64, ((k / 10) % 10) as f64, (k / 100) as f64))
-        .collect();
+    let cubic = rows(&crate::cubic_lattice(10, 1.0));
     scenes.push(Scene {
         name: "cubic_lattice_tie3d".into(),
-        set: set(cubic.clone()),
+        set: set(cubic),
         radius: 3f64.sqrt() / 2.0,
         generator: "lattice",
         params: "10x10x10, a=1, r=a*sqrt(3)/2 (exact ties)".into(),
     });
-    let one: Vec<Point<3>> = (0..216)
-        .map(|k| Point::<3>::new((k % 6) as f64, ((k / 6) % 6) as f64, (k / 36) as f64))
-        .collect();
+    let one = rows(&crate::cubic_lattice(6, 1.0));
     let six = one.iter().chain(one.iter()).copied().collect();
     scenes.push(Scene {
         name: "duplicates3d".into(),

@@ -21,6 +21,8 @@ mod manifest;
 pub use generate::{all_scenes, enright, fill, jittered_lattice_ball, rk4, single_vortex, Scene};
 pub use manifest::{Manifest, Origin, SceneEntry, SceneError, SHARED_SCENES};
 
+use boundary_core::{ParticleSet, Point};
+use boundary_io::{read_particles, ReadOptions};
 use std::path::{Path, PathBuf};
 
 /// Environment variable naming the directory of the public particle data.
@@ -47,4 +49,37 @@ fn workspace_root() -> PathBuf {
         .and_then(Path::parent)
         .unwrap_or(crate_dir)
         .to_path_buf()
+}
+
+/// Reads `file` (relative to [`data_dir`], as in [`SHARED_SCENES`]) as a `D`-dimensional set.
+pub fn shared_set<const D: usize>(file: &str) -> Result<ParticleSet<D>, String> {
+    let options = ReadOptions {
+        dim: Some(D),
+        ..Default::default()
+    };
+    let set = read_particles(&data_dir().join(file), &options).map_err(|e| e.to_string())?;
+    let points = (0..set.len())
+        .map(|i| Point::<D>::from_fn(|a, _| set.coords(i)[a]))
+        .collect();
+    ParticleSet::new(points).map_err(|e| format!("{file}: {e}"))
+}
+
+/// An `n × n` square lattice of spacing `a`, x fastest.
+pub fn square_lattice(n: usize, a: f64) -> Vec<[f64; 2]> {
+    (0..n * n)
+        .map(|k| [(k % n) as f64 * a, (k / n) as f64 * a])
+        .collect()
+}
+
+/// An `n × n × n` cubic lattice of spacing `a`, x fastest.
+pub fn cubic_lattice(n: usize, a: f64) -> Vec<[f64; 3]> {
+    (0..n * n * n)
+        .map(|k| {
+            [
+                (k % n) as f64 * a,
+                ((k / n) % n) as f64 * a,
+                (k / (n * n)) as f64 * a,
+            ]
+        })
+        .collect()
 }
