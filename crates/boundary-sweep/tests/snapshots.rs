@@ -1,7 +1,8 @@
 //! Classification snapshots: for every scene of the manifest and every registered method at its
 //! default parameters, the confusion counts against `exact` and a fingerprint of the label
 //! vector. Any change of any label fails here until the new snapshot is reviewed
-//! (`cargo insta review`, or `INSTA_UPDATE=always` and a look at the diff).
+//! (`cargo insta review`, or `INSTA_UPDATE=always` and a look at the diff). Certified methods
+//! must also have no false negative on any scene.
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
@@ -38,6 +39,13 @@ fn labels_of_every_method_on_every_scene() {
             let detector = detector_by_name(name).unwrap();
             let labels = detector.detect(&set, r).unwrap().labels;
             let c = Confusion::from_labels(labels.as_slice(), truth.labels.as_slice()).unwrap();
+            // Certified methods promise Rec = 1 on every scene, fixtures and hard cases included.
+            assert!(
+                !detector.certified() || c.fn_ == 0,
+                "{}: certified method {name} has {} false negatives",
+                entry.name,
+                c.fn_
+            );
             writeln!(
                 text,
                 "{name:<8} {}: boundary {:>6}  TP {:>6} TN {:>6} FP {:>6} FN {:>6}  labels {:016x}",
