@@ -190,6 +190,20 @@ pub enum DetectError {
     },
 }
 
+impl DetectError {
+    /// `Ok` if `owned <= len`, else the error [`BoundaryDetector::detect_owned`] returns for
+    /// more owned particles than the set holds.
+    pub fn check_owned(method: &'static str, owned: usize, len: usize) -> Result<(), Self> {
+        if owned > len {
+            return Err(DetectError::Method {
+                method,
+                message: format!("{owned} owned particles in a set of {len}"),
+            });
+        }
+        Ok(())
+    }
+}
+
 /// A boundary-particle detection method.
 ///
 /// Object safe, so that a registry can hold `Box<dyn BoundaryDetector>`. Implementations write
@@ -238,12 +252,7 @@ pub trait BoundaryDetector: Send + Sync + fmt::Debug {
         owned: usize,
         r: Radius,
     ) -> Result<Detection, DetectError> {
-        if owned > set.len() {
-            return Err(DetectError::Method {
-                method: self.name(),
-                message: format!("{owned} owned particles in a set of {}", set.len()),
-            });
-        }
+        DetectError::check_owned(self.name(), owned, set.len())?;
         let mut d = self.detect(set, r)?;
         let mut flags = d.labels.into_vec();
         flags.truncate(owned);

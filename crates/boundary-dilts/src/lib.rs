@@ -184,12 +184,7 @@ impl BoundaryDetector for DiltsDetector {
         owned: usize,
         r: Radius,
     ) -> Result<Detection, DetectError> {
-        if owned > set.len() {
-            return Err(DetectError::Method {
-                method: "dilts",
-                message: format!("{owned} owned particles in a set of {}", set.len()),
-            });
-        }
+        DetectError::check_owned("dilts", owned, set.len())?;
         match set {
             AnyParticleSet::D2(s) => detect_with::<2, arcs::Arcs>(s, owned, r),
             AnyParticleSet::D3(s) => detect_with::<3, caps::Caps>(s, owned, r),

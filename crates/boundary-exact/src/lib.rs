@@ -131,12 +131,7 @@ impl BoundaryDetector for ExactDetector {
         owned: usize,
         r: Radius,
     ) -> Result<Detection, DetectError> {
-        if owned > set.len() {
-            return Err(DetectError::Method {
-                method: "exact",
-                message: format!("{owned} owned particles in a set of {}", set.len()),
-            });
-        }
+        DetectError::check_owned("exact", owned, set.len())?;
         match set {
             AnyParticleSet::D2(s) => detect_with::<2, Polygon>(s, owned, r),
             AnyParticleSet::D3(s) => detect_with::<3, Polyhedron>(s, owned, r),

@@ -2,37 +2,18 @@
 //! (spacing a = 1, jitter ±0.15a, r = 1.2a), in the same run so that their ratio is meaningful.
 //! `BOUNDARY_BENCH_N` sets the particle count (default 200,000; the figure is 1M).
 
-use boundary_core::{BoundaryDetector, ParticleSet, Point, Radius};
+use boundary_core::{BoundaryDetector, Radius};
 use boundary_exact::ExactDetector;
 use boundary_ia::IaDetector;
+use boundary_scenes::jittered_lattice_ball;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use rand::{rngs::StdRng, Rng, SeedableRng};
-
-fn ball(n: usize) -> ParticleSet<3> {
-    let radius = (3.0 * n as f64 / (4.0 * std::f64::consts::PI)).cbrt();
-    let side = radius.ceil() as i64;
-    let mut rng = StdRng::seed_from_u64(42);
-    let mut points = Vec::new();
-    for x in -side..=side {
-        for y in -side..=side {
-            for z in -side..=side {
-                let p = Point::<3>::new(x as f64, y as f64, z as f64);
-                if p.norm() <= radius {
-                    let j = Point::<3>::from_fn(|_, _| rng.gen_range(-0.15..=0.15));
-                    points.push(p + j);
-                }
-            }
-        }
-    }
-    ParticleSet::new(points).expect("finite")
-}
 
 fn bench(c: &mut Criterion) {
     let n = std::env::var("BOUNDARY_BENCH_N")
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(200_000);
-    let set = ball(n);
+    let (set, _) = jittered_lattice_ball(n, 0.15, 42);
     let r = Radius::new(1.2).expect("positive");
     let mut group = c.benchmark_group("jittered_ball");
     group.sample_size(10);

@@ -157,12 +157,7 @@ impl BoundaryDetector for IaDetector {
         owned: usize,
         r: Radius,
     ) -> Result<Detection, DetectError> {
-        if owned > set.len() {
-            return Err(DetectError::Method {
-                method: "ia",
-                message: format!("{owned} owned particles in a set of {}", set.len()),
-            });
-        }
+        DetectError::check_owned("ia", owned, set.len())?;
         Ok(match set {
             AnyParticleSet::D2(s) => detect_with(s, owned, r, self.depth)?,
             AnyParticleSet::D3(s) => detect_with(s, owned, r, self.depth)?,

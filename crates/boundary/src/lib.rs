@@ -37,6 +37,8 @@ pub use boundary_core::*;
 pub use boundary_dilts::DiltsDetector;
 #[cfg(feature = "exact")]
 pub use boundary_exact::ExactDetector;
+#[cfg(feature = "ge")]
+pub use boundary_ge::GeDetector;
 #[cfg(feature = "ia")]
 pub use boundary_ia::IaDetector;
 
@@ -85,6 +87,12 @@ const REGISTRY: &[Entry] = &[
         name: "ia",
         summary: "interval-arithmetic quadtree/octree over S_i, rules R1-R4 (JCP 2020 Sec. 3.1)",
         make: || Box::new(IaDetector::default()),
+    },
+    #[cfg(feature = "ge")]
+    Entry {
+        name: "ge",
+        summary: "geometric-enclosure slabs on a mesh of S_i, rules R1-R4 (JCP 2020 Sec. 3.2)",
+        make: || Box::new(GeDetector::default()),
     },
 ];
 

@@ -1,0 +1,437 @@
+//! Boundary detection with geometric enclosures ("slabs"): the second method of Sandim, Paiva
+//! & Figueiredo, *Simple and reliable boundary detection for meshfree particle methods using
+//! interval analysis*, J. Comput. Phys. 2020, Sec. 3.2 and Algorithm 3. Method name `ge`, one
+//! parameter `depth` (default 6).
+//!
+//! # Method
+//! Particle `i` is interior iff its sphere `S_i` is covered by the closed balls `B_j` of the
+//! particles within `2r`. In the frame `T_i(x) = (x − p_i)/r`, `S_i` is the unit sphere and every
+//! `B_j` a unit ball. Instead of subdividing space around `S_i` (the `ia` method), `ge` meshes
+//! `S_i` itself and encloses each mesh element's patch of the sphere in a thin convex *slab*:
+//!
+//! - **2D.** The mesh starts as the three sides of an inscribed equilateral triangle. The slab of
+//!   a chord `L` is the rectangle with one side on `L` and the opposite side on the tangent line
+//!   at the projection `m̂` of `L`'s midpoint (Fig. 3). A chord is refined at `m̂`.
+//! - **3D.** The mesh starts as the four faces of an inscribed regular tetrahedron. The slab of a
+//!   triangle `L` with barycentre `b` is the frustum between `L` and its perspective projection
+//!   `a ↦ a/(a·b̂)` onto the plane tangent at `b̂ = b/|b|` (Fig. 5). A triangle is refined by
+//!   midpoint subdivision with the new vertices projected onto the sphere (hanging nodes are
+//!   fine: only the patches matter).
+//! - **Labels** (Sec. 3.2): by the signs of `f_j(x) = |x − q_j|² − 1` at the slab's vertices:
+//!   *covered* if all vertices are inside some `B_j`, *uncovered* if all vertices are outside
+//!   every `B_j`, *partial* otherwise.
+//! - **Rules** R1–R4 with an explicit stack, depth first (Algorithm 3): R1 uncovered: boundary;
+//!   R2 covered: done with this element; R3 partial below the maximum depth: push the children;
+//!   R4 partial at the maximum depth: boundary. If the stack empties, every patch was
+//!   covered: interior.
+//! - **Depth.** The coarse inscribed mesh is the roots of the refinement trees (depth 0; each
+//!   face is the root of a quadtree, Fig. 6), and Algorithm 3 "initializes the stack with the
+//!   nodes from the first tree-level": the roots' children, depth 1 (6 arcs in 2D, 16 triangles
+//!   in 3D). This mirrors `ia`, whose root (the bounding box of `B_i`) is depth 0 and whose
+//!   recursion starts at its children (Algorithm 2), and gives both methods the same resolution
+//!   at the same depth: at depth `d` a 3D element spans about `1.9·2^-d` rad of the unit sphere,
+//!   an `ia` box `2^(1-d)`. The paper does not number the levels explicitly; this is our reading.
+//!
+//! # Why this is certified (Rec = 1)
+//! - **The slabs enclose the sphere.** Each slab is convex and contains its element's patch
+//!   (the argument is at `Arc::slab` and `Triangle::slab` in `slab.rs`, and tested); the first
+//!   level's patches tile `S_i` (the radial projection of the triangle's sides / tetrahedron's
+//!   faces), and the children of an element tile its patch: in 2D the two sub-arcs meet at `m̂`;
+//!   in 3D the projected midpoint of an edge `ab` lies on the great-circle arc `ab`, which is
+//!   the edge of the patch, so the four children's patches tile the parent's.
+//! - **"All vertices inside a ball" proves coverage.** A ball is convex, so it contains the
+//!   convex hull of any of its points: the slab, hence the patch.
+//! - So *interior* is only answered when every patch of `S_i` lies in some `B_j`: `S_i` is
+//!   covered and the exact label is interior. Every doubtful case answers *boundary*.
+//! - **"All vertices outside" is only a heuristic.** A ball can cut into a slab through an edge
+//!   or a face without containing any vertex, so "uncovered" (R1) may be declared for a patch
+//!   that a ball does reach, even one that is in fact covered. R1 answers *boundary*, so the
+//!   heuristic can only add false positives, never a false negative. (The paper uses it for
+//!   speed; `ia` has no such heuristic: its interval image of `f_j` is exact.)
+//!
+//! # Policy: tolerances, ties, duplicates, degenerate input
+//! - **Arithmetic.** Neighbour centres are taken relative to `p_i` and scaled by `1/r`, so
+//!   scenes at `1e6` with `r = 0.01` lose nothing to the offset. The slab vertices carry rounding
+//!   errors of a few ulps; to keep the covering proof valid under them, a vertex counts as inside
+//!   `B_j` only if `|v − q_j|² <= 1 − COVER_MARGIN` (`COVER_MARGIN = 1e-12`, in units of `r²`):
+//!   a ball that contains the computed slab with that margin contains the exact one.
+//! - **Ties.** At an exact tie (a point of `S_i` reached only by the spheres of its neighbours,
+//!   as in perfect lattices at `r = a/√2` in 2D or `a·√3/2` in 3D) the elements around the tie
+//!   point stay partial at every depth and R4 labels the particle boundary: for `ge`, ties are
+//!   false positives, never false negatives (the exact reference calls them interior).
+//! - **Duplicates.** Particles at exactly `p_i` do not cover `S_i` and are skipped. A particle
+//!   with no other neighbour within `2r` is boundary.
+//! - **Neighbours.** From the core grid, closed at `2r`. Each element is labelled against every
+//!   neighbour as in Algorithm 3, with two shortcuts that change the order of the tests, never
+//!   the label: every element has a *reach* ball holding its slab's vertices and those of all
+//!   its descendants (bounded in `slab.rs`, tested), and a neighbour whose centre is beyond
+//!   `1 + reach` has every such vertex outside, so it is dropped for the whole subtree (the
+//!   children inherit the shorter list, as the boxes of `ia` do); and the neighbour whose
+//!   centre is nearest the element is tried first, as the likeliest to cover it.
+//!
+//! # Example
+//! ```
+//! use boundary_core::{BoundaryDetector, ParticleSet, Radius};
+//! use boundary_ge::GeDetector;
+//!
+//! // A 5 x 5 x 5 cubic lattice of spacing 1 at r = 1.2: the 3 x 3 x 3 core is interior.
+//! let rows: Vec<[f64; 3]> = (0..125)
+//!     .map(|k| [(k % 5) as f64, ((k / 5) % 5) as f64, (k / 25) as f64])
+//!     .collect();
+//! let set = ParticleSet::from_rows(&rows).unwrap();
+//! let detection = GeDetector::new(6).detect_3d(&set, Radius::new(1.2).unwrap()).unwrap();
+//! assert_eq!(detection.labels.boundary_count(), 125 - 27);
+//! ```
+
+mod slab;
+
+use boundary_core::{
+    AnyParticleSet, BoundaryDetector, CoreError, DetectError, Detection, Labels, NeighbourGrid,
+    ParamError, ParamInfo, Params, ParticleSet, Point, Radius,
+};
+use rayon::prelude::*;
+use slab::{Arc, Element, Triangle};
+
+/// Default maximum refinement depth (the paper's tables use 6).
+pub const DEFAULT_DEPTH: u32 = 6;
+
+/// Largest accepted depth: in 3D an element at depth 16 spans about `2^-15` rad.
+pub const MAX_DEPTH: u32 = 16;
+
+/// A slab vertex counts as inside a unit ball only if `|v − q|² <= 1 − COVER_MARGIN` (units of
+/// `r²`): absorbs the rounding of the computed slab vertices (see the crate docs).
+pub const COVER_MARGIN: f64 = 1e-12;
+
+/// The geometric-enclosure detector (`ge`). See the crate documentation.
+#[derive(Debug, Clone)]
+pub struct GeDetector {
+    depth: u32,
+}
+
+impl Default for GeDetector {
+    fn default() -> Self {
+        GeDetector {
+            depth: DEFAULT_DEPTH,
+        }
+    }
+}
+
+impl GeDetector {
+    /// The detector with maximum depth `depth`, clamped to `1..=MAX_DEPTH`.
+    pub fn new(depth: u32) -> Self {
+        GeDetector {
+            depth: depth.clamp(1, MAX_DEPTH),
+        }
+    }
+
+    /// The maximum refinement depth.
+    pub fn depth(&self) -> u32 {
+        self.depth
+    }
+}
+
+impl BoundaryDetector for GeDetector {
+    fn name(&self) -> &'static str {
+        "ge"
+    }
+
+    fn params(&self) -> Params {
+        Params(vec![ParamInfo {
+            name: "depth",
+            value: self.depth.to_string(),
+            default: DEFAULT_DEPTH.to_string(),
+            description: "maximum refinement depth of the slab mesh on S_i (JCP 2020 Sec. 3.2, \
+                          rules R1-R4); deeper: fewer false positives, slower",
+        }])
+    }
+
+    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        if key != "depth" {
+            return Err(ParamError::unknown("ge", key, &["depth"]));
+        }
+        self.depth = value
+            .trim()
+            .parse()
+            .ok()
+            .filter(|d| (1..=MAX_DEPTH).contains(d))
+            .ok_or_else(|| {
+                ParamError::invalid(
+                    "ge",
+                    "depth",
+                    value,
+                    format!("must be an integer in 1..={MAX_DEPTH}"),
+                )
+            })?;
+        Ok(())
+    }
+
+    fn certified(&self) -> bool {
+        true
+    }
+
+    fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
+        Ok(detect_with::<2, Arc>(set, set.len(), r, self.depth)?)
+    }
+
+    fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
+        Ok(detect_with::<3, Triangle>(set, set.len(), r, self.depth)?)
+    }
+
+    /// Classifies only the owned particles; the ghosts serve as neighbours only.
+    fn detect_owned(
+        &self,
+        set: &AnyParticleSet,
+        owned: usize,
+        r: Radius,
+    ) -> Result<Detection, DetectError> {
+        DetectError::check_owned("ge", owned, set.len())?;
+        Ok(match set {
+            AnyParticleSet::D2(s) => detect_with::<2, Arc>(s, owned, r, self.depth)?,
+            AnyParticleSet::D3(s) => detect_with::<3, Triangle>(s, owned, r, self.depth)?,
+        })
+    }
+}
+
+/// Classifies the first `count` particles of `set` (all of them serve as neighbours).
+fn detect_with<const D: usize, E: Element<D> + Send + Sync>(
+    set: &ParticleSet<D>,
+    count: usize,
+    r: Radius,
+    depth: u32,
+) -> Result<Detection, CoreError> {
+    let r = r.get();
+    let grid = NeighbourGrid::new(set, 2.0 * r)?;
+    let positions = set.positions();
+    let first = E::first_level();
+    let labels: Labels = (0..count)
+        .into_par_iter()
+        .map_init(Scratch::<D, E>::default, |scratch, i| {
+            scratch.gather(positions, &grid, i, r);
+            scratch.is_boundary(&first, depth)
+        })
+        .collect::<Vec<bool>>()
+        .into_iter()
+        .collect();
+    Ok(Detection {
+        labels,
+        margin: None,
+    })
+}
+
+/// How a slab relates to the balls (Sec. 3.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Label {
+    Covered,
+    Uncovered,
+    Partial,
+}
+
+/// An element on the stack with the range of `Scratch::candidates` holding the neighbours that
+/// can still reach it (those not dropped for its whole subtree by an ancestor).
+#[derive(Debug, Clone, Copy)]
+struct Node<E> {
+    element: E,
+    start: usize,
+    len: usize,
+}
+
+/// Per-thread working memory.
+#[derive(Debug)]
+struct Scratch<const D: usize, E> {
+    /// Neighbour centres `q_j = (p_j − p_i)/r`, nearest first.
+    centres: Vec<Point<D>>,
+    order: Vec<(f64, Point<D>)>,
+    /// Arena of neighbour index lists, shared by sibling elements.
+    candidates: Vec<u32>,
+    stack: Vec<Node<E>>,
+    children: Vec<E>,
+    /// The neighbour that covered the last covered element.
+    last_cover: usize,
+}
+
+impl<const D: usize, E> Default for Scratch<D, E> {
+    fn default() -> Self {
+        Scratch {
+            centres: Vec::new(),
+            order: Vec::new(),
+            candidates: Vec::new(),
+            stack: Vec::new(),
+            children: Vec::new(),
+            last_cover: usize::MAX,
+        }
+    }
+}
+
+/// The label of one slab against one ball of radius 1 at `q`: `Some(true)` if every vertex is
+/// inside (with [`COVER_MARGIN`]), `Some(false)` if every vertex is outside, `None` otherwise.
+#[inline]
+fn against_ball<const D: usize>(slab: &[Point<D>], q: &Point<D>) -> Option<bool> {
+    let (mut inside, mut outside) = (false, false);
+    for v in slab {
+        let d2 = (v - q).norm_squared();
+        if d2 <= 1.0 - COVER_MARGIN {
+            inside = true;
+        } else if d2 > 1.0 {
+            outside = true;
+        } else {
+            return None; // on the sphere (within the margin): neither
+        }
+        if inside && outside {
+            return None;
+        }
+    }
+    Some(inside)
+}
+
+impl<const D: usize, E: Element<D>> Scratch<D, E> {
+    /// Scaled neighbour centres of particle `i`, nearest first; duplicates of `p_i` skipped.
+    fn gather(&mut self, positions: &[Point<D>], grid: &NeighbourGrid<D>, i: usize, r: f64) {
+        let p = positions[i];
+        let order = &mut self.order;
+        order.clear();
+        grid.for_each_within(&p, 2.0 * r, |j, d2| {
+            if d2 > 0.0 {
+                order.push((d2, (positions[j] - p) / r));
+            }
+        });
+        order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        self.centres.clear();
+        self.centres.extend(order.iter().map(|&(_, q)| q));
+        self.last_cover = usize::MAX;
+    }
+
+    /// `label(Q, i)` of Algorithm 3 for the element of `node`: covered if some ball holds every
+    /// slab vertex, uncovered if every ball misses every vertex, partial otherwise. Also leaves,
+    /// from `list_start` on in `candidates`, the neighbours that may reach the element's
+    /// descendants.
+    ///
+    /// Only the order of the tests differs from the paper's loop, never the label: balls beyond
+    /// the element's reach (see [`Element::reach`]) have every vertex outside, and the ball
+    /// whose centre is nearest the element is tried first as the likeliest to cover it.
+    fn label(&mut self, node: &Node<E>, slab: &[Point<D>], list_start: usize) -> Label {
+        // The ball that covered the previous element first: consecutive elements of the
+        // depth-first order are neighbours on S_i, often inside the same ball.
+        if let Some(q) = self.centres.get(self.last_cover) {
+            if against_ball(slab, q) == Some(true) {
+                return Label::Covered;
+            }
+        }
+        let (centre, reach) = node.element.reach();
+        let far = (1.0 + reach) * (1.0 + reach);
+        let mut nearest = (f64::INFINITY, usize::MAX);
+        for k in node.start..node.start + node.len {
+            let j = self.candidates[k];
+            let d2 = (self.centres[j as usize] - centre).norm_squared();
+            if d2 <= far {
+                if d2 < nearest.0 {
+                    nearest = (d2, self.candidates.len());
+                }
+                self.candidates.push(j);
+            }
+        }
+        if nearest.1 == usize::MAX {
+            return Label::Uncovered;
+        }
+        // Nearest first: swap it to the front of the new list.
+        self.candidates.swap(list_start, nearest.1);
+        let mut label = Label::Uncovered;
+        for k in list_start..self.candidates.len() {
+            let j = self.candidates[k] as usize;
+            match against_ball(slab, &self.centres[j]) {
+                Some(true) => {
+                    self.last_cover = j;
+                    return Label::Covered;
+                }
+                Some(false) => {}
+                None => label = Label::Partial,
+            }
+        }
+        label
+    }
+
+    /// Algorithm 3 for the gathered neighbours: true if boundary.
+    fn is_boundary(&mut self, first: &[E], max_depth: u32) -> bool {
+        if self.centres.is_empty() {
+            return true;
+        }
+        let n = self.centres.len();
+        self.candidates.clear();
+        self.candidates
+            .extend(0..u32::try_from(n).expect("fewer than 2^32 neighbours"));
+        self.stack.clear();
+        self.stack.extend(first.iter().rev().map(|&element| Node {
+            element,
+            start: 0,
+            len: n,
+        }));
+        while let Some(node) = self.stack.pop() {
+            let slab = node.element.slab();
+            let list_start = self.candidates.len();
+            match self.label(&node, slab.as_ref(), list_start) {
+                Label::Covered => self.candidates.truncate(list_start), // R2
+                Label::Uncovered => return true,                        // R1
+                Label::Partial if node.element.depth() >= max_depth => return true, // R4
+                Label::Partial => {
+                    // R3: the children inherit the neighbours that may still reach them.
+                    let len = self.candidates.len() - list_start;
+                    self.children.clear();
+                    node.element.children(&mut self.children);
+                    for &element in self.children.iter().rev() {
+                        self.stack.push(Node {
+                            element,
+                            start: list_start,
+                            len,
+                        });
+                    }
+                }
+            }
+        }
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_ball_covers_a_slab_only_with_every_vertex_inside() {
+        let slab = [Point::<2>::new(0.0, 0.0), Point::<2>::new(0.5, 0.0)];
+        assert_eq!(against_ball(&slab, &Point::<2>::new(0.25, 0.0)), Some(true));
+        assert_eq!(against_ball(&slab, &Point::<2>::new(5.0, 0.0)), Some(false));
+        assert_eq!(against_ball(&slab, &Point::<2>::new(1.2, 0.0)), None);
+        // A vertex exactly on the sphere is not inside (margin), nor outside.
+        assert_eq!(against_ball(&slab, &Point::<2>::new(1.0, 0.0)), None);
+    }
+
+    #[test]
+    fn lone_particles_and_pairs_are_boundary() {
+        let r = Radius::new(1.0).unwrap_or_else(|_| unreachable!());
+        let one = ParticleSet::from_rows(&[[0.0, 0.0, 0.0]]).unwrap_or_else(|_| unreachable!());
+        let d = GeDetector::default().detect_3d(&one, r);
+        assert!(matches!(d, Ok(d) if d.labels.boundary_count() == 1));
+        let two =
+            ParticleSet::from_rows(&[[0.0, 0.0], [0.5, 0.0]]).unwrap_or_else(|_| unreachable!());
+        let d = GeDetector::default().detect_2d(&two, r);
+        assert!(matches!(d, Ok(d) if d.labels.boundary_count() == 2));
+    }
+
+    #[test]
+    fn a_circle_of_six_neighbours_at_distance_one_covers_the_centre() {
+        // Hexagonal neighbours at distance 1 with r = 1: S_0 is covered (each unit ball reaches
+        // ±60° around its direction... and beyond), so the centre is interior at a modest depth.
+        let mut rows = vec![[0.0, 0.0]];
+        for k in 0..6 {
+            let t = k as f64 * std::f64::consts::PI / 3.0;
+            rows.push([t.cos(), t.sin()]);
+        }
+        let set = ParticleSet::from_rows(&rows).unwrap_or_else(|_| unreachable!());
+        let r = Radius::new(1.0).unwrap_or_else(|_| unreachable!());
+        let labels = GeDetector::new(8)
+            .detect_2d(&set, r)
+            .map(|d| d.labels)
+            .unwrap_or_else(|_| unreachable!());
+        assert!(!labels.is_boundary(0));
+        assert!((1..7).all(|i| labels.is_boundary(i)));
+    }
+}

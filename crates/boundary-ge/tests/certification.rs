@@ -1,0 +1,131 @@
+//! `ge` is certified: no exact-boundary particle is ever labelled interior (Rec = 1 against
+//! `exact`) at every depth 1..=8, on the generated fixture scenes, the shared scenes and the hard
+//! cases; and deeper meshes never label fewer particles interior.
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+use boundary_core::{BoundaryDetector, Labels, ParticleSet, Radius};
+use boundary_exact::ExactDetector;
+use boundary_ge::GeDetector;
+use boundary_scenes::certify::{certification_cases, check_depths, jittered_lattice};
+use proptest::prelude::*;
+
+fn by_depth(set: &boundary_core::AnyParticleSet, r: Radius, max: u32) -> Vec<Labels> {
+    (1..=max)
+        .map(|d| GeDetector::new(d).detect(set, r).unwrap().labels)
+        .collect()
+}
+
+#[test]
+fn every_scene_and_hard_case_depth_1_to_8() {
+    let (cases, skipped) = certification_cases();
+    if !skipped.is_empty() {
+        println!("shared scenes not found (skipped): {skipped:?}");
+    }
+    let mut failures = Vec::new();
+    for case in &cases {
+        let r = Radius::new(case.radius).unwrap();
+        let truth = ExactDetector.detect(&case.set, r).unwrap().labels;
+        match check_depths(&truth, &by_depth(&case.set, r, 8)) {
+            Ok(fps) => println!("{} r={}: FP by depth {fps:?}", case.name, case.radius),
+            Err(e) => failures.push(format!("{} r={}: {e}", case.name, case.radius)),
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+#[test]
+fn coincident_particles_do_not_cover_each_other() {
+    let pair = ParticleSet::from_rows(&[[0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]).unwrap();
+    let labels = GeDetector::new(8)
+        .detect_3d(&pair, Radius::new(1.0).unwrap())
+        .unwrap()
+        .labels;
+    assert_eq!(labels.boundary_count(), 2);
+}
+
+#[test]
+fn deep_meshes_approach_the_exact_labels_on_jittered_lattices() {
+    // Away from ties, a deep enough mesh decides nearly every particle.
+    for (set, r) in [
+        (
+            ParticleSet::from_rows(&jittered_lattice::<3>(10, 0.15, 9))
+                .unwrap()
+                .to_any(),
+            1.2,
+        ),
+        (
+            ParticleSet::from_rows(&jittered_lattice::<2>(30, 0.15, 9))
+                .unwrap()
+                .to_any(),
+            0.9,
+        ),
+    ] {
+        let r = Radius::new(r).unwrap();
+        let truth = ExactDetector.detect(&set, r).unwrap().labels;
+        let fps = check_depths(&truth, &by_depth(&set, r, 8)).unwrap();
+        assert!(fps[7] * 50 <= set.len(), "FP by depth {fps:?}");
+        assert!(fps[0] > fps[7], "FP by depth {fps:?}");
+    }
+}
+
+#[test]
+fn parameters_are_validated() {
+    let mut d = GeDetector::default();
+    assert_eq!(d.params().to_string(), "depth=6");
+    d.set_param("depth", "3").unwrap();
+    assert_eq!(d.depth(), 3);
+    for bad in ["0", "17", "-1", "x", "2.5"] {
+        let err = d.set_param("depth", bad).unwrap_err();
+        assert!(err.to_string().contains(bad), "{err}");
+    }
+    assert!(d.set_param("gamma", "1").is_err());
+    assert_eq!(d.depth(), 3);
+}
+
+#[test]
+fn owned_particles_get_the_labels_of_the_whole_set() {
+    let set = ParticleSet::from_rows(&jittered_lattice::<3>(8, 0.2, 3))
+        .unwrap()
+        .to_any();
+    let r = Radius::new(1.1).unwrap();
+    let all = GeDetector::default().detect(&set, r).unwrap().labels;
+    let owned = GeDetector::default().detect_owned(&set, 100, r).unwrap();
+    assert_eq!(owned.labels.as_slice(), &all.as_slice()[..100]);
+    assert!(GeDetector::default()
+        .detect_owned(&set, set.len() + 1, r)
+        .is_err());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+    #[test]
+    fn random_sets_have_no_false_negatives(
+        pts in prop::collection::vec(prop::array::uniform3(0.0f64..3.0), 1..100),
+        r in 0.3f64..1.2,
+        depth in 1u32..7,
+    ) {
+        let set = ParticleSet::from_rows(&pts).unwrap().to_any();
+        let radius = Radius::new(r).unwrap();
+        let exact = ExactDetector.detect(&set, radius).unwrap().labels;
+        let ge = GeDetector::new(depth).detect(&set, radius).unwrap().labels;
+        for i in 0..pts.len() {
+            prop_assert!(!exact.is_boundary(i) || ge.is_boundary(i), "particle {}", i);
+        }
+    }
+
+    #[test]
+    fn random_2d_sets_have_no_false_negatives(
+        pts in prop::collection::vec(prop::array::uniform2(0.0f64..3.0), 1..100),
+        r in 0.3f64..1.2,
+        depth in 1u32..9,
+    ) {
+        let set = ParticleSet::from_rows(&pts).unwrap().to_any();
+        let radius = Radius::new(r).unwrap();
+        let exact = ExactDetector.detect(&set, radius).unwrap().labels;
+        let ge = GeDetector::new(depth).detect(&set, radius).unwrap().labels;
+        for i in 0..pts.len() {
+            prop_assert!(!exact.is_boundary(i) || ge.is_boundary(i), "particle {}", i);
+        }
+    }
+}

@@ -1,0 +1,232 @@
+//! What a certified detector (no false negative against the exact labels) is checked on, and
+//! the check itself, shared by the tests of every certified method (`ia`, `ge`, …).
+
+use crate::{all_scenes, cubic_lattice, shared_set, square_lattice, SHARED_SCENES};
+use boundary_core::{AnyParticleSet, Labels, ParticleSet};
+use rand::{rngs::StdRng, Rng, SeedableRng};
+
+/// A named particle set with its resolution.
+#[derive(Debug, Clone)]
+pub struct Case {
+    /// What the case is (for messages).
+    pub name: String,
+    /// The particles.
+    pub set: AnyParticleSet,
+    /// The resolution r.
+    pub radius: f64,
+}
+
+impl Case {
+    fn new<const D: usize>(name: impl Into<String>, rows: &[[f64; D]], radius: f64) -> Self
+    where
+        ParticleSet<D>: Into<AnyParticleSet>,
+    {
+        let set = ParticleSet::from_rows(rows).expect("generated coordinates are finite");
+        Case {
+            name: name.into(),
+            set: set.into(),
+            radius,
+        }
+    }
+}
+
+/// A jittered `n^D` lattice of spacing 1 (uniform jitter `±jitter` per axis), seeded.
+pub fn jittered_lattice<const D: usize>(n: usize, jitter: f64, seed: u64) -> Vec<[f64; D]> {
+    let mut rng = StdRng::seed_from_u64(seed);
+    (0..n.pow(D as u32))
+        .map(|k| {
+            let mut p = [0.0; D];
+            let mut rest = k;
+            for c in p.iter_mut() {
+                *c = (rest % n) as f64 + rng.gen_range(-jitter..=jitter);
+                rest /= n;
+            }
+            p
+        })
+        .collect()
+}
+
+/// The hard cases: perfect lattices at and a few ulps around their tie radii (`a/√2` in 2D,
+/// `a·√3/2` in 3D) and at ordinary radii, exact duplicates and near-duplicates (1e-12 apart),
+/// a coincident pair, a scene offset by 1e6 with r = 0.012, a line in 2D and a plane in 3D
+/// (everything boundary), single particles, two particles exactly 2r apart, and jittered
+/// lattices.
+pub fn hard_cases() -> Vec<Case> {
+    let mut cases = Vec::new();
+    let square = square_lattice(12, 1.0);
+    let tie2 = std::f64::consts::FRAC_1_SQRT_2;
+    for r in [tie2, ulps(tie2, -4), ulps(tie2, 4), 0.8, 1.0, 1.5] {
+        cases.push(Case::new(format!("square lattice r={r:e}"), &square, r));
+    }
+    let cubic = cubic_lattice(7, 1.0);
+    let tie3 = 3f64.sqrt() / 2.0;
+    for r in [tie3, ulps(tie3, -4), ulps(tie3, 4), 1.0, 1.2] {
+        cases.push(Case::new(format!("cubic lattice r={r:e}"), &cubic, r));
+    }
+    let small = cubic_lattice(5, 1.0);
+    let doubled: Vec<[f64; 3]> = small.iter().chain(small.iter()).copied().collect();
+    cases.push(Case::new("exact duplicates", &doubled, 1.2));
+    let near: Vec<[f64; 3]> = small
+        .iter()
+        .chain(small.iter())
+        .enumerate()
+        .map(|(k, p)| {
+            let shift = if k < small.len() { 0.0 } else { 1e-12 };
+            [p[0] + shift, p[1], p[2]]
+        })
+        .collect();
+    cases.push(Case::new("near duplicates 1e-12", &near, 1.2));
+    cases.push(Case::new("coincident pair", &[[0.0, 0.0], [0.0, 0.0]], 1.0));
+    let far: Vec<[f64; 3]> = jittered_lattice::<3>(8, 0.2, 4)
+        .iter()
+        .map(|p| [1e6 + 0.01 * p[0], -1e6 + 0.01 * p[1], 1e6 + 0.01 * p[2]])
+        .collect();
+    cases.push(Case::new("offset 1e6", &far, 0.012));
+    let line: Vec<[f64; 2]> = (0..20).map(|k| [k as f64 * 0.5, 0.0]).collect();
+    cases.push(Case::new("line", &line, 1.0));
+    let plane: Vec<[f64; 3]> = square_lattice(6, 1.0)
+        .iter()
+        .map(|p| [p[0], p[1], 0.0])
+        .collect();
+    cases.push(Case::new("plane", &plane, 1.5));
+    cases.push(Case::new("single 2D", &[[0.5, 0.5]], 1.0));
+    cases.push(Case::new("single 3D", &[[0.5, 0.5, 0.5]], 1.0));
+    cases.push(Case::new(
+        "pair at 2r",
+        &[[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]],
+        1.0,
+    ));
+    for seed in 0..2 {
+        cases.push(Case::new(
+            format!("jittered 2D seed {seed}"),
+            &jittered_lattice::<2>(20, 0.3, seed),
+            0.9,
+        ));
+        cases.push(Case::new(
+            format!("jittered 3D seed {seed}"),
+            &jittered_lattice::<3>(9, 0.3, seed),
+            1.1,
+        ));
+    }
+    cases
+}
+
+/// `x` moved by `k` units in the last place.
+fn ulps(x: f64, k: i64) -> f64 {
+    let mut y = x;
+    for _ in 0..k.unsigned_abs() {
+        y = if k > 0 { y.next_up() } else { y.next_down() };
+    }
+    y
+}
+
+/// Every case a certified method must pass: the generated fixture scenes, the shared scenes
+/// (those whose files are present) and the hard cases. Also returns the names of the shared
+/// scenes that were skipped because the data directory lacks them.
+pub fn certification_cases() -> (Vec<Case>, Vec<String>) {
+    let mut cases: Vec<Case> = all_scenes()
+        .into_iter()
+        .map(|s| Case {
+            name: format!("fixture {}", s.name),
+            set: s.set,
+            radius: s.radius,
+        })
+        .collect();
+    let mut skipped = Vec::new();
+    for &(_, dim, file, r, _, _, _) in SHARED_SCENES {
+        let set = if dim == 2 {
+            shared_set::<2>(file).map(AnyParticleSet::from)
+        } else {
+            shared_set::<3>(file).map(AnyParticleSet::from)
+        };
+        match set {
+            Ok(set) => cases.push(Case {
+                name: file.to_owned(),
+                set,
+                radius: r,
+            }),
+            Err(_) => skipped.push(file.to_owned()),
+        }
+    }
+    cases.extend(hard_cases());
+    (cases, skipped)
+}
+
+/// Checks the labels of a certified method at increasing depths (`by_depth[k]` at depth
+/// `k + 1`) against the exact labels `truth`: no false negative at any depth, and a particle
+/// labelled interior at one depth stays interior at every deeper one. Returns the false
+/// positives per depth, or a message naming the first offending depth and particles.
+pub fn check_depths(truth: &Labels, by_depth: &[Labels]) -> Result<Vec<usize>, String> {
+    let mut fps = Vec::with_capacity(by_depth.len());
+    for (k, labels) in by_depth.iter().enumerate() {
+        let depth = k + 1;
+        if labels.len() != truth.len() {
+            return Err(format!(
+                "depth {depth}: {} labels for {} particles",
+                labels.len(),
+                truth.len()
+            ));
+        }
+        let missed: Vec<usize> = (0..truth.len())
+            .filter(|&i| truth.is_boundary(i) && !labels.is_boundary(i))
+            .collect();
+        if !missed.is_empty() {
+            return Err(format!(
+                "depth {depth}: {} false negatives, particles {:?}",
+                missed.len(),
+                &missed[..missed.len().min(10)]
+            ));
+        }
+        if k > 0 {
+            let lost: Vec<usize> = (0..truth.len())
+                .filter(|&i| !by_depth[k - 1].is_boundary(i) && labels.is_boundary(i))
+                .collect();
+            if !lost.is_empty() {
+                return Err(format!(
+                    "depth {depth}: interior at depth {} but boundary now: {:?}",
+                    depth - 1,
+                    &lost[..lost.len().min(10)]
+                ));
+            }
+        }
+        fps.push(labels.boundary_count() - truth.boundary_count());
+    }
+    Ok(fps)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn check_depths_finds_false_negatives_and_lost_interiors() {
+        let truth = Labels::new(vec![true, false, false]);
+        let good = [
+            Labels::new(vec![true, true, true]),
+            Labels::new(vec![true, false, true]),
+        ];
+        assert_eq!(check_depths(&truth, &good), Ok(vec![2, 1]));
+        let missed = [Labels::new(vec![false, false, false])];
+        assert!(check_depths(&truth, &missed)
+            .unwrap_err()
+            .contains("false negatives"));
+        let lost = [
+            Labels::new(vec![true, false, true]),
+            Labels::new(vec![true, true, false]),
+        ];
+        assert!(check_depths(&truth, &lost).unwrap_err().contains("depth 2"));
+    }
+
+    #[test]
+    fn hard_cases_hold_the_tie_radii_and_their_neighbours() {
+        let cases = hard_cases();
+        let tie = std::f64::consts::FRAC_1_SQRT_2;
+        assert!(cases.iter().any(|c| c.radius == tie));
+        assert!(cases
+            .iter()
+            .any(|c| c.radius < tie && c.radius > tie - 1e-15));
+        assert!(cases
+            .iter()
+            .any(|c| c.radius > tie && c.radius < tie + 1e-15));
+    }
+}
