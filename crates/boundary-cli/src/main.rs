@@ -4,6 +4,8 @@
 //! boundary detect INPUT --radius R [--method NAME] [--set KEY=VALUE]... [--output FILE]
 //!                 [--dim 2|3] [--format FMT] [--margin] [--threads N] [--json]
 //! boundary score INPUT --radius R --method NAME [--set KEY=VALUE]... [--truth FILE] [--json]
+//! boundary resample INPUT --radius R [--method NAME] [--set KEY=VALUE]... --output FILE
+//!                   [--k K] [--alpha A] [--shift S] [--json]
 //! boundary methods [--json]
 //! ```
 //!
@@ -41,6 +43,9 @@ enum Command {
     Detect(DetectArgs),
     /// Compare a method with the truth: TP, TN, FP, FN, Rec, FPR, M.
     Score(ScoreArgs),
+    /// Classify the boundary particles by feature (droplet, ligament, sheet, regular) and
+    /// resample thin features (thesis Sec. 2.6); writes the new set with a `feature` column.
+    Resample(ResampleArgs),
     /// List the available methods with their parameters and defaults.
     Methods(MethodsArgs),
 }
@@ -104,6 +109,29 @@ struct ScoreArgs {
 }
 
 #[derive(Debug, Args)]
+struct ResampleArgs {
+    #[command(flatten)]
+    input: InputArgs,
+    #[command(flatten)]
+    method: MethodArgs,
+    /// Output file (.csv, .xyz, .ply, .vtk): every particle of the resampled set with a
+    /// `feature` column (-1 interior, 0 droplet, 1 ligament, 2 sheet, 3 regular boundary) and a
+    /// `source` column (the input index it comes from); PLY and VTK also get `red`, `green`,
+    /// `blue` in the colours of thesis Fig. 15.
+    #[arg(long, short)]
+    output: PathBuf,
+    /// K of Eq. 2.5: fewer neighbours (the particle included) make a droplet.
+    #[arg(long, default_value_t = 4)]
+    k: usize,
+    /// alpha of Eq. 2.5: eigenvalue ratio below which a direction is thin.
+    #[arg(long, default_value_t = 0.2, allow_negative_numbers = true)]
+    alpha: f64,
+    /// Shift of the new and of the moved particles, in units of r.
+    #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
+    shift: f64,
+}
+
+#[derive(Debug, Args)]
 struct MethodsArgs {
     /// Print a JSON array instead of the text list.
     #[arg(long)]
@@ -139,6 +167,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Detect(args) => detect(args),
         Command::Score(args) => score(args),
+        Command::Resample(args) => resample(args),
         Command::Methods(args) => list_methods(args),
     };
     match result {
@@ -209,19 +238,20 @@ fn radius(value: f64) -> Result<Radius, String> {
     Radius::new(value).map_err(|e| e.to_string())
 }
 
+/// The format of an output file, from its extension: checked before the work, not after it.
+fn output_format(path: &Path) -> Result<Format, String> {
+    Format::from_path(path).ok_or_else(|| {
+        format!(
+            "{}: unknown output format (use .csv, .xyz, .ply or .vtk)",
+            path.display()
+        )
+    })
+}
+
 fn detect(args: DetectArgs) -> Result<(), String> {
     let detector = detector_with_params(&args.method.method, &args.method.params)
         .map_err(|e| e.to_string())?;
-    // Fail on an unusable output name before the work, not after it.
-    let output_format = match &args.output {
-        Some(path) => Some(Format::from_path(path).ok_or_else(|| {
-            format!(
-                "{}: unknown output format (use .csv, .xyz, .ply or .vtk)",
-                path.display()
-            )
-        })?),
-        None => None,
-    };
+    let output_format = args.output.as_deref().map(output_format).transpose()?;
     let r = radius(args.input.radius)?;
     let set = read_input(&args.input)?;
     let pool = pool(args.input.threads)?;
@@ -390,6 +420,106 @@ fn read_truth(path: &Path, n: usize) -> Result<Vec<bool>, String> {
             )),
         })
         .collect()
+}
+
+/// Colour of a feature code (thesis Fig. 15): regular boundary blue, droplet cyan, ligament
+/// yellow, sheet magenta; interior grey.
+fn feature_colour(code: i8) -> [u8; 3] {
+    match code {
+        0 => [0, 255, 255],
+        1 => [255, 255, 0],
+        2 => [255, 0, 255],
+        3 => [0, 0, 255],
+        _ => [160, 160, 160],
+    }
+}
+
+fn resample(args: ResampleArgs) -> Result<(), String> {
+    use boundary_resample::{ResampleConfig, Resampled};
+    let detector = detector_with_params(&args.method.method, &args.method.params)
+        .map_err(|e| e.to_string())?;
+    let format = output_format(&args.output)?;
+    let config = ResampleConfig {
+        k: args.k,
+        alpha: args.alpha,
+        shift: args.shift,
+        ..ResampleConfig::default()
+    };
+    let r = radius(args.input.radius)?;
+    let set = read_input(&args.input)?;
+    let pool = pool(args.input.threads)?;
+    let (detection, seconds) = run_timed(&pool, detector.as_ref(), &set, r)?;
+    let labels = &detection.labels;
+    let (out, feature, source): (AnyParticleSet, Vec<i8>, Vec<usize>) = pool
+        .install(|| match &set {
+            AnyParticleSet::D2(s) => boundary_resample::resample(s, r, labels, &config)
+                .map(|o: Resampled<2>| (o.set.into(), o.feature, o.source)),
+            AnyParticleSet::D3(s) => boundary_resample::resample(s, r, labels, &config)
+                .map(|o: Resampled<3>| (o.set.into(), o.feature, o.source)),
+        })
+        .map_err(|e| e.to_string())?;
+    // Per input particle, its feature code (a feature particle's replacements share it).
+    let mut input_feature = vec![boundary_resample::INTERIOR_CODE; set.len()];
+    for (&f, &i) in feature.iter().zip(&source) {
+        input_feature[i] = f;
+    }
+    let counts: Vec<usize> = (-1..=3i8)
+        .map(|code| input_feature.iter().filter(|&&f| f == code).count())
+        .collect();
+    let codes: Vec<i64> = feature.iter().map(|&f| i64::from(f)).collect();
+    let sources: Vec<i64> = source
+        .iter()
+        .map(|&i| i64::try_from(i).unwrap_or(i64::MAX))
+        .collect();
+    let mut columns = vec![
+        ("feature", Column::Int(&codes)),
+        ("source", Column::Int(&sources)),
+    ];
+    let colours: Vec<[u8; 3]> = feature.iter().map(|&f| feature_colour(f)).collect();
+    let channel = |k: usize| -> Vec<u8> { colours.iter().map(|c| c[k]).collect() };
+    let (red, green, blue) = (channel(0), channel(1), channel(2));
+    if matches!(format, Format::Ply | Format::Vtk) {
+        columns.push(("red", Column::Byte(&red)));
+        columns.push(("green", Column::Byte(&green)));
+        columns.push(("blue", Column::Byte(&blue)));
+    }
+    write_particles(&args.output, Some(format), &out, &columns).map_err(|e| e.to_string())?;
+    if args.input.json {
+        let object = json!({
+            "method": detector.name(),
+            "params": detector.params().to_string(),
+            "input": args.input.input.display().to_string(),
+            "output": args.output.display().to_string(),
+            "n": set.len(),
+            "n_out": out.len(),
+            "dim": set.dim(),
+            "radius": args.input.radius,
+            "boundary": labels.boundary_count(),
+            "interior": counts[0],
+            "droplet": counts[1],
+            "ligament": counts[2],
+            "sheet": counts[3],
+            "regular": counts[4],
+            "seconds": seconds,
+        });
+        println!("{object}");
+    } else {
+        eprintln!(
+            "{}: {} boundary particles ({}) of {}: {} droplet, {} ligament, {} sheet, {} regular; \
+             {} particles written to {}",
+            args.input.input.display(),
+            labels.boundary_count(),
+            method_label(detector.as_ref()),
+            set.len(),
+            counts[1],
+            counts[2],
+            counts[3],
+            counts[4],
+            out.len(),
+            args.output.display()
+        );
+    }
+    Ok(())
 }
 
 fn list_methods(args: MethodsArgs) -> Result<(), String> {

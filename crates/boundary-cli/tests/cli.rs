@@ -219,3 +219,101 @@ fn bad_arguments_give_one_clear_line() {
     let out = boundary(&["detect", bad.to_str().unwrap(), "-r", "1"]);
     assert!(stderr(&out).contains('3'), "line number: {}", stderr(&out));
 }
+
+/// A 3D scene of the four feature kinds, far apart at r = 1: one lone particle (droplet), a
+/// straight line of 20 particles at spacing 0.5 (ligament), a single-layer 10 x 10 sheet at
+/// spacing 0.5 (sheet), and the 7 x 7 x 7 lattice block (218 regular boundary, 125 interior).
+fn features_csv(dir: &Path) -> PathBuf {
+    let mut text = String::from("x,y,z\n");
+    text += "100,100,100\n";
+    for k in 0..20 {
+        text += &format!("{},-50,0\n", f64::from(k) * 0.5);
+    }
+    for k in 0..100 {
+        text += &format!(
+            "{},{},50\n",
+            f64::from(k % 10) * 0.5,
+            f64::from(k / 10) * 0.5
+        );
+    }
+    for k in 0..343 {
+        text += &format!("{},{},{}\n", k % 7 + 200, (k / 7) % 7, k / 49);
+    }
+    let path = dir.join("features.csv");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn resample_labels_features_and_writes_the_new_set() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = features_csv(dir.path());
+    let output = dir.path().join("out.csv");
+    let o = boundary(&[
+        "resample",
+        input.to_str().unwrap(),
+        "--radius",
+        "1.2",
+        "--output",
+        output.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert_eq!(v["n"], 464);
+    assert_eq!(v["droplet"], 1, "{v}");
+    assert_eq!(v["ligament"], 20, "{v}");
+    assert_eq!(v["sheet"], 100, "{v}");
+    assert_eq!(v["regular"], 218, "{v}");
+    assert_eq!(v["interior"], 125, "{v}");
+    // droplet -> 6, ligament -> 4 each, sheet -> 2 each, the others kept.
+    let n_out = 6 + 20 * 4 + 100 * 2 + 218 + 125;
+    assert_eq!(v["n_out"], n_out);
+    let text = std::fs::read_to_string(&output).unwrap();
+    assert_eq!(text.lines().next(), Some("x,y,z,feature,source"));
+    assert_eq!(text.lines().count(), n_out + 1);
+    // The droplet's six replacements come first, at ±0.5r along the axes.
+    let first: Vec<&str> = text.lines().nth(1).unwrap().split(',').collect();
+    assert_eq!(first[3..], ["0", "0"]);
+    // PLY output carries the colours of thesis Fig. 15 (droplet cyan).
+    let ply = dir.path().join("out.ply");
+    let o = boundary(&[
+        "resample",
+        input.to_str().unwrap(),
+        "-r",
+        "1.2",
+        "-o",
+        ply.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("1 droplet, 20 ligament, 100 sheet, 218 regular"));
+    let text = std::fs::read_to_string(&ply).unwrap();
+    assert!(text.contains("property uchar red\nproperty uchar green\nproperty uchar blue\n"));
+    let droplet_row = text
+        .lines()
+        .find(|l| l.ends_with(" 0 0 0 255 255"))
+        .is_some();
+    assert!(droplet_row, "{}", &text[..600]);
+}
+
+#[test]
+fn resample_rejects_bad_parameters_and_outputs_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = lattice_csv(dir.path());
+    let input = input.to_str().unwrap();
+    let out = dir.path().join("o.csv");
+    let out = out.to_str().unwrap();
+    assert_one_line_error(
+        &["resample", input, "-r", "1.2", "-o", "o.vtu"],
+        "unknown output format",
+    );
+    assert_one_line_error(
+        &["resample", input, "-r", "1.2", "-o", out, "--alpha", "-1"],
+        "alpha",
+    );
+    assert_one_line_error(
+        &["resample", input, "-r", "1.2", "-o", out, "--shift", "nan"],
+        "shift",
+    );
+    assert_one_line_error(&["resample", input, "-r", "1.2"], "--output");
+}

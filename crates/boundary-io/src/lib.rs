@@ -192,6 +192,9 @@ pub enum Column<'a> {
     Int(&'a [i64]),
     /// Reals (margins, scores).
     Float(&'a [f64]),
+    /// Bytes, written as PLY `uchar` / VTK `unsigned_char` (colour components `red`, `green`,
+    /// `blue`, which PLY viewers show as vertex colours); integers in text formats.
+    Byte(&'a [u8]),
 }
 
 impl Column<'_> {
@@ -200,6 +203,7 @@ impl Column<'_> {
         match self {
             Column::Int(v) => v.len(),
             Column::Float(v) => v.len(),
+            Column::Byte(v) => v.len(),
         }
     }
 
@@ -495,12 +499,15 @@ pub(crate) mod out {
         match column {
             Column::Int(v) => write!(out, "{}", v[i]),
             Column::Float(v) => write!(out, "{}", Real(v[i])),
+            Column::Byte(v) => write!(out, "{}", v[i]),
         }
     }
 
-    /// The PLY / VTK type of a column: `int` when every value fits 32 bits, else `double`.
+    /// The PLY type of a column: `uchar` for bytes, `int` when every integer fits 32 bits,
+    /// else `double` (the VTK writer maps `uchar` to `unsigned_char`).
     pub(crate) fn binary_type(column: &Column<'_>) -> &'static str {
         match column {
+            Column::Byte(_) => "uchar",
             Column::Int(v) if v.iter().all(|&x| i32::try_from(x).is_ok()) => "int",
             _ => "double",
         }

@@ -423,7 +423,8 @@ pub(crate) fn write(
         writeln!(out, "POINT_DATA {n}")?;
         for (name, column) in columns {
             let ty = out::binary_type(column);
-            writeln!(out, "SCALARS {name} {ty} 1\nLOOKUP_TABLE default")?;
+            let vtk_type = if ty == "uchar" { "unsigned_char" } else { ty };
+            writeln!(out, "SCALARS {name} {vtk_type} 1\nLOOKUP_TABLE default")?;
             for i in 0..n {
                 out::typed_value(out, column, ty, i)?;
                 writeln!(out)?;

@@ -281,3 +281,33 @@ fn empty_sets_round_trip() {
         }
     }
 }
+
+#[test]
+fn byte_columns_are_uchar_in_ply_and_unsigned_char_in_vtk() {
+    let red = [0u8, 255, 7, 128, 1];
+    for (_, set) in sets() {
+        let cols = [("red", Column::Byte(&red))];
+        let mut ply = Vec::new();
+        write_particles_to(&mut ply, Format::Ply, &set, &cols).unwrap();
+        let parsed = Parser::<DefaultElement>::new()
+            .read_ply(&mut ply.as_slice())
+            .unwrap();
+        for (i, v) in parsed.payload["vertex"].iter().enumerate() {
+            assert_eq!(v["red"], Property::UChar(red[i]));
+        }
+        let mut vtk = Vec::new();
+        write_particles_to(&mut vtk, Format::Vtk, &set, &cols).unwrap();
+        let text = String::from_utf8(vtk).unwrap();
+        let (ty, values) = vtk_scalars(&text, "red", set.len());
+        assert_eq!(ty, "unsigned_char");
+        assert_eq!(values, ["0", "255", "7", "128", "1"]);
+        // The readers still read the positions back.
+        let back = read_bytes(text.as_bytes(), "b.vtk", Format::Vtk, Some(set.dim())).unwrap();
+        assert!(same_bits(&back, &set));
+        let back = read_bytes(&ply, "b.ply", Format::Ply, None).unwrap();
+        assert!(same_bits(&back, &set));
+        let mut csv = Vec::new();
+        write_particles_to(&mut csv, Format::Csv, &set, &cols).unwrap();
+        assert!(String::from_utf8(csv).unwrap().contains(",255\n"));
+    }
+}

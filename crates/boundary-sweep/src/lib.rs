@@ -124,6 +124,9 @@ pub struct Picture {
     pub truth: Labels,
     /// (method, labels) at default parameters.
     pub methods: Vec<(String, Labels)>,
+    /// Feature code of each particle from the exact labels (thesis Sec. 2.6, default
+    /// parameters): -1 interior, 0 droplet, 1 ligament, 3 regular; empty if it failed.
+    pub features: Vec<i8>,
 }
 
 /// What a sweep produced.
@@ -293,11 +296,24 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
             });
         }
         if let AnyParticleSet::D2(s) = &set {
+            let config = boundary_resample::ResampleConfig::default();
+            let features = boundary_resample::classify(s, r, &truth, &config)
+                .map(|classes| {
+                    classes
+                        .iter()
+                        .map(|c| {
+                            c.feature
+                                .map_or(boundary_resample::INTERIOR_CODE, |f| f.code())
+                        })
+                        .collect()
+                })
+                .unwrap_or_default();
             out.pictures.push(Picture {
                 scene: scene.name.clone(),
                 points: s.positions().iter().map(|p| [p.x, p.y]).collect(),
                 truth,
                 methods: picture_methods,
+                features,
             });
         }
     }

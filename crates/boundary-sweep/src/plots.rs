@@ -3,6 +3,8 @@
 //!
 //! - `speed_vs_error_{2d,3d}`: particles/s (all threads) against 1 − M, log scales, one marker
 //!   per method and parameter value, pooled over the scenes of that dimension.
+//! - `features_<scene>`: for 2D scenes, the feature class of each exact boundary particle
+//!   (thesis Sec. 2.6, Fig. 15 colours).
 //! - `depth_{2d,3d}`: false positives and time against depth for `ia` and `ge` (JCP Fig. 7,
 //!   thesis Fig. 27).
 //! - `labels_<scene>`: for each 2D scene, each method's labels with false positives (red) and
@@ -370,6 +372,59 @@ where
     root.present().map_err(err)
 }
 
+/// The feature classes of a 2D scene (thesis Fig. 15 colours: regular boundary blue, droplet
+/// cyan, ligament yellow, sheet magenta; interior grey).
+fn features_plot<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    pic: &Picture,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE).map_err(err)?;
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in &pic.points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let pad = 0.03 * (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-12);
+    let count = |code: i8| pic.features.iter().filter(|&&f| f == code).count();
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!(
+                "{}: {} droplet (cyan), {} ligament (yellow), {} regular (blue)",
+                pic.scene,
+                count(0),
+                count(1),
+                count(3)
+            ),
+            ("sans-serif", 16),
+        )
+        .margin(8)
+        .build_cartesian_2d(lo[0] - pad..hi[0] + pad, lo[1] - pad..hi[1] + pad)
+        .map_err(err)?;
+    // Drawn interior first so that the features stay on top.
+    let styles: [(i8, RGBColor, i32); 5] = [
+        (-1, RGBColor(200, 200, 200), 1),
+        (3, RGBColor(30, 60, 230), 2),
+        (2, RGBColor(220, 0, 220), 3),
+        (1, RGBColor(230, 190, 0), 3),
+        (0, RGBColor(0, 200, 220), 3),
+    ];
+    for (code, colour, size) in styles {
+        let layer = pic
+            .points
+            .iter()
+            .zip(&pic.features)
+            .filter(|(_, &f)| f == code)
+            .map(|(p, _)| Circle::new((p[0], p[1]), size, colour.filled()));
+        chart.draw_series(layer).map_err(err)?;
+    }
+    root.present().map_err(err)
+}
+
 fn file_stem(scene: &str) -> String {
     scene
         .chars()
@@ -439,6 +494,21 @@ pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<PathBuf>, String> 
         labels_plot(SVGBackend::new(&svg, size).into_drawing_area(), pic)?;
         let png = stem.with_extension("png");
         labels_plot(BitMapBackend::new(&png, size).into_drawing_area(), pic)?;
+        written.extend([svg, png]);
+    }
+    for pic in outcome
+        .pictures
+        .iter()
+        .filter(|p| p.features.len() == p.points.len() && !p.points.is_empty())
+    {
+        let stem = dir.join(format!("features_{}", file_stem(&pic.scene)));
+        let svg = stem.with_extension("svg");
+        features_plot(SVGBackend::new(&svg, (700, 700)).into_drawing_area(), pic)?;
+        let png = stem.with_extension("png");
+        features_plot(
+            BitMapBackend::new(&png, (700, 700)).into_drawing_area(),
+            pic,
+        )?;
         written.extend([svg, png]);
     }
     Ok(written)
