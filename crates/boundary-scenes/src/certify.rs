@@ -121,7 +121,8 @@ fn ulps(x: f64, k: i64) -> f64 {
 }
 
 /// Every case a certified method must pass: the generated fixture scenes, the shared scenes
-/// (those whose files are present) and the hard cases. Also returns the names of the shared
+/// and the volumetric samples of the shared meshes (those whose files are present) and the
+/// hard cases. Also returns the names of the shared
 /// scenes that were skipped because the data directory lacks them.
 pub fn certification_cases() -> (Vec<Case>, Vec<String>) {
     let mut cases: Vec<Case> = all_scenes()
@@ -144,6 +145,16 @@ pub fn certification_cases() -> (Vec<Case>, Vec<String>) {
                 name: file.to_owned(),
                 set,
                 radius: r,
+            }),
+            Err(_) => skipped.push(file.to_owned()),
+        }
+    }
+    for &(name, file, radius, params) in crate::mesh::MESH_SCENES {
+        match crate::mesh::sample_obj(&crate::data_dir().join(file), params) {
+            Ok(set) => cases.push(Case {
+                name: name.to_owned(),
+                set: set.into(),
+                radius,
             }),
             Err(_) => skipped.push(file.to_owned()),
         }

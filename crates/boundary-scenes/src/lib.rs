@@ -18,6 +18,7 @@
 pub mod certify;
 mod generate;
 mod manifest;
+pub mod mesh;
 
 pub use generate::{all_scenes, enright, fill, jittered_lattice_ball, rk4, single_vortex, Scene};
 pub use manifest::{Manifest, Origin, SceneEntry, SceneError, SHARED_SCENES};

@@ -122,3 +122,23 @@ fn shared_entries_name_existing_files_with_the_stated_counts() {
         assert_eq!(set.len(), entry.n, "{}", entry.name);
     }
 }
+
+#[test]
+fn mesh_entries_sample_to_the_stated_counts() {
+    let data = boundary_scenes::data_dir();
+    let manifest = Manifest::load(&fixtures_dir().join("scenes.toml")).unwrap();
+    let meshes: Vec<_> = manifest
+        .scene
+        .iter()
+        .filter(|s| s.origin == Origin::Mesh)
+        .collect();
+    assert_eq!(meshes.len(), boundary_scenes::mesh::MESH_SCENES.len());
+    for entry in meshes {
+        if !entry.path(&fixtures_dir(), &data).is_file() {
+            eprintln!("{}: mesh not found, skipped", entry.name);
+            continue;
+        }
+        let set = entry.load(&fixtures_dir(), &data).unwrap();
+        assert_eq!((set.dim(), set.len()), (3, entry.n), "{}", entry.name);
+    }
+}

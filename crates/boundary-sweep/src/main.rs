@@ -53,10 +53,12 @@ fn real_main() -> Result<(), String> {
         .data_dir
         .clone()
         .unwrap_or_else(boundary_scenes::data_dir);
-    let (mut scenes, mut skipped) = load_scenes(&args.manifest, &data_dir)?;
-    if !args.scenes.is_empty() {
-        scenes.retain(|s| args.scenes.iter().any(|f| s.name.contains(f.as_str())));
-    }
+    let (mut scenes, mut skipped) = load_scenes(
+        &args.manifest,
+        &data_dir,
+        &args.out.join("scenes"),
+        &args.scenes,
+    )?;
     if args.quick {
         scenes.retain(|s| file_lines(&s.path) <= 10_001);
     }
@@ -166,18 +168,28 @@ fn file_lines(path: &Path) -> usize {
 /// A scene left out, with the reason.
 type Skipped = (String, String);
 
-/// Scenes of the manifest, resolved against the fixtures folder (beside the manifest) and the
-/// data directory; scenes whose file is missing are returned as skipped with the reason.
-fn load_scenes(manifest: &Path, data_dir: &Path) -> Result<(Vec<SceneSpec>, Vec<Skipped>), String> {
+/// Scenes of the manifest whose name contains one of `filter` (all if empty), resolved against
+/// the fixtures folder (beside the manifest) and the data directory; mesh scenes are sampled
+/// into `samples_dir` (under `target/`). Scenes whose file is missing are returned as skipped
+/// with the reason.
+fn load_scenes(
+    manifest: &Path,
+    data_dir: &Path,
+    samples_dir: &Path,
+    filter: &[String],
+) -> Result<(Vec<SceneSpec>, Vec<Skipped>), String> {
     let parsed = boundary_scenes::Manifest::load(manifest).map_err(|e| e.to_string())?;
     let fixtures = manifest.parent().unwrap_or(Path::new("."));
     let mut scenes = Vec::new();
     let mut skipped = Vec::new();
     for entry in parsed.scene {
-        let path = entry.path(fixtures, data_dir);
+        if !filter.is_empty() && !filter.iter().any(|f| entry.name.contains(f.as_str())) {
+            continue;
+        }
+        let mut path = entry.path(fixtures, data_dir);
         if !path.is_file() {
             let why = match entry.origin {
-                boundary_scenes::Origin::Shared => format!(
+                boundary_scenes::Origin::Shared | boundary_scenes::Origin::Mesh => format!(
                     "{} not found (data directory {}; set {} to use another)",
                     path.display(),
                     data_dir.display(),
@@ -190,6 +202,15 @@ fn load_scenes(manifest: &Path, data_dir: &Path) -> Result<(Vec<SceneSpec>, Vec<
             skipped.push((entry.name, why));
             continue;
         }
+        if entry.origin == boundary_scenes::Origin::Mesh {
+            match sample_mesh(&entry, fixtures, data_dir, samples_dir) {
+                Ok(sample) => path = sample,
+                Err(why) => {
+                    skipped.push((entry.name, why));
+                    continue;
+                }
+            }
+        }
         scenes.push(SceneSpec {
             name: entry.name,
             dim: entry.dim,
@@ -199,8 +220,32 @@ fn load_scenes(manifest: &Path, data_dir: &Path) -> Result<(Vec<SceneSpec>, Vec<
             origin: match entry.origin {
                 boundary_scenes::Origin::Shared => "shared".into(),
                 boundary_scenes::Origin::Fixture => "fixture".into(),
+                boundary_scenes::Origin::Mesh => "mesh".into(),
             },
         });
     }
     Ok((scenes, skipped))
+}
+
+/// Samples a mesh scene into `samples_dir/<name>.csv`; returns the file.
+fn sample_mesh(
+    entry: &boundary_scenes::SceneEntry,
+    fixtures: &Path,
+    data_dir: &Path,
+    samples_dir: &Path,
+) -> Result<PathBuf, String> {
+    let set = entry.load(fixtures, data_dir)?;
+    if set.len() != entry.n {
+        return Err(format!(
+            "sampled {} particles, the manifest says {} (run `cargo xtask fixtures`)",
+            set.len(),
+            entry.n
+        ));
+    }
+    std::fs::create_dir_all(samples_dir)
+        .map_err(|e| format!("cannot create {}: {e}", samples_dir.display()))?;
+    let path = samples_dir.join(format!("{}.csv", entry.name));
+    boundary_io::write_particles(&path, Some(boundary_io::Format::Csv), &set, &[])
+        .map_err(|e| e.to_string())?;
+    Ok(path)
 }

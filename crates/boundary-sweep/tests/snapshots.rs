@@ -7,7 +7,6 @@
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
 use boundary::{detector_by_name, methods, Confusion, Radius};
-use boundary_io::{read_particles, ReadOptions};
 use boundary_scenes::{data_dir, fixtures_dir, Manifest, Origin};
 use std::fmt::Write;
 
@@ -18,15 +17,11 @@ fn labels_of_every_method_on_every_scene() {
     let mut skipped = Vec::new();
     for entry in &manifest.scene {
         let path = entry.path(&fixtures_dir(), &data);
-        if entry.origin == Origin::Shared && !path.is_file() {
+        if entry.origin != Origin::Fixture && !path.is_file() {
             skipped.push(entry.name.clone());
             continue;
         }
-        let options = ReadOptions {
-            dim: Some(entry.dim),
-            ..Default::default()
-        };
-        let set = read_particles(&path, &options).unwrap();
+        let set = entry.load(&fixtures_dir(), &data).unwrap();
         let r = Radius::new(entry.radius).unwrap();
         let truth = detector_by_name("exact").unwrap().detect(&set, r).unwrap();
         let mut text = format!(

@@ -2,7 +2,10 @@
 //! scenes plus the public ones). Run by `cargo xtask fixtures`; deterministic.
 
 use boundary_io::{write_particles, Format};
-use boundary_scenes::{all_scenes, fixtures_dir, Manifest, Origin, SceneEntry, SHARED_SCENES};
+use boundary_scenes::mesh::{sample_obj, MESH_SCENES};
+use boundary_scenes::{
+    all_scenes, data_dir, fixtures_dir, Manifest, Origin, SceneEntry, SHARED_SCENES,
+};
 
 fn main() {
     if let Err(e) = run() {
@@ -45,6 +48,25 @@ fn run() -> Result<(), String> {
             generator: None,
             params: None,
             provenance: Some(provenance.to_owned()),
+        });
+    }
+    for &(name, file, radius, params) in MESH_SCENES {
+        // The count is part of the manifest, so the mesh must be there to make it.
+        let mesh = data_dir().join(file);
+        let set = sample_obj(&mesh, params)
+            .map_err(|e| format!("{e} (the mesh scenes need the data directory)"))?;
+        eprintln!("{}: {} particles sampled", mesh.display(), set.len());
+        manifest.scene.push(SceneEntry {
+            name: name.to_owned(),
+            origin: Origin::Mesh,
+            dim: 3,
+            file: file.to_owned(),
+            radius,
+            n: set.len(),
+            expected_boundary: None,
+            generator: Some("mesh_volume_sample".to_owned()),
+            params: Some(params.to_owned()),
+            provenance: Some("../shared/data/README.md (meshes)".to_owned()),
         });
     }
     let path = dir.join("scenes.toml");
