@@ -39,6 +39,10 @@ pub use boundary_dilts::DiltsDetector;
 pub use boundary_exact::ExactDetector;
 #[cfg(feature = "ia")]
 pub use boundary_ia::IaDetector;
+#[cfg(feature = "marrone")]
+pub use boundary_marrone::MarroneDetector;
+#[cfg(feature = "muller")]
+pub use boundary_muller::MullerDetector;
 
 use thiserror::Error;
 
@@ -85,6 +89,20 @@ const REGISTRY: &[Entry] = &[
         name: "ia",
         summary: "interval-arithmetic quadtree/octree over S_i, rules R1-R4 (JCP 2020 Sec. 3.1)",
         make: || Box::new(IaDetector::default()),
+    },
+    #[cfg(feature = "marrone")]
+    Entry {
+        name: "marrone",
+        summary: "SPH renormalisation-matrix eigenvalue, then a scan cone along the normal \
+                  (Marrone et al., JCP 2010)",
+        make: || Box::new(MarroneDetector::default()),
+    },
+    #[cfg(feature = "muller")]
+    Entry {
+        name: "muller",
+        summary:
+            "SPH colour-field gradient |grad c| h above a threshold (Mueller et al., SCA 2003)",
+        make: || Box::new(MullerDetector::default()),
     },
 ];
 
