@@ -40,9 +40,10 @@
 //! | `h_over_r` | 1 | smoothing length `h` in units of the resolution `r` |
 //!
 //! The two λ tests are applied in that order, so `lambda_surface > lambda_interior` is
-//! accepted and means "no scan". The paper's thresholds were set for its solver's particle
-//! spacing (`h/Δx ≈ 1.3`–2); `h = r` is the thesis' choice for `r` in SPH data (Sec. 2.4: "a
-//! good choice for r is the smoothing length").
+//! accepted and means "no scan". The thresholds were tuned by Marrone et al. on their own SPH
+//! particle distributions, where `h` is tied to the particle spacing; here `h = r` by default,
+//! the thesis' pairing of `r` with the smoothing length (Sec. 2.4: "a good choice for r is the
+//! smoothing length"), so `h/Δx` is whatever `r/Δx` the scene has.
 //!
 //! # Policy: ties, duplicates, degenerate input
 //! - An isolated particle has `B_i = 0`, `λ_i = 0`: free surface. So do pairs, lines in 2D and
