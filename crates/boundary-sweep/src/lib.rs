@@ -59,7 +59,8 @@ impl MethodConfig {
 }
 
 /// Parameter grids swept besides the defaults: depth 1..8 for the interval methods (the JCP
-/// paper's Fig. 7 / thesis Fig. 27) and a gamma grid for the visibility method.
+/// paper's Fig. 7 / thesis Fig. 27), a gamma grid for the visibility method, and thresholds
+/// around the default 0.4 for the colour field of `muller` (how sensitive M is to it).
 pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
     let mut out = Vec::new();
     for &m in methods {
@@ -76,6 +77,11 @@ pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
             "hpr" => {
                 for gamma in ["1.1", "1.2", "1.5", "1.75", "2.0"] {
                     out.push(MethodConfig::with(m, "gamma", gamma));
+                }
+            }
+            "muller" => {
+                for threshold in ["0.1", "0.2", "0.3", "0.5", "0.6"] {
+                    out.push(MethodConfig::with(m, "threshold", threshold));
                 }
             }
             _ => {}

@@ -190,7 +190,7 @@ pub fn experiment_for(scene: &str, dim: usize) -> Option<&'static str> {
         "JCP Fig. 9"
     } else if s.contains("dambreak") && dim == 2 {
         "JCP Fig. 8"
-    } else if s.contains("double_dam_break") && dim == 3 {
+    } else if (s.contains("double_dam_break") || s.contains("double_dambreak")) && dim == 3 {
         "JCP Fig. 11"
     } else if (s.contains("dam_break") || s.contains("dambreak")) && dim == 3 {
         "JCP Fig. 12"
@@ -205,6 +205,22 @@ pub fn experiment_for(scene: &str, dim: usize) -> Option<&'static str> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn manifest_scene_names_find_their_experiment() {
+        assert_eq!(
+            experiment_for("double_dambreak26_r0.1", 3),
+            Some("JCP Fig. 11")
+        );
+        assert_eq!(experiment_for("dambreak23_r0.05", 3), Some("JCP Fig. 12"));
+        assert_eq!(experiment_for("sandim_vortex_050", 2), Some("JCP Fig. 9"));
+        assert_eq!(
+            experiment_for("dualsphysics_dambreak2d", 2),
+            Some("JCP Fig. 8")
+        );
+        assert_eq!(experiment_for("enright3d_t0.75", 3), Some("JCP Fig. 14"));
+        assert_eq!(experiment_for("bunny14_r0.05", 3), None);
+    }
 
     #[test]
     fn transcribed_m_equals_rec_times_one_minus_fpr() {

@@ -41,6 +41,10 @@ pub use boundary_exact::ExactDetector;
 pub use boundary_ge::GeDetector;
 #[cfg(feature = "ia")]
 pub use boundary_ia::IaDetector;
+#[cfg(feature = "marrone")]
+pub use boundary_marrone::MarroneDetector;
+#[cfg(feature = "muller")]
+pub use boundary_muller::MullerDetector;
 
 use thiserror::Error;
 
@@ -93,6 +97,20 @@ const REGISTRY: &[Entry] = &[
         name: "ge",
         summary: "geometric-enclosure slabs on a mesh of S_i, rules R1-R4 (JCP 2020 Sec. 3.2)",
         make: || Box::new(GeDetector::default()),
+    },
+    #[cfg(feature = "marrone")]
+    Entry {
+        name: "marrone",
+        summary: "SPH renormalisation-matrix eigenvalue, then a scan cone along the normal \
+                  (Marrone et al., JCP 2010)",
+        make: || Box::new(MarroneDetector::default()),
+    },
+    #[cfg(feature = "muller")]
+    Entry {
+        name: "muller",
+        summary:
+            "SPH colour-field gradient |grad c| h above a threshold (Mueller et al., SCA 2003)",
+        make: || Box::new(MullerDetector::default()),
     },
 ];
 

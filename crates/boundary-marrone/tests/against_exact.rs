@@ -1,0 +1,227 @@
+//! `marrone` against `exact`: on jittered lattice balls (2D and 3D) the outer shell is found
+//! and the deep interior is interior; M stays above an honest floor on shared SPH scenes; the
+//! two steps each do their part; degenerate input does not panic; labels do not depend on the
+//! threads or on a domain decomposition with the method's halo.
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+use boundary_core::decompose::{morton_blocks, slabs};
+use boundary_core::{BoundaryDetector, Confusion, Labels, ParticleSet, Point, Radius};
+use boundary_exact::ExactDetector;
+use boundary_marrone::MarroneDetector;
+use boundary_scenes::{jittered_lattice_ball, shared_set, SHARED_SCENES};
+use rand::{rngs::StdRng, Rng, SeedableRng};
+
+/// A disc of radius `radius` cut from a unit square lattice, jittered by ±`jitter`.
+fn jittered_disc(radius: f64, jitter: f64, seed: u64) -> ParticleSet<2> {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let side = radius.ceil() as i64;
+    let mut points = Vec::new();
+    for x in -side..=side {
+        for y in -side..=side {
+            let p = Point::<2>::new(x as f64, y as f64);
+            if p.norm() <= radius {
+                points.push(p + Point::<2>::from_fn(|_, _| rng.gen_range(-jitter..=jitter)));
+            }
+        }
+    }
+    ParticleSet::new(points).unwrap()
+}
+
+fn labels<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, r: f64) -> Labels {
+    d.detect(&set.to_any(), Radius::new(r).unwrap())
+        .unwrap()
+        .labels
+}
+
+/// The outermost particles (within 0.3 spacings of the rim) are all boundary, the particles
+/// deeper than one kernel support plus a spacing are all interior, and the exact boundary is
+/// found with Rec >= 0.95.
+fn check_ball<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, radius: f64, r: f64) {
+    let found = labels(d, set, r);
+    let exact = labels_exact(set, r);
+    let h = d.h_over_r * r;
+    for (i, p) in set.positions().iter().enumerate() {
+        let depth = radius - p.norm();
+        if depth < 0.3 {
+            assert!(
+                found.is_boundary(i),
+                "{D}D: rim particle {i} at depth {depth}"
+            );
+        }
+        if depth > 2.0 * h + 1.0 {
+            assert!(
+                !found.is_boundary(i),
+                "{D}D: deep particle {i} at depth {depth}"
+            );
+        }
+    }
+    let c = Confusion::from_labels(found.as_slice(), exact.as_slice()).unwrap();
+    assert!(c.recall() >= 0.95, "{D}D: {c:?}");
+}
+
+fn labels_exact<const D: usize>(set: &ParticleSet<D>, r: f64) -> Labels {
+    ExactDetector
+        .detect(&set.to_any(), Radius::new(r).unwrap())
+        .unwrap()
+        .labels
+}
+
+#[test]
+fn lattice_balls_shell_and_core() {
+    let d = MarroneDetector::default();
+    check_ball(&d, &jittered_disc(20.0, 0.15, 1), 20.0, 1.2);
+    let (ball, radius) = jittered_lattice_ball(8000, 0.15, 2);
+    check_ball(&d, &ball, radius, 1.2);
+    // The cubic spline and a larger h behave the same on these.
+    let mut cubic = MarroneDetector::default();
+    cubic.set_param("kernel", "cubic").unwrap();
+    cubic.set_param("h_over_r", "1.3").unwrap();
+    check_ball(&cubic, &ball, radius, 1.2);
+}
+
+#[test]
+fn each_step_does_its_part() {
+    let (ball, radius) = jittered_lattice_ball(8000, 0.15, 3);
+    let r = 1.2;
+    // Scan only: every particle with λ > 0 goes through the scan region, which alone still
+    // finds the shell and leaves the core.
+    let mut scan_only = MarroneDetector::default();
+    scan_only.set_param("lambda_surface", "0").unwrap();
+    scan_only.set_param("lambda_interior", "1e9").unwrap();
+    check_ball(&scan_only, &ball, radius, r);
+    // λ only (no candidates): a coarser answer, a superset of the default's boundary on this
+    // ball when the cut is at 0.75, and a subset when it is at 0.2.
+    let default = labels(&MarroneDetector::default(), &ball, r);
+    let mut generous = MarroneDetector::default();
+    generous.set_param("lambda_surface", "0.75").unwrap();
+    let generous = labels(&generous, &ball, r);
+    let mut strict = MarroneDetector::default();
+    strict.set_param("lambda_interior", "0.2").unwrap();
+    let strict = labels(&strict, &ball, r);
+    for i in 0..ball.len() {
+        assert!(!default.is_boundary(i) || generous.is_boundary(i), "{i}");
+        assert!(!strict.is_boundary(i) || default.is_boundary(i), "{i}");
+    }
+    assert!(generous.boundary_count() > default.boundary_count());
+    assert!(strict.boundary_count() < default.boundary_count());
+    // λ itself: about 1 deep inside, small at the rim.
+    let lambdas = MarroneDetector::default()
+        .lambdas(&ball, Radius::new(r).unwrap())
+        .unwrap();
+    for (p, l) in ball.positions().iter().zip(&lambdas) {
+        if p.norm() < radius - 4.0 {
+            assert!(*l > 0.75, "λ = {l} at depth {}", radius - p.norm());
+        }
+    }
+}
+
+/// M of the default detector on the shared scenes, with floors below today's values
+/// (recorded in the sweep report) so that a regression fails.
+#[test]
+fn shared_scenes_have_a_useful_m() {
+    let floors = [
+        ("sandim_vortex_001", 0.95),
+        ("sandim_vortex_050", 0.85),
+        ("bunny14_r0.05", 0.85),
+        ("dambreak23_r0.05", 0.9),
+        ("dualsphysics_dambreak3d", 0.95),
+    ];
+    for &(name, dim, file, r, _, _, _) in SHARED_SCENES {
+        let Some(&(_, floor)) = floors.iter().find(|f| f.0 == name) else {
+            continue;
+        };
+        let d = MarroneDetector::default();
+        let c = if dim == 2 {
+            let set = shared_set::<2>(file).unwrap();
+            Confusion::from_labels(
+                labels(&d, &set, r).as_slice(),
+                labels_exact(&set, r).as_slice(),
+            )
+        } else {
+            let set = shared_set::<3>(file).unwrap();
+            Confusion::from_labels(
+                labels(&d, &set, r).as_slice(),
+                labels_exact(&set, r).as_slice(),
+            )
+        }
+        .unwrap();
+        println!(
+            "{name}: Rec {:.4} FPR {:.4} M {:.4}",
+            c.recall(),
+            c.fpr(),
+            c.m()
+        );
+        assert!(c.m() >= floor, "{name}: M {:.4} < {floor}", c.m());
+    }
+}
+
+#[test]
+fn degenerate_input_does_not_panic() {
+    let d = MarroneDetector::default();
+    let r = Radius::new(1.0).unwrap();
+    let empty = ParticleSet::<3>::new(Vec::new()).unwrap();
+    assert!(d.detect_3d(&empty, r).unwrap().labels.is_empty());
+    let single = ParticleSet::from_rows(&[[1e6, -1e6]]).unwrap();
+    assert_eq!(d.detect_2d(&single, r).unwrap().labels.as_slice(), [true]);
+    // A pair, coincident or not, and a straight line: B is singular, λ = 0.
+    let pair = ParticleSet::from_rows(&[[0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]).unwrap();
+    assert_eq!(d.detect_3d(&pair, r).unwrap().labels.boundary_count(), 2);
+    let line: Vec<[f64; 2]> = (0..10).map(|k| [0.5 * k as f64, 0.0]).collect();
+    let line = ParticleSet::from_rows(&line).unwrap();
+    assert_eq!(d.detect_2d(&line, r).unwrap().labels.boundary_count(), 10);
+    // Every particle twice: no panic, a sensible answer (the core of a 6^3 lattice at
+    // r = 1.2 with h = r is not all boundary).
+    let rows = boundary_scenes::cubic_lattice(6, 1.0);
+    let doubled: Vec<[f64; 3]> = rows.iter().chain(rows.iter()).copied().collect();
+    let doubled = ParticleSet::from_rows(&doubled).unwrap();
+    let l = d
+        .detect_3d(&doubled, Radius::new(1.2).unwrap())
+        .unwrap()
+        .labels;
+    assert_eq!(l.len(), 432);
+    assert!(l.boundary_count() < 432);
+    for k in 0..216 {
+        assert_eq!(
+            l.is_boundary(k),
+            l.is_boundary(k + 216),
+            "copies of {k} agree"
+        );
+    }
+}
+
+#[test]
+fn labels_do_not_depend_on_threads_or_decomposition() {
+    let set = shared_set::<2>("particles2d/sandim_vortex_spin_frame_100_1698.csv").unwrap();
+    let r = Radius::new(0.022105).unwrap();
+    let d = MarroneDetector::default();
+    let global = d.detect_2d(&set, r).unwrap().labels;
+    for threads in [1, 3] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        assert_eq!(
+            pool.install(|| d.detect_2d(&set, r).unwrap().labels),
+            global
+        );
+    }
+    let halo = d.halo_width(r);
+    for subs in [
+        slabs(&set, 3, 0, halo).unwrap(),
+        morton_blocks(&set, 4, halo).unwrap(),
+    ] {
+        let mut merged = vec![false; set.len()];
+        for sub in &subs {
+            let local = sub.particles(&set).to_any();
+            let labels = d.detect_owned(&local, sub.owned.len(), r).unwrap().labels;
+            assert_eq!(labels.len(), sub.owned.len());
+            for (k, &i) in sub.owned.iter().enumerate() {
+                merged[i] = labels.is_boundary(k);
+            }
+        }
+        assert_eq!(merged, global.as_slice());
+    }
+    let too_many = d.detect_owned(&set.to_any(), set.len() + 1, r);
+    assert!(too_many.is_err());
+}

@@ -1,0 +1,46 @@
+//! The small SPH toolbox shared by the SPH-based boundary detectors (`marrone`, `muller`, and
+//! the SVM features): smoothing kernels, summation-density volumes and the kernel sums of one
+//! particle.
+//!
+//! # Conventions
+//! - **Kernels** ([`Kernel`]): Wendland C2 and the cubic spline, radial, support radius `2h`
+//!   ([`SUPPORT_FACTOR`]), normalised in 2D and 3D (`∫ W dV = 1`). [`SphKernel`] holds one at a
+//!   fixed `h` with value, `dW/dr` and gradient.
+//! - **Gradients** are taken at the first index: `∇W_ij = ∇_i W(|x_i − x_j|)`, which points
+//!   from `x_i` towards `x_j`.
+//! - **Volumes** come from the summation density with a uniform mass `m`:
+//!   `ρ_i = Σ_j m W_ij` (`j = i` included), `V_i = m/ρ_i = 1/Σ_j W_ij`. The mass cancels, so
+//!   the detectors need positions only.
+//! - **Sums** ([`LocalSums`], from [`SphContext::local_sums`]): the Shepard sum
+//!   `Σ_j V_j W_ij`, the gradient of unity `Σ_j V_j ∇W_ij`, and the renormalisation matrix
+//!   `B_i = Σ_j V_j (x_j − x_i) ⊗ ∇W_ij`. Inside a uniform particle distribution they are
+//!   close to 1, 0 and the identity (tested on lattices); near a free surface the Shepard sum
+//!   drops, the gradient grows and `B_i` loses rank along the normal.
+//! - **Linear algebra** ([`SymmetricEigen`]): eigen-decomposition of the `D × D` symmetric
+//!   matrices, for the smallest eigenvalue of `B_i` and solves with it.
+//!
+//! # Example
+//! ```
+//! use boundary_core::ParticleSet;
+//! use boundary_sph::{Kernel, SphContext, SphKernel, SymmetricEigen};
+//!
+//! // A 9 x 9 square lattice of spacing 1 with h = 1.3: the centre particle (index 40) has
+//! // B ≈ I, the corner particle (index 0) a rank-deficient-looking B.
+//! let rows: Vec<[f64; 2]> = (0..81).map(|k| [(k % 9) as f64, (k / 9) as f64]).collect();
+//! let set = ParticleSet::from_rows(&rows).unwrap();
+//! let ctx = SphContext::new(&set, SphKernel::new(Kernel::WendlandC2, 1.3)).unwrap();
+//! let centre = ctx.local_sums(40);
+//! assert!((centre.shepard - 1.0).abs() < 0.05);
+//! let lambda = SymmetricEigen::new(&centre.renormalisation).min_value();
+//! assert!((lambda - 1.0).abs() < 0.05);
+//! let corner = SymmetricEigen::new(&ctx.local_sums(0).renormalisation).min_value();
+//! assert!(corner < 0.5);
+//! ```
+
+mod kernel;
+mod linalg;
+mod sums;
+
+pub use kernel::{Kernel, SphKernel, UnknownKernel, SUPPORT_FACTOR};
+pub use linalg::SymmetricEigen;
+pub use sums::{number_density, summation_density, LocalSums, SphContext};

@@ -1,0 +1,169 @@
+//! Summation density, particle volumes and the per-particle kernel sums.
+
+use crate::kernel::SphKernel;
+use boundary_core::nalgebra::SMatrix;
+use boundary_core::{CoreError, NeighbourGrid, ParticleSet, Point};
+use rayon::prelude::*;
+
+/// The number density `n_i = Σ_j W_ij` of every particle (`j` over all particles within the
+/// support, `i` itself and its duplicates included), in input order. With a uniform mass `m`
+/// the summation density is `ρ_i = m n_i`; `n_i >= W(0) > 0`.
+pub fn number_density<const D: usize>(
+    positions: &[Point<D>],
+    grid: &NeighbourGrid<D>,
+    kernel: &SphKernel<D>,
+) -> Vec<f64> {
+    let support = kernel.support();
+    positions
+        .par_iter()
+        .map(|p| {
+            let mut sum = 0.0;
+            grid.for_each_within(p, support, |_, d2| sum += kernel.value(d2.sqrt()));
+            sum
+        })
+        .collect()
+}
+
+/// The summation density `ρ_i = Σ_j m W_ij` with a uniform particle mass `m`.
+pub fn summation_density<const D: usize>(
+    positions: &[Point<D>],
+    grid: &NeighbourGrid<D>,
+    kernel: &SphKernel<D>,
+    mass: f64,
+) -> Vec<f64> {
+    let mut rho = number_density(positions, grid, kernel);
+    rho.iter_mut().for_each(|r| *r *= mass);
+    rho
+}
+
+/// The sums over the neighbours `j` of one particle `i` that the SPH detectors use, with
+/// `V_j = m/ρ_j` the summation-density volumes and `∇W_ij = ∇_i W(|x_i − x_j|)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalSums<const D: usize> {
+    /// Shepard sum `Σ_j V_j W_ij` (`j = i` included): the SPH interpolant of the constant 1,
+    /// Müller et al.'s colour field `c_i`; close to 1 inside the fluid.
+    pub shepard: f64,
+    /// `Σ_j V_j ∇W_ij`: the SPH gradient of the constant 1, the colour-field gradient `∇c_i`;
+    /// close to 0 inside, pointing into the fluid near its surface.
+    pub gradient: Point<D>,
+    /// The renormalisation matrix `B_i = Σ_j V_j (x_j − x_i) ⊗ ∇W_ij` (Randles & Libersky
+    /// 1996; Marrone et al. 2010 write its inverse `L_i`): symmetric, positive semi-definite,
+    /// close to the identity inside the fluid.
+    pub renormalisation: SMatrix<f64, D, D>,
+    /// Number of other particles within the support (duplicates of `x_i` included).
+    pub neighbours: usize,
+}
+
+/// Positions, the neighbour grid (cells of one support radius), the kernel and the particle
+/// volumes of a set: everything the SPH kernel sums need, built once per detection.
+#[derive(Debug)]
+pub struct SphContext<'a, const D: usize> {
+    positions: &'a [Point<D>],
+    grid: NeighbourGrid<D>,
+    kernel: SphKernel<D>,
+    volumes: Vec<f64>,
+}
+
+impl<'a, const D: usize> SphContext<'a, D> {
+    /// Builds the grid and the volumes `V_i = m/ρ_i = 1/n_i` (the uniform mass cancels, so
+    /// only positions are needed). Fails only where the grid does (a bounding box of more
+    /// than `2^52` support radii along an axis).
+    pub fn new(set: &'a ParticleSet<D>, kernel: SphKernel<D>) -> Result<Self, CoreError> {
+        let positions = set.positions();
+        let grid = NeighbourGrid::new(set, kernel.support())?;
+        let volumes = number_density(positions, &grid, &kernel)
+            .into_iter()
+            .map(|n| 1.0 / n)
+            .collect();
+        Ok(SphContext {
+            positions,
+            grid,
+            kernel,
+            volumes,
+        })
+    }
+
+    /// The positions, in input order.
+    pub fn positions(&self) -> &'a [Point<D>] {
+        self.positions
+    }
+
+    /// The neighbour grid (cells of one support radius).
+    pub fn grid(&self) -> &NeighbourGrid<D> {
+        &self.grid
+    }
+
+    /// The kernel.
+    pub fn kernel(&self) -> &SphKernel<D> {
+        &self.kernel
+    }
+
+    /// The volumes `V_i = m/ρ_i`, in input order.
+    pub fn volumes(&self) -> &[f64] {
+        &self.volumes
+    }
+
+    /// Calls `f(j, x_j − x_i, |x_j − x_i|)` for every particle `j != i` within the support of
+    /// particle `i` (duplicates of `x_i` come with distance 0), in an unspecified but
+    /// deterministic order.
+    pub fn for_each_neighbour<F: FnMut(usize, Point<D>, f64)>(&self, i: usize, mut f: F) {
+        let p = self.positions[i];
+        self.grid
+            .for_each_within(&p, self.kernel.support(), |j, d2| {
+                if j != i {
+                    f(j, self.positions[j] - p, d2.sqrt());
+                }
+            });
+    }
+
+    /// The kernel sums of particle `i`; see [`LocalSums`].
+    pub fn local_sums(&self, i: usize) -> LocalSums<D> {
+        let mut sums = LocalSums {
+            shepard: self.volumes[i] * self.kernel.value(0.0),
+            gradient: Point::<D>::zeros(),
+            renormalisation: SMatrix::<f64, D, D>::zeros(),
+            neighbours: 0,
+        };
+        self.for_each_neighbour(i, |j, xji, r| {
+            let v = self.volumes[j];
+            sums.neighbours += 1;
+            sums.shepard += v * self.kernel.value(r);
+            if r > 0.0 {
+                // ∇_i W_ij = W'(r) (x_i − x_j)/r = w (x_j − x_i) with w = −W'(r)/r >= 0.
+                let w = -self.kernel.derivative(r) / r;
+                let g = xji * (v * w);
+                sums.gradient += g;
+                sums.renormalisation += xji * g.transpose();
+            }
+        });
+        sums
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+mod tests {
+    use super::*;
+    use crate::kernel::Kernel;
+
+    #[test]
+    fn isolated_particle_and_duplicates() {
+        let set =
+            ParticleSet::from_rows(&[[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [9.0, 9.0, 9.0]]).unwrap();
+        let kernel = SphKernel::<3>::new(Kernel::WendlandC2, 1.0);
+        let ctx = SphContext::new(&set, kernel).unwrap();
+        let w0 = kernel.value(0.0);
+        assert!((ctx.volumes()[0] - 0.5 / w0).abs() < 1e-15);
+        assert!((ctx.volumes()[2] - 1.0 / w0).abs() < 1e-15);
+        let far = ctx.local_sums(2);
+        assert_eq!(far.neighbours, 0);
+        assert!((far.shepard - 1.0).abs() < 1e-15);
+        assert_eq!(far.gradient, Point::<3>::zeros());
+        let dup = ctx.local_sums(0);
+        assert_eq!(dup.neighbours, 1);
+        assert_eq!(dup.renormalisation, SMatrix::<f64, 3, 3>::zeros());
+        assert!((dup.shepard - 1.0).abs() < 1e-15);
+        let rho = summation_density(ctx.positions(), ctx.grid(), &kernel, 2.0);
+        assert!((rho[0] - 4.0 * w0).abs() < 1e-12);
+    }
+}
