@@ -317,3 +317,98 @@ fn resample_rejects_bad_parameters_and_outputs_in_one_line() {
     );
     assert_one_line_error(&["resample", input, "-r", "1.2"], "--output");
 }
+
+// Bad input at the command line (issue 11). The readers' own messages are checked in
+// boundary-io/tests/errors.rs; here the binary must turn each into one `error:` line naming
+// the file (and the line or element), with a non-zero status and no panic.
+
+/// Writes `bytes` to `dir/name` and returns the path as a string.
+fn write_input(dir: &Path, name: &str, bytes: &[u8]) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path.to_str().unwrap().to_owned()
+}
+
+#[test]
+fn non_finite_coordinates_name_the_file_the_particle_and_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let nan = write_input(dir.path(), "nan.csv", b"x,y\n0,0\n1,1\n2,NaN\n");
+    assert_one_line_error(&["detect", &nan, "-r", "1"], "nan.csv");
+    assert_one_line_error(&["detect", &nan, "-r", "1"], "line 4");
+    assert_one_line_error(&["detect", &nan, "-r", "1"], "particle 2");
+    let inf = write_input(dir.path(), "inf.xyz", b"0 0 0\n1 -inf 0\n");
+    assert_one_line_error(&["detect", &inf, "-r", "1"], "inf.xyz");
+    assert_one_line_error(&["detect", &inf, "-r", "1"], "line 2");
+}
+
+#[test]
+fn a_header_only_csv_is_an_empty_set_not_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, header, dim) in [("e2.csv", "x,y\n", 2), ("e3.csv", "x,y,z\n", 3)] {
+        let input = write_input(dir.path(), name, header.as_bytes());
+        for method in boundary::methods() {
+            let out = boundary(&["detect", &input, "-r", "1", "--method", method, "--json"]);
+            assert!(out.status.success(), "{name} {method}: {}", stderr(&out));
+            let v: Value = serde_json::from_str(stdout(&out).trim()).unwrap();
+            assert_eq!(v["n"], 0, "{name} {method}");
+            assert_eq!(v["boundary"], 0, "{name} {method}");
+            assert_eq!(v["dim"], dim, "{name} {method}");
+        }
+    }
+}
+
+#[test]
+fn a_row_with_the_wrong_number_of_columns_names_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let short = write_input(dir.path(), "mixed.csv", b"x,y,z\n0,0,0\n1,1,1\n2,2\n");
+    assert_one_line_error(&["detect", &short, "-r", "1"], "mixed.csv");
+    assert_one_line_error(&["detect", &short, "-r", "1"], "line 4");
+    let short = write_input(dir.path(), "mixed.xyz", b"0 0 0\n1 1\n");
+    assert_one_line_error(&["detect", &short, "-r", "1"], "mixed.xyz");
+    assert_one_line_error(&["detect", &short, "-r", "1"], "line 2");
+}
+
+#[test]
+fn truncated_binary_files_name_the_file_and_the_element() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut ply = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\nend_header\n".to_vec();
+    for v in [0.0f64, 0.0, 0.0, 1.0, 1.0, 1.0, 2.0] {
+        ply.extend_from_slice(&v.to_le_bytes());
+    }
+    let ply = write_input(dir.path(), "cut.ply", &ply);
+    assert_one_line_error(&["detect", &ply, "-r", "1"], "cut.ply");
+    assert_one_line_error(&["detect", &ply, "-r", "1"], "vertex 2");
+    let mut vtk =
+        b"# vtk DataFile Version 3.0\nt\nBINARY\nDATASET POLYDATA\nPOINTS 2 double\n".to_vec();
+    for v in [0.0f64, 0.0, 0.0, 1.0] {
+        vtk.extend_from_slice(&v.to_be_bytes());
+    }
+    let vtk = write_input(dir.path(), "cut.vtk", &vtk);
+    assert_one_line_error(&["detect", &vtk, "-r", "1"], "cut.vtk");
+}
+
+/// Headers declaring 10^12 (or 2^64 - 1) particles over a few bytes of data: the readers check
+/// the count against the bytes that follow before allocating, so each command fails at once
+/// (an allocation of the declared size would abort the process or exhaust the test machine).
+#[test]
+fn enormous_declared_counts_fail_without_allocating() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut ply = b"ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n".to_vec();
+    ply.extend_from_slice(&[0u8; 24]);
+    let ply = write_input(dir.path(), "huge.ply", &ply);
+    assert_one_line_error(&["detect", &ply, "-r", "1"], "huge.ply");
+    let max = write_input(
+        dir.path(),
+        "max.ply",
+        b"ply\nformat ascii 1.0\nelement vertex 18446744073709551615\nproperty float x\nproperty float y\nend_header\n0 0\n",
+    );
+    assert_one_line_error(&["detect", &max, "-r", "1"], "max.ply");
+    let vtk = write_input(
+        dir.path(),
+        "huge.vtk",
+        b"# vtk DataFile Version 3.0\nt\nBINARY\nDATASET POLYDATA\nPOINTS 1000000000000 double\n\0\0\0\0\0\0\0\0",
+    );
+    assert_one_line_error(&["detect", &vtk, "-r", "1"], "huge.vtk");
+    let xyz = write_input(dir.path(), "huge.xyz", b"1000000000000\ncomment\n0 0 0\n");
+    assert_one_line_error(&["detect", &xyz, "-r", "1"], "huge.xyz");
+}

@@ -35,6 +35,14 @@ const TIE_BAND: f64 = 1e-10;
 /// [`step_off`]). Uncovered regions thinner than this near a tie count as covered: near-ties.
 const STEP: f64 = 1e-7;
 
+/// Caps with `sin α` below this (a neighbour within about `1e-8·r` of `2r`) are dropped.
+/// [`step_off`] leaves a cap by moving [`STEP`] radians, which lowers `x·u` by about
+/// `sin α·STEP`; below the covering tolerance the stepped point still counts as covered by the
+/// cap it should have left, so a neighbour at exactly `2r` (a point cap) made a lone pair
+/// interior. Dropping such a cap never introduces a false negative: it only removes covered
+/// points, and a cap of zero area never decides the covering (the uncovered set is open).
+const POINT_CAP: f64 = 1e-4;
+
 /// A cap with its derived quantities.
 #[derive(Debug, Clone, Copy)]
 struct Cap3 {
@@ -153,20 +161,22 @@ pub(crate) struct Caps {
 
 impl SphereCover<3> for Caps {
     fn classify(&mut self, caps: &[Cap<3>]) -> (bool, Option<f64>) {
+        self.caps.clear();
+        self.caps.extend(
+            caps.iter()
+                .map(|cap| Cap3 {
+                    u: cap.u,
+                    c: cap.half_distance,
+                    s: (1.0 - cap.half_distance * cap.half_distance)
+                        .max(0.0)
+                        .sqrt(),
+                })
+                .filter(|cap| cap.s >= POINT_CAP),
+        );
         // (a): no cap, nothing covered.
-        if caps.is_empty() {
+        if self.caps.is_empty() {
             return (true, None);
         }
-        self.caps.clear();
-        self.caps.extend(caps.iter().map(|cap| {
-            Cap3 {
-                u: cap.u,
-                c: cap.half_distance,
-                s: (1.0 - cap.half_distance * cap.half_distance)
-                    .max(0.0)
-                    .sqrt(),
-            }
-        }));
         let n = self.caps.len();
         let mut m = FIRST_LEVEL.min(n);
         loop {
@@ -331,5 +341,31 @@ mod tests {
         assert!(caps.classify(&caps_of(tie * (1.0 + 1e-6))).0);
         // Five caps never cover: the sixth axis is free.
         assert!(caps.classify(&caps_of(0.1)[..5]).0);
+    }
+
+    #[test]
+    fn a_neighbour_at_exactly_two_r_covers_nothing() {
+        let point = |u: [f64; 3], c: f64| Cap {
+            u: Point::<3>::from(u),
+            half_distance: c,
+        };
+        let mut caps = Caps::default();
+        // A lone pair exactly 2r apart, or 2r minus a rounding error: boundary.
+        for c in [1.0, 1.0 - 1e-15, 1.0 - 1e-12] {
+            assert!(caps.classify(&[point([0.0, 0.0, 1.0], c)]).0, "c = {c}");
+        }
+        // A point cap does not spoil a covering either.
+        let mut six: Vec<Cap<3>> = [
+            [1.0, 0.0, 0.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+        ]
+        .map(|u| point(u, 0.5))
+        .to_vec();
+        six.push(point([0.6, 0.0, 0.8], 1.0));
+        assert!(!caps.classify(&six).0);
     }
 }

@@ -81,7 +81,10 @@
 //!   [`TWIN_TOLERANCE`]`·r` give caps that coincide within the covering tolerance (a pair of
 //!   identical circles has no isolated intersection points, and a near-twin would "cover" its
 //!   twin's intersection points within tolerance): only the nearest of them is kept.
-//! - **Closedness at `2r`.** Neighbours at exactly `2r` are kept; their cap is a point.
+//! - **Closedness at `2r`.** Neighbours at exactly `2r` are kept; their cap is a point. In 3D
+//!   caps of angular radius below about `1e-4` (neighbours within about `1e-8·r` of `2r`) are
+//!   then dropped: they are too thin for the covering test to step off, and a point never
+//!   decides a covering (a lone pair exactly `2r` apart is boundary, as in `boundary-exact`).
 //! - **Near-tangent circles** ([`TANGENT_TOLERANCE`]): two circles that miss each other by less
 //!   than the tolerance are treated as touching at one point; that only adds points to test.
 //! - **Floating point.** Intersection points are computed to about `1e-16/sin θ_jk` (`θ_jk` the
