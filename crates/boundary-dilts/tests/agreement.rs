@@ -168,17 +168,13 @@ proptest! {
 }
 
 /// Found by the `detect_all` fuzz target (issue 11): particle 4 has only two neighbours within
-/// 2r, so it is boundary, but dilts says interior. Their caps on `S_4` are externally tangent
-/// (angle between centres 125.26° = α_0 + α_2 exactly: cos = −1/√3 on both sides), the circles
-/// touch at one point and both are marked "crossed", so criterion (c) never probes them; the
-/// probe at the tangency point steps `STEP` = 1e-7 rad along the common tangent, which leaves
-/// both caps only to second order (about 1e-14 in `x·u`, below `COVER_TOLERANCE` = 1e-12), so
-/// the stepped point counts as covered. A likely fix: do not count a tangency (one intersection
-/// point) as a crossing, so that (c) probes a generic point of each circle; that adds probes
-/// only, so it cannot create a false negative. Not done here for lack of time to validate it
-/// against the shared scenes. Ignored until fixed; exact says boundary for all five.
+/// 2r, so it is boundary. Their caps on `S_4` are externally tangent (angle between centres
+/// 125.26° = α_0 + α_2 exactly: cos = −1/√3 on both sides). dilts used to count the touching
+/// circles as crossed, so criterion (c) never probed them, and the probe at the tangency point
+/// stepped `STEP` = 1e-7 rad along the common tangent, which leaves both caps only to second
+/// order (about 1e-14 in `x·u`, below `COVER_TOLERANCE`): interior, a false negative. A tangency
+/// no longer counts as a crossing.
 #[test]
-#[ignore = "dilts 3D false negative on externally tangent caps, see the comment"]
 fn externally_tangent_caps_do_not_cover() {
     let rows = [
         [-0.25, -0.25, -0.5],
