@@ -95,7 +95,9 @@ fn hull_vertices<const D: usize>(coords: &[f64], joggle: bool, is_vertex: &mut [
     is_vertex.iter_mut().for_each(|v| *v = false);
     // Qhull keeps its own copy of the joggled input; ours is only read.
     let mut input = coords.to_vec();
-    let builder = Qh::builder().capture_stdout(true).capture_stderr(true);
+    // Qhull reports errors and warnings on its error stream: captured (into a temporary
+    // file), so that the library prints nothing. No output option is set, so stdout is unused.
+    let builder = Qh::builder().capture_stderr(true);
     let builder = if joggle {
         match builder.qhull_args(["QJ"]) {
             Ok(b) => b,
