@@ -150,7 +150,7 @@ pub fn cavity_viewpoint<const D: usize>(
     }
     let delta = p - sum / count as f64;
     let norm = delta.norm();
-    if !(norm > 0.0) || !norm.is_finite() {
+    if norm == 0.0 || !norm.is_finite() {
         return None;
     }
     let v = p + delta * (r / norm);

@@ -129,7 +129,10 @@ mod tests {
         let near = flip_exponential(&Point::<2>::new(0.1, 0.0), 1.3);
         let far = flip_exponential(&Point::<2>::new(0.9, 0.0), 1.3);
         assert!(near.norm() > far.norm() && far.norm() > 1.0);
-        assert_eq!(flip_exponential(&Point::<3>::zeros(), 1.3), Point::<3>::zeros());
+        assert_eq!(
+            flip_exponential(&Point::<3>::zeros(), 1.3),
+            Point::<3>::zeros()
+        );
     }
 
     #[test]
@@ -149,28 +152,45 @@ mod tests {
 
     #[test]
     fn duplicates_share_their_label_and_few_points_are_all_visible() {
-        let pts = [Point::<3>::new(0.5, 0.0, 0.0), Point::<3>::new(0.5, 0.0, 0.0)];
+        let pts = [
+            Point::<3>::new(0.5, 0.0, 0.0),
+            Point::<3>::new(0.5, 0.0, 0.0),
+        ];
         let mut vis = Vec::new();
-        assert_eq!(visible_from_origin(&pts, 1.3, &mut vis), HullOutcome::Trivial);
+        assert_eq!(
+            visible_from_origin(&pts, 1.3, &mut vis),
+            HullOutcome::Trivial
+        );
         assert_eq!(vis, vec![true, true]);
-        assert_eq!(visible_from_origin::<2>(&[], 1.3, &mut vis), HullOutcome::Trivial);
+        assert_eq!(
+            visible_from_origin::<2>(&[], 1.3, &mut vis),
+            HullOutcome::Trivial
+        );
         assert!(vis.is_empty());
     }
 
     #[test]
     fn collinear_and_coplanar_candidates_do_not_abort() {
         // Collinear with the viewpoint: qhull's initial simplex is flat.
-        let line: Vec<Point<2>> = (1..6).map(|k| Point::<2>::new(0.15 * k as f64, 0.0)).collect();
+        let line: Vec<Point<2>> = (1..6)
+            .map(|k| Point::<2>::new(0.15 * k as f64, 0.0))
+            .collect();
         let mut vis = Vec::new();
         let out = visible_from_origin(&line, 1.3, &mut vis);
-        assert!(matches!(out, HullOutcome::Joggled | HullOutcome::Failed), "{out:?}");
+        assert!(
+            matches!(out, HullOutcome::Joggled | HullOutcome::Failed),
+            "{out:?}"
+        );
         assert!(vis[0], "the nearest point of the line is seen");
         // A plane through the viewpoint in 3D.
         let plane: Vec<Point<3>> = (0..25)
             .map(|k| Point::<3>::new(0.1 * (k % 5) as f64 - 0.2, 0.1 * (k / 5) as f64 + 0.1, 0.0))
             .collect();
         let out = visible_from_origin(&plane, 1.3, &mut vis);
-        assert!(matches!(out, HullOutcome::Joggled | HullOutcome::Failed), "{out:?}");
+        assert!(
+            matches!(out, HullOutcome::Joggled | HullOutcome::Failed),
+            "{out:?}"
+        );
         assert_eq!(vis.len(), 25);
     }
 }

@@ -64,14 +64,25 @@ fn check_ball<const D: usize>(set: &ParticleSet<D>, radius: f64, r: f64, min_rec
     for (i, p) in set.positions().iter().enumerate() {
         let depth = radius - p.norm();
         if depth < 0.3 {
-            assert!(found.is_boundary(i), "{D}D: rim particle {i} at depth {depth}");
+            assert!(
+                found.is_boundary(i),
+                "{D}D: rim particle {i} at depth {depth}"
+            );
         }
         if depth > 4.0 * r + 1.0 {
-            assert!(!found.is_boundary(i), "{D}D: deep particle {i} at depth {depth}");
+            assert!(
+                !found.is_boundary(i),
+                "{D}D: deep particle {i} at depth {depth}"
+            );
         }
     }
     let c = confusion(&found, &labels_exact(&any, r));
-    eprintln!("{D}D ball: {c:?} Rec {} FPR {} M {}", c.recall(), c.fpr(), c.m());
+    eprintln!(
+        "{D}D ball: {c:?} Rec {} FPR {} M {}",
+        c.recall(),
+        c.fpr(),
+        c.m()
+    );
     assert!(c.recall() >= min_recall, "{D}D: {c:?}");
 }
 
@@ -201,14 +212,18 @@ fn degenerate_input_never_aborts() {
     // A line in 2D and a plane in 3D: every particle is boundary (as for `exact`).
     let line: Vec<[f64; 2]> = (0..20).map(|k| [k as f64 * 0.5, 1.0]).collect();
     let line = ParticleSet::from_rows(&line).unwrap();
-    let (l, s) = d.detect_with_stats(&line, Radius::new(1.0).unwrap()).unwrap();
+    let (l, s) = d
+        .detect_with_stats(&line, Radius::new(1.0).unwrap())
+        .unwrap();
     eprintln!("line: {s:?}");
     assert_eq!(l.boundary_count(), 20);
     let plane: Vec<[f64; 3]> = (0..100)
         .map(|k| [(k % 10) as f64 * 0.5, (k / 10) as f64 * 0.5, 2.0])
         .collect();
     let plane = ParticleSet::from_rows(&plane).unwrap();
-    let (l, s) = d.detect_with_stats(&plane, Radius::new(1.0).unwrap()).unwrap();
+    let (l, s) = d
+        .detect_with_stats(&plane, Radius::new(1.0).unwrap())
+        .unwrap();
     eprintln!("plane: {s:?}");
     assert_eq!(l.boundary_count(), 100);
     // Duplicates share their label.
@@ -247,7 +262,12 @@ fn dualsphysics_lattices_run_through() {
         };
         assert_eq!(set.len(), n);
         let c = confusion(&labels(&d, &set, r), &labels_exact(&set, r));
-        eprintln!("{name}: {c:?} Rec {} FPR {} M {}", c.recall(), c.fpr(), c.m());
+        eprintln!(
+            "{name}: {c:?} Rec {} FPR {} M {}",
+            c.recall(),
+            c.fpr(),
+            c.m()
+        );
         assert!(c.recall() > 0.9, "{name}: {c:?}");
     }
 }

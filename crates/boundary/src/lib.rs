@@ -39,14 +39,14 @@ pub use boundary_dilts::DiltsDetector;
 pub use boundary_exact::ExactDetector;
 #[cfg(feature = "ge")]
 pub use boundary_ge::GeDetector;
+#[cfg(feature = "hpr")]
+pub use boundary_hpr::HprDetector;
 #[cfg(feature = "ia")]
 pub use boundary_ia::IaDetector;
 #[cfg(feature = "marrone")]
 pub use boundary_marrone::MarroneDetector;
 #[cfg(feature = "muller")]
 pub use boundary_muller::MullerDetector;
-#[cfg(feature = "hpr")]
-pub use boundary_hpr::HprDetector;
 
 use thiserror::Error;
 
