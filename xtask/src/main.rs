@@ -141,7 +141,11 @@ fn prereqs() -> Result<(), String> {
 
 /// Whether libclang is where bindgen (clang-sys) looks for it.
 fn libclang_found() -> bool {
-    let is_libclang = |name: &str| name.starts_with("libclang") && name.contains(".so");
+    // `libclang.so*` or `libclang-14.so*`, but not `libclang-cpp.so*` (the C++ library,
+    // installed without libclang by some LLVM packages; bindgen cannot use it).
+    let is_libclang = |name: &str| {
+        name.starts_with("libclang") && name.contains(".so") && !name.starts_with("libclang-cpp")
+    };
     let has_libclang = |dir: &Path| -> bool {
         std::fs::read_dir(dir)
             .map(|entries| {

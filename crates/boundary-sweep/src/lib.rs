@@ -78,6 +78,8 @@ pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
                 for gamma in ["1.1", "1.2", "1.5", "1.75", "2.0"] {
                     out.push(MethodConfig::with(m, "gamma", gamma));
                 }
+                // The effect of the cavity viewpoints (thesis Eq. 2.3, Fig. 5).
+                out.push(MethodConfig::with(m, "cavity", "off"));
             }
             "muller" => {
                 for threshold in ["0.1", "0.2", "0.3", "0.5", "0.6"] {

@@ -39,6 +39,8 @@ pub use boundary_dilts::DiltsDetector;
 pub use boundary_exact::ExactDetector;
 #[cfg(feature = "ge")]
 pub use boundary_ge::GeDetector;
+#[cfg(feature = "hpr")]
+pub use boundary_hpr::HprDetector;
 #[cfg(feature = "ia")]
 pub use boundary_ia::IaDetector;
 #[cfg(feature = "marrone")]
@@ -111,6 +113,13 @@ const REGISTRY: &[Entry] = &[
         summary:
             "SPH colour-field gradient |grad c| h above a threshold (Mueller et al., SCA 2003)",
         make: || Box::new(MullerDetector::default()),
+    },
+    #[cfg(feature = "hpr")]
+    Entry {
+        name: "hpr",
+        summary: "visibility: hidden point removal with exponential flipping from grid and \
+                  cavity viewpoints (Sandim 2020, ch. 2, Alg. 1)",
+        make: || Box::new(HprDetector::default()),
     },
 ];
 

@@ -459,13 +459,18 @@ proptest! {
     }
 
     /// The SPH baselines: the same exact symmetries (their kernels see only differences and
-    /// ratios to r, so nothing rounds differently).
+    /// ratios to r, so nothing rounds differently). Not `hpr`: its viewpoint grid is anchored
+    /// to the origin (so that subdomains agree), so a translation by anything but a multiple of
+    /// 2r, or an axis flip, moves the viewpoints and legitimately changes its labels.
     #[test]
     fn sph_labels_are_invariant_under_exact_transformations(
         case3 in exact_case::<3>(5, 230..333),
         case2 in exact_case::<2>(8, 179..282),
     ) {
-        let sph: Vec<&str> = methods().into_iter().filter(|m| !detector(m).certified()).collect();
+        let sph: Vec<&str> = methods()
+            .into_iter()
+            .filter(|m| ["marrone", "muller"].contains(m))
+            .collect();
         for name in sph {
             if let Err(e) = case3.check(name) {
                 prop_assert!(false, "{}", e);

@@ -1,0 +1,372 @@
+//! Boundary particles by visibility: the hidden point removal (HPR) operator of Katz, Tal &
+//! Basri (2007) with exponential flipping, applied locally from viewpoints placed on a grid,
+//! after M. Sandim, *On the boundary detection for particle-based methods*, PhD thesis, USP
+//! 2020, ch. 2 (Sandim et al. 2016), Alg. 1; method name `hpr`. The JCP 2020 paper (Table 1,
+//! "Sandim et al. [10]") and the thesis (Table 2) report M between 0.92 and 0.995 for it.
+//!
+//! # Method (Alg. 1)
+//! 1. **Viewpoints** ([`viewpoint`]). A uniform grid of cells of side `2r`; a viewpoint at
+//!    the centre of every empty cell adjacent to a full cell. A *cavity cell* (a full cell
+//!    whose adjacent cells are all full) gives each of its particles a candidate
+//!    `V_i = p_i + r·δ_i/|δ_i|` (Eq. 2.3, `δ_i = p_i −` centroid of its neighbours within
+//!    `2r`), kept when no particle lies within `0.95 r` of it (Fig. 5). The grid covers the
+//!    bounding box padded by one cell, since only cells adjacent to a full cell are used.
+//! 2. **Visibility** ([`visibility`]). From each viewpoint `V`: the particles within `4r`
+//!    (closed ball), moved so that `V` is the origin and scaled by `1/4r` into the unit ball,
+//!    flipped by `p/|p|^γ` (Eq. 2.2); the vertices of the convex hull of the flipped points
+//!    plus the origin (Qhull, through the `qhull` crate, in 2D and 3D alike) are visible.
+//! 3. The boundary is the union of the visible sets. Viewpoints are processed in parallel
+//!    (rayon); the union does not depend on their order, so labels do not depend on the
+//!    number of threads.
+//!
+//! # Our reading of what the thesis leaves open
+//! - The grid is anchored at the origin (cell of `x`: `floor(x_k / 2r)`), not at the
+//!   bounding box, so that domain-decomposed runs place the same viewpoints. Cells are
+//!   half-open; "adjacent" is the `3^D − 1` cells sharing a face, an edge or a corner.
+//! - Cavity candidates come from every particle of a cavity cell, and only from those:
+//!   particles in full cells with at least one empty neighbour get none (their cell already
+//!   has empty-cell viewpoints next to it). See [`viewpoint::place_viewpoints`].
+//! - The thesis' "scaled into the unit ball" is the factor `1/4r`; a particle exactly at
+//!   `4r` flips onto the unit sphere, which Eq. 2.2 allows (`|p| <= 1`).
+//! - Exact duplicates share one label (they flip onto the same point; qhull keeps one).
+//! - With no more distinct candidates than the dimension, all of them are visible.
+//!
+//! # Degenerate input
+//! Qhull returns an error on a flat input (all candidates and `V` on a line in 2D or a plane
+//! in 3D: a perfect lattice seen along a row, a planar sheet). The run never aborts: the hull
+//! is retried with joggled input (`QJ`), and if that fails too every candidate of that
+//! viewpoint is labelled boundary (conservative). [`HprDetector::detect_with_stats`] counts
+//! both events.
+//!
+//! # Parameters (`--set key=value`)
+//! | key | default | meaning |
+//! |---|---|---|
+//! | `gamma` | 1.3 | exponent of the exponential flipping (Eq. 2.2), `> 1`; the thesis' value |
+//! | `cavity` | `on` | place the cavity viewpoints of Eq. 2.3 (`off`: empty cells only) |
+//!
+//! No margin is returned. Not certified: a boundary particle in a concave region of high
+//! curvature can be hidden from every viewpoint (thesis Sec. 2.4).
+//!
+//! # Halo
+//! A particle's label depends on the viewpoints within `4r` of it, and a viewpoint on the
+//! particles within `4r` of it (the hull) and on the occupancy of the cells around it. The
+//! farthest input is a cavity viewpoint's: `V_i` lies `r` from `p_i`, whose cell and adjacent
+//! cells span `4r` per axis from `p_i`. Hence [`HALO_FACTOR`]` = 5 + 4√3 ≈ 11.93` (in units
+//! of `r`, the 3D bound, also used in 2D), which also covers the `8r` of the hulls.
+//!
+//! # Example
+//! ```
+//! use boundary_core::{BoundaryDetector, ParticleSet, Radius};
+//! use boundary_hpr::HprDetector;
+//!
+//! // A jittered 14 x 14 square lattice at r = 1.2: the outer ring is boundary, the particles
+//! // three or more layers deep are not.
+//! let rows: Vec<[f64; 2]> = (0..196)
+//!     .map(|k| [(k % 14) as f64 + 0.01 * ((k * 7 % 5) as f64), (k / 14) as f64])
+//!     .collect();
+//! let set = ParticleSet::from_rows(&rows).unwrap();
+//! let labels = HprDetector::default()
+//!     .detect_2d(&set, Radius::new(1.2).unwrap())
+//!     .unwrap()
+//!     .labels;
+//! for k in 0..196 {
+//!     let (x, y) = (k % 14, k / 14);
+//!     let depth = x.min(y).min(13 - x).min(13 - y);
+//!     if depth == 0 {
+//!         assert!(labels.is_boundary(k), "rim particle {k}");
+//!     }
+//!     if depth >= 3 {
+//!         assert!(!labels.is_boundary(k), "deep particle {k}");
+//!     }
+//! }
+//! ```
+
+pub mod viewpoint;
+pub mod visibility;
+
+use boundary_core::{
+    AnyParticleSet, BoundaryDetector, CoreError, DetectError, Detection, Labels, NeighbourGrid,
+    ParamError, ParamInfo, Params, ParticleSet, Point, Radius,
+};
+use rayon::prelude::*;
+use viewpoint::{place_viewpoints, ViewpointKind};
+use visibility::{visible_from_origin, HullOutcome};
+
+/// The thesis' flipping exponent (Sec. 2.2: "γ = 1.3 in our implementation").
+pub const DEFAULT_GAMMA: f64 = 1.3;
+/// Radius of the local visibility test, in units of `r` (Sec. 2.3.2).
+pub const VISIBILITY_RADIUS: f64 = 4.0;
+/// The halo width in units of `r`: `5 + 4√3` (see the crate documentation).
+pub const HALO_FACTOR: f64 = 5.0 + 4.0 * 1.732_050_807_568_877_2;
+
+const METHOD: &str = "hpr";
+const KEYS: [&str; 2] = ["gamma", "cavity"];
+
+/// The HPR detector (`hpr`). See the crate documentation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HprDetector {
+    /// Exponential flipping exponent, `> 1`.
+    pub gamma: f64,
+    /// Whether cavity viewpoints (Eq. 2.3) are placed.
+    pub cavity: bool,
+}
+
+impl Default for HprDetector {
+    fn default() -> Self {
+        HprDetector {
+            gamma: DEFAULT_GAMMA,
+            cavity: true,
+        }
+    }
+}
+
+/// Counts of one run: viewpoints by kind and hulls by outcome.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct HprStats {
+    /// Viewpoints at empty-cell centres.
+    pub empty_cell_viewpoints: usize,
+    /// Cavity viewpoints (Eq. 2.3).
+    pub cavity_viewpoints: usize,
+    /// Viewpoints with at least one candidate whose hull was computed with default options.
+    pub hulls: usize,
+    /// Hulls that needed joggled input (`QJ`).
+    pub joggled: usize,
+    /// Viewpoints where qhull failed twice: all their candidates were labelled boundary.
+    pub failed: usize,
+    /// Viewpoints with at most `D` distinct candidates (all visible, no hull).
+    pub trivial: usize,
+}
+
+impl HprStats {
+    fn add(mut self, o: HullOutcome) -> Self {
+        match o {
+            HullOutcome::Trivial => self.trivial += 1,
+            HullOutcome::Plain => self.hulls += 1,
+            HullOutcome::Joggled => self.joggled += 1,
+            HullOutcome::Failed => self.failed += 1,
+        }
+        self
+    }
+
+    fn merge(mut self, o: Self) -> Self {
+        self.hulls += o.hulls;
+        self.joggled += o.joggled;
+        self.failed += o.failed;
+        self.trivial += o.trivial;
+        self
+    }
+}
+
+impl HprDetector {
+    /// The detector with the given exponent, cavity viewpoints on.
+    pub fn with_gamma(gamma: f64) -> Self {
+        HprDetector {
+            gamma,
+            ..Default::default()
+        }
+    }
+
+    /// Labels of all particles and the counts of the run.
+    pub fn detect_with_stats<const D: usize>(
+        &self,
+        set: &ParticleSet<D>,
+        r: Radius,
+    ) -> Result<(Labels, HprStats), CoreError> {
+        self.detect_first(set, set.len(), r)
+    }
+
+    /// Labels of the first `owned` particles; viewpoints that see no owned particle are
+    /// skipped.
+    fn detect_first<const D: usize>(
+        &self,
+        set: &ParticleSet<D>,
+        owned: usize,
+        r: Radius,
+    ) -> Result<(Labels, HprStats), CoreError> {
+        let r = r.get();
+        let mut stats = HprStats::default();
+        if set.is_empty() || owned == 0 {
+            return Ok((Labels::new(vec![false; owned]), stats));
+        }
+        let grid = NeighbourGrid::new(set, 2.0 * r)?;
+        let viewpoints = place_viewpoints(set, &grid, r, self.cavity);
+        stats.cavity_viewpoints = viewpoints
+            .iter()
+            .filter(|v| v.kind == ViewpointKind::Cavity)
+            .count();
+        stats.empty_cell_viewpoints = viewpoints.len() - stats.cavity_viewpoints;
+        let positions = set.positions();
+        let reach = VISIBILITY_RADIUS * r;
+        let gamma = self.gamma;
+        let (seen, hull_stats) = viewpoints
+            .par_iter()
+            .map_init(
+                || (Vec::<usize>::new(), Vec::<Point<D>>::new(), Vec::new()),
+                |(candidates, local, visible), v| {
+                    candidates.clear();
+                    grid.for_each_within(&v.at, reach, |j, _| candidates.push(j));
+                    if candidates.is_empty() || candidates.iter().all(|&j| j >= owned) {
+                        return (Vec::new(), HprStats::default());
+                    }
+                    // Deterministic input order for qhull, whatever the grid's order.
+                    candidates.sort_unstable();
+                    local.clear();
+                    local.extend(candidates.iter().map(|&j| (positions[j] - v.at) / reach));
+                    let outcome = visible_from_origin(local, gamma, visible);
+                    let seen: Vec<u32> = candidates
+                        .iter()
+                        .zip(visible.iter())
+                        .filter(|&(&j, &vis)| vis && j < owned)
+                        .map(|(&j, _)| j as u32)
+                        .collect();
+                    (seen, HprStats::default().add(outcome))
+                },
+            )
+            .fold(
+                || (Vec::<u32>::new(), HprStats::default()),
+                |(mut acc, s), (seen, t)| {
+                    acc.extend(seen);
+                    (acc, s.merge(t))
+                },
+            )
+            .reduce(
+                || (Vec::new(), HprStats::default()),
+                |(mut a, s), (b, t)| {
+                    a.extend(b);
+                    (a, s.merge(t))
+                },
+            );
+        let mut flags = vec![false; owned];
+        for j in seen {
+            flags[j as usize] = true;
+        }
+        Ok((Labels::new(flags), stats.merge(hull_stats)))
+    }
+}
+
+fn parse_gamma(value: &str) -> Result<f64, ParamError> {
+    value
+        .trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite() && *v > 1.0 && *v <= 10.0)
+        .ok_or_else(|| ParamError::invalid(METHOD, "gamma", value, "must be in (1, 10]"))
+}
+
+fn parse_switch(key: &str, value: &str) -> Result<bool, ParamError> {
+    match value.trim() {
+        "on" | "true" | "1" | "yes" => Ok(true),
+        "off" | "false" | "0" | "no" => Ok(false),
+        _ => Err(ParamError::invalid(METHOD, key, value, "must be on or off")),
+    }
+}
+
+fn switch(on: bool) -> String {
+    if on { "on" } else { "off" }.to_owned()
+}
+
+impl BoundaryDetector for HprDetector {
+    fn name(&self) -> &'static str {
+        METHOD
+    }
+
+    fn params(&self) -> Params {
+        Params(vec![
+            ParamInfo {
+                name: "gamma",
+                value: self.gamma.to_string(),
+                default: DEFAULT_GAMMA.to_string(),
+                description: "exponent of the exponential flipping p/|p|^gamma, > 1 \
+                              (Sandim 2020, Eq. 2.2)",
+            },
+            ParamInfo {
+                name: "cavity",
+                value: switch(self.cavity),
+                default: switch(true),
+                description: "on: also place viewpoints in cavity cells (Sandim 2020, Eq. 2.3, \
+                              Fig. 5); off: empty-cell viewpoints only",
+            },
+        ])
+    }
+
+    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        match key {
+            "gamma" => self.gamma = parse_gamma(value)?,
+            "cavity" => self.cavity = parse_switch(key, value)?,
+            _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
+        }
+        Ok(())
+    }
+
+    fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
+        let (labels, _) = self.detect_first(set, set.len(), r)?;
+        Ok(Detection {
+            labels,
+            margin: None,
+        })
+    }
+
+    fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
+        let (labels, _) = self.detect_first(set, set.len(), r)?;
+        Ok(Detection {
+            labels,
+            margin: None,
+        })
+    }
+
+    /// `(5 + 4√3)·r`: a cavity viewpoint `r` from a particle whose cell neighbourhood spans
+    /// `4r` per axis, seeing a particle `4r` away (crate documentation, "Halo").
+    fn halo_width(&self, r: Radius) -> f64 {
+        HALO_FACTOR * r.get()
+    }
+
+    /// Classifies only the owned particles; viewpoints that see none of them are skipped.
+    fn detect_owned(
+        &self,
+        set: &AnyParticleSet,
+        owned: usize,
+        r: Radius,
+    ) -> Result<Detection, DetectError> {
+        DetectError::check_owned(METHOD, owned, set.len())?;
+        let (labels, _) = match set {
+            AnyParticleSet::D2(s) => self.detect_first(s, owned, r)?,
+            AnyParticleSet::D3(s) => self.detect_first(s, owned, r)?,
+        };
+        Ok(Detection {
+            labels,
+            margin: None,
+        })
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parameters_round_trip_and_are_validated() {
+        let mut d = HprDetector::default();
+        assert_eq!(d.params().to_string(), "gamma=1.3, cavity=on");
+        d.set_param("gamma", "1.75").unwrap();
+        d.set_param("cavity", "off").unwrap();
+        assert_eq!(
+            d,
+            HprDetector {
+                gamma: 1.75,
+                cavity: false
+            }
+        );
+        for (key, bad) in [("gamma", "1"), ("gamma", "nan"), ("cavity", "maybe")] {
+            let err = d.set_param(key, bad).unwrap_err();
+            assert!(err.to_string().contains(bad), "{err}");
+        }
+        assert!(d.set_param("depth", "1").is_err());
+        assert!(!d.certified());
+    }
+
+    #[test]
+    fn halo_factor_is_five_plus_four_root_three() {
+        assert!((HALO_FACTOR - (5.0 + 4.0 * 3f64.sqrt())).abs() < 1e-12);
+    }
+}
