@@ -7,7 +7,7 @@
 use boundary_core::{AnyParticleSet, BoundaryDetector, Labels, ParticleSet, Radius};
 use boundary_exact::ExactDetector;
 use boundary_ia::IaDetector;
-use boundary_scenes::certify::{certification_cases, check_depths, jittered_lattice};
+use boundary_scenes::certify::{certify_every_case, check_depths, jittered_lattice, Case};
 use proptest::prelude::*;
 
 fn by_depth(set: &AnyParticleSet, r: Radius, max: u32) -> Vec<Labels> {
@@ -20,20 +20,26 @@ fn by_depth(set: &AnyParticleSet, r: Radius, max: u32) -> Vec<Labels> {
 /// tie radii, duplicates and near-duplicates, far offsets, flat and tiny sets).
 #[test]
 fn every_scene_and_hard_case_depth_1_to_8() {
-    let (cases, skipped) = certification_cases();
-    if !skipped.is_empty() {
-        println!("shared scenes not found (skipped): {skipped:?}");
+    let radius = |case: &Case| Radius::new(case.radius).unwrap();
+    let report = certify_every_case(
+        |case| {
+            ExactDetector
+                .detect(&case.set, radius(case))
+                .unwrap()
+                .labels
+        },
+        |case, depth| {
+            IaDetector::new(depth)
+                .detect(&case.set, radius(case))
+                .unwrap()
+                .labels
+        },
+        8,
+    );
+    match report {
+        Ok(lines) => lines.iter().for_each(|line| println!("{line}")),
+        Err(failures) => panic!("{failures:#?}"),
     }
-    let mut failures = Vec::new();
-    for case in &cases {
-        let r = Radius::new(case.radius).unwrap();
-        let truth = ExactDetector.detect(&case.set, r).unwrap().labels;
-        match check_depths(&truth, &by_depth(&case.set, r, 8)) {
-            Ok(fps) => println!("{} r={}: FP by depth {fps:?}", case.name, case.radius),
-            Err(e) => failures.push(format!("{} r={}: {e}", case.name, case.radius)),
-        }
-    }
-    assert!(failures.is_empty(), "{failures:#?}");
 }
 
 #[test]

@@ -205,6 +205,38 @@ pub fn check_depths(truth: &Labels, by_depth: &[Labels]) -> Result<Vec<usize>, S
     Ok(fps)
 }
 
+/// Checks a certified method on every [`certification_cases`] case with [`check_depths`]:
+/// `truth(case)` gives the exact labels, `at_depth(case, d)` the method's labels at depth `d`
+/// (`1..=max_depth`). Returns a line per case (`name r=…: FP by depth […]`, and the shared scenes
+/// that were absent), or the failing cases with their messages.
+pub fn certify_every_case(
+    truth: impl Fn(&Case) -> Labels,
+    at_depth: impl Fn(&Case, u32) -> Labels,
+    max_depth: u32,
+) -> Result<Vec<String>, Vec<String>> {
+    let (cases, skipped) = certification_cases();
+    let mut report = Vec::new();
+    if !skipped.is_empty() {
+        report.push(format!("shared scenes not found (skipped): {skipped:?}"));
+    }
+    let mut failures = Vec::new();
+    for case in &cases {
+        let by_depth: Vec<Labels> = (1..=max_depth).map(|d| at_depth(case, d)).collect();
+        match check_depths(&truth(case), &by_depth) {
+            Ok(fps) => report.push(format!(
+                "{} r={}: FP by depth {fps:?}",
+                case.name, case.radius
+            )),
+            Err(e) => failures.push(format!("{} r={}: {e}", case.name, case.radius)),
+        }
+    }
+    if failures.is_empty() {
+        Ok(report)
+    } else {
+        Err(failures)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
