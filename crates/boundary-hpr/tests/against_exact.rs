@@ -13,32 +13,9 @@ use boundary_core::{
 use boundary_exact::ExactDetector;
 use boundary_hpr::HprDetector;
 use boundary_scenes::{
-    cubic_lattice, fixtures_dir, jittered_lattice_ball, shared_set, square_lattice, Manifest,
-    SHARED_SCENES,
+    cubic_lattice, fixtures_dir, jittered_lattice_ball, jittered_lattice_disc, shared_set,
+    square_lattice, Manifest, SHARED_SCENES,
 };
-
-/// A disc of radius `radius` cut from a unit square lattice, with a deterministic
-/// pseudo-random jitter of at most `jitter` per axis.
-fn jittered_disc(radius: f64, jitter: f64) -> ParticleSet<2> {
-    let side = radius.ceil() as i64;
-    let mut points = Vec::new();
-    let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    };
-    for x in -side..=side {
-        for y in -side..=side {
-            let p = Point::<2>::new(x as f64, y as f64);
-            if p.norm() <= radius {
-                points.push(p + Point::<2>::new(jitter * next(), jitter * next()));
-            }
-        }
-    }
-    ParticleSet::new(points).unwrap()
-}
 
 fn labels(d: &HprDetector, set: &AnyParticleSet, r: f64) -> Labels {
     d.detect(set, Radius::new(r).unwrap()).unwrap().labels
@@ -88,7 +65,7 @@ fn check_ball<const D: usize>(set: &ParticleSet<D>, radius: f64, r: f64, min_rec
 
 #[test]
 fn lattice_balls_rim_and_core() {
-    check_ball(&jittered_disc(20.0, 0.15), 20.0, 1.2, 0.95);
+    check_ball(&jittered_lattice_disc(20.0, 0.15, 1), 20.0, 1.2, 0.95);
     let (ball, radius) = jittered_lattice_ball(8000, 0.15, 2);
     check_ball(&ball, radius, 1.2, 0.95);
 }

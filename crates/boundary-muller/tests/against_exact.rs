@@ -7,27 +7,10 @@
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
 use boundary_core::decompose::{morton_blocks, slabs};
-use boundary_core::{BoundaryDetector, Confusion, Labels, ParticleSet, Point, Radius};
+use boundary_core::{BoundaryDetector, Confusion, Labels, ParticleSet, Radius};
 use boundary_exact::ExactDetector;
 use boundary_muller::MullerDetector;
-use boundary_scenes::{jittered_lattice_ball, shared_set, SHARED_SCENES};
-use rand::{rngs::StdRng, Rng, SeedableRng};
-
-/// A disc of radius `radius` cut from a unit square lattice, jittered by ±`jitter`.
-fn jittered_disc(radius: f64, jitter: f64, seed: u64) -> ParticleSet<2> {
-    let mut rng = StdRng::seed_from_u64(seed);
-    let side = radius.ceil() as i64;
-    let mut points = Vec::new();
-    for x in -side..=side {
-        for y in -side..=side {
-            let p = Point::<2>::new(x as f64, y as f64);
-            if p.norm() <= radius {
-                points.push(p + Point::<2>::from_fn(|_, _| rng.gen_range(-jitter..=jitter)));
-            }
-        }
-    }
-    ParticleSet::new(points).unwrap()
-}
+use boundary_scenes::{jittered_lattice_ball, jittered_lattice_disc, shared_set, SHARED_SCENES};
 
 fn labels<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, r: f64) -> Labels {
     d.detect(&set.to_any(), Radius::new(r).unwrap())
@@ -72,7 +55,7 @@ fn labels_exact<const D: usize>(set: &ParticleSet<D>, r: f64) -> Labels {
 #[test]
 fn lattice_balls_shell_and_core() {
     let d = MullerDetector::default();
-    check_ball(&d, &jittered_disc(20.0, 0.15, 1), 20.0, 1.2);
+    check_ball(&d, &jittered_lattice_disc(20.0, 0.15, 1), 20.0, 1.2);
     let (ball, radius) = jittered_lattice_ball(8000, 0.15, 2);
     check_ball(&d, &ball, radius, 1.2);
     // The cubic spline and a larger h behave the same on these.

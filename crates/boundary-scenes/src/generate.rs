@@ -319,3 +319,14 @@ pub fn jittered_lattice_ball(n: usize, jitter: f64, seed: u64) -> (ParticleSet<3
         radius,
     )
 }
+
+/// A 2D jittered square lattice (spacing 1, unjittered points within `radius` of the origin,
+/// jitter `±jitter` per axis), seeded: the disc counterpart of [`jittered_lattice_ball`].
+pub fn jittered_lattice_disc(radius: f64, jitter: f64, seed: u64) -> ParticleSet<2> {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let side = radius.floor();
+    let points = fill([-side; 2], [side; 2], 1.0, jitter, &mut rng, |p| {
+        p.norm() <= radius
+    });
+    ParticleSet::new(points).expect("generated coordinates are finite")
+}

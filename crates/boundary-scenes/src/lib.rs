@@ -20,7 +20,10 @@ mod generate;
 mod manifest;
 pub mod mesh;
 
-pub use generate::{all_scenes, enright, fill, jittered_lattice_ball, rk4, single_vortex, Scene};
+pub use generate::{
+    all_scenes, enright, fill, jittered_lattice_ball, jittered_lattice_disc, rk4, single_vortex,
+    Scene,
+};
 pub use manifest::{Manifest, Origin, SceneEntry, SceneError, SHARED_SCENES};
 
 use boundary_core::{ParticleSet, Point};
