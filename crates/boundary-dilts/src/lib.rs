@@ -100,6 +100,18 @@
 //! consecutive arcs when negative. The label is exactly `margin > 0`. A particle with no
 //! neighbour has margin `π·r`. In 3D no margin is reported (`None`).
 //!
+//! # Hard cases
+//! What `dilts` returns on the hard cases of issue 11 (the test
+//! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
+//! them all and keeps the table of counts against `exact`, `+FP −FN`, in
+//! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`).
+//! The same labels as `exact` on every case: ties and near-ties (±4 ulps) interior, exact
+//! duplicates as single particles, near-duplicates 1e-12 apart as neighbours, degenerate sets
+//! (single particles, pairs exactly `2r` apart, lines, collinear and coplanar 3D sets) all
+//! boundary, far offsets and `r` from 1e-9 to 1e9 unchanged, empty input empty. Two false
+//! negatives found on these cases were bugs and are fixed: the point cap of a neighbour exactly
+//! `2r` away, and externally tangent caps counted as crossing.
+//!
 //! # Example
 //! ```
 //! use boundary_core::{BoundaryDetector, ParticleSet, Radius};

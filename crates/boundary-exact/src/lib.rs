@@ -52,6 +52,22 @@
 //!   no neighbour has margin `(√D − 1)·r`, the largest possible.
 //! - Neighbours at exactly `2r` are included (closed), though their ball only touches `S_i`.
 //!
+//! # Hard cases
+//! What `exact` returns on the hard cases of issue 11 (the test
+//! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
+//! them all and keeps the table of counts against `exact`, `+FP −FN`, in
+//! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`):
+//! - Perfect lattices at the tie radius (`a/√2` in 2D, `a·√3/2` in 3D) and 4 ulps either side
+//!   of it: interior particles are interior (near-ties, within [`TIE_TOLERANCE`]`·r`).
+//! - Exact duplicates: each copy gets the label of the single particle (a doubled 5³ lattice at
+//!   `r = 1.2`: the 98 surface positions, twice). Near-duplicates 1e-12 apart are neighbours
+//!   like any other, and a twin covers the half of `S_i` facing it, so 18 of those 196 copies
+//!   become interior: correct by the definition.
+//! - A single particle, two particles (coincident, or exactly `2r` apart), lines, and
+//!   collinear or coplanar sets in 3D: every particle boundary.
+//! - Offsets of 1e6 and 1e9 at `r = 0.01`, and `r` from 1e-9 to 1e9: the labels of the same
+//!   lattice at the origin and unit scale. Empty input: empty labels.
+//!
 //! # Example
 //! ```
 //! use boundary_core::{BoundaryDetector, ParticleSet, Radius};

@@ -57,6 +57,21 @@
 //!   that lie exactly at 45° from the normal.
 //! - Not certified: the method has no guarantee against false negatives.
 //!
+//! # Hard cases
+//! What `marrone` returns on the hard cases of issue 11 (the test
+//! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
+//! them all and keeps the table of counts against `exact`, `+FP −FN`, in
+//! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`).
+//! Not certified, so it can miss boundary particles:
+//! - Degenerate sets (single particles, coincident pairs, pairs exactly `2r` apart, lines,
+//!   collinear and coplanar 3D sets): every particle boundary, as `exact`.
+//! - Perfect lattices: the labels of `exact` at the tie radius; 4 ulps below the 2D tie, 4
+//!   false positives.
+//! - Duplicates: exact and 1e-12 near-duplicates both as `exact`.
+//! - Jittered lattices: 10–19 false negatives of 75–88 boundary particles in 2D, 15–18 of 383
+//!   in 3D, at most 1 false positive; the same counts at every scale from 1e-9 to 1e9 and at
+//!   offsets 1e6 and 1e9 (the method is scale-free). Empty input: empty labels.
+//!
 //! # Example
 //! ```
 //! use boundary_core::{BoundaryDetector, ParticleSet, Radius};

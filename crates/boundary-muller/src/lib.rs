@@ -57,6 +57,24 @@
 //! - Duplicates contribute nothing to the gradient (no direction) and halve the volumes.
 //! - Not certified.
 //!
+//! # Hard cases
+//! What `muller` returns on the hard cases of issue 11 (the test
+//! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
+//! them all and keeps the table of counts against `exact`, `+FP −FN`, in
+//! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`).
+//! Not certified, and the colour field is blind to symmetric configurations:
+//! - A single particle, a coincident pair or a pair exactly `2r` apart: interior (every one a
+//!   false negative). Lines and collinear 3D sets: only particles at or near the ends are
+//!   boundary; planes and coplanar 3D sets: their rims, not their middles.
+//! - Perfect square lattices at `r ≤ 0.8a` (the tie radius included): no particle reaches the
+//!   threshold, so every boundary particle is missed; at the 3D tie radius it
+//!   misses 150 of 218.
+//! - Jittered lattices: false positives and negatives both (2D: +104 to +121, −15 to −27 of
+//!   75–88), a few false negatives at offsets 1e6 and 1e9 and at every scale (the counts do
+//!   not change with scale). Near-duplicates 1e-12 apart: 18 false positives.
+//!
+//! Empty input: empty labels.
+//!
 //! # Example
 //! ```
 //! use boundary_core::{BoundaryDetector, ParticleSet, Radius};
