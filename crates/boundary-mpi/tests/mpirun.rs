@@ -82,8 +82,8 @@ fn reference(set: &AnyParticleSet, r: f64, method: &str, path: &Path) {
 }
 
 /// Second methods, with the decomposition they run under, on a few scenes: a certified
-/// approximation (`ia`, halo 2r), the other reference (`dilts`) and an SPH baseline whose
-/// halo is wider (`muller`, 4h).
+/// approximation (`ia`, halo 2r), the other reference (`dilts`), an SPH baseline whose
+/// halo is wider (`muller`, 4h) and the visibility method (`hpr`, halo 11.9r).
 const SECOND: &[(&str, &str, &str)] = &[
     ("vortex2d_t4", "ia", "morton"),
     ("ball_bubble3d", "ia", "rcb"),
@@ -91,6 +91,8 @@ const SECOND: &[(&str, &str, &str)] = &[
     ("duplicates3d", "dilts", "rcb"),
     ("dambreak9_r0.1", "muller", "rcb"),
     ("zalesak2d_rot45", "muller", "morton"),
+    ("sheet_ligament_droplets3d", "hpr", "rcb"),
+    ("far_offset3d", "marrone", "morton"),
 ];
 
 #[test]
