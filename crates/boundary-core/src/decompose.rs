@@ -172,6 +172,21 @@ pub fn morton_blocks<const D: usize>(
 /// (ties: the lower axis) so that the low side holds `⌊len·⌊q/2⌋/q⌋` particles (ordered by that
 /// coordinate, ties by index, so the cut is unique), and each side is cut again for its share
 /// of the parts. Parts are numbered low side first. Part sizes differ by at most one.
+///
+/// ```
+/// use boundary_core::decompose::{rcb_owners, with_halo};
+/// use boundary_core::ParticleSet;
+///
+/// // A 4 x 2 strip is cut across x into two 2 x 2 squares.
+/// let rows: Vec<[f64; 2]> = (0..8).map(|k| [(k / 2) as f64, (k % 2) as f64]).collect();
+/// let set = ParticleSet::from_rows(&rows).unwrap();
+/// let owner = rcb_owners(&set, 2);
+/// assert_eq!(owner, vec![0, 0, 0, 0, 1, 1, 1, 1]);
+/// // With a halo of 1, each square sees the facing column of the other as ghosts.
+/// let subs = with_halo(&set, &owner, 2, 1.0).unwrap();
+/// assert_eq!(subs[0].ghosts, vec![4, 5]);
+/// assert_eq!(subs[1].ghosts, vec![2, 3]);
+/// ```
 pub fn rcb_owners<const D: usize>(set: &ParticleSet<D>, parts: usize) -> Vec<usize> {
     let mut owner = vec![0usize; set.len()];
     let mut idx: Vec<usize> = (0..set.len()).collect();
