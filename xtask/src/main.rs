@@ -1,8 +1,11 @@
 //! Project tasks, run as `cargo xtask <task>` (alias in `.cargo/config.toml`).
 //!
 //! - `cargo xtask test`: check the system prerequisites, then `cargo fmt --check`,
-//!   `cargo clippy --workspace --all-targets -D warnings` and `cargo test --workspace`; what CI
-//!   runs (`.ci/run`).
+//!   `cargo clippy --workspace --all-targets -D warnings` and `cargo test --workspace`; then
+//!   the same three for the MPI driver `crates/boundary-mpi` (its own workspace), whose tests
+//!   compare `mpirun -np 2` and `-np 4` with the single-process labels. What CI runs
+//!   (`.ci/run`).
+//! - `cargo xtask test-mpi`: only the MPI driver's part of `test`.
 //! - `cargo xtask sweep [ARGS…]`: check the prerequisites, then run the comparison sweep
 //!   (every detector on every scene) in release mode; ARGS go to the sweep (`--help` lists them).
 //! - `cargo xtask fixtures`: regenerate the scenes in `fixtures/`.
@@ -15,6 +18,12 @@
 //! The `qhull` crate (HPR detector) runs bindgen at build time, which needs libclang (Debian:
 //! `libclang-dev`). When it is missing, xtask installs it with `apt-get` if it runs as root
 //! with apt-get available (CI, containers), and otherwise stops with the exact command to run.
+//!
+//! The MPI driver needs Open MPI (Debian: `libopenmpi-dev openmpi-bin`: `mpicc` for the `mpi`
+//! crate's build, `mpirun` for its tests). `cargo xtask test` installs it the same way when it
+//! can; when it cannot, or when `BOUNDARY_MPI=skip` is set, it says that the MPI checks were
+//! skipped and why, prints the command that installs it, and still succeeds: the rest of the
+//! workspace never needs MPI.
 
 use std::env;
 use std::path::{Path, PathBuf};
@@ -28,9 +37,14 @@ fn main() -> ExitCode {
     };
     let result = match task {
         "test" => prereqs().and_then(|()| test(rest)),
+        "test-mpi" => prereqs().and_then(|()| test_mpi()),
         "sweep" => prereqs().and_then(|()| sweep(rest)),
         "fixtures" => fixtures(rest),
-        "prereqs" => prereqs(),
+        "prereqs" => prereqs().map(|()| {
+            if let Err(why) = mpi_prereqs() {
+                eprintln!("xtask: MPI driver not buildable here: {why}");
+            }
+        }),
         "help" | "--help" | "-h" => {
             println!("{}", usage());
             Ok(())
@@ -49,7 +63,9 @@ fn main() -> ExitCode {
 fn usage() -> &'static str {
     "usage: cargo xtask <task>\n\
      tasks:\n  \
-     test       prerequisites, rustfmt --check, clippy -D warnings, the whole test suite (CI)\n  \
+     test       prerequisites, rustfmt --check, clippy -D warnings, the whole test suite, then\n             \
+     the same for the MPI driver when Open MPI is installed or installable (CI)\n  \
+     test-mpi   only the MPI driver's part of `test`\n  \
      sweep      prerequisites, then every detector on every scene: target/sweep/report.md\n  \
      fixtures   regenerate the generated scenes in fixtures/\n  \
      prereqs    check the system prerequisites (install them when root with apt-get)"
@@ -62,11 +78,16 @@ fn root() -> PathBuf {
 }
 
 /// Runs `cargo ARGS` in the workspace root, echoing the command; an error if it fails.
+/// Builds go to the root's target directory (or `CARGO_TARGET_DIR`), also for the MPI crate's
+/// own workspace, so that the dependencies both share are built once.
 fn cargo(args: &[&str]) -> Result<(), String> {
     let cargo = env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
     eprintln!("xtask: cargo {}", args.join(" "));
+    let target =
+        env::var_os("CARGO_TARGET_DIR").map_or_else(|| root().join("target"), PathBuf::from);
     let status = Command::new(&cargo)
         .args(args)
+        .env("CARGO_TARGET_DIR", target)
         .current_dir(root())
         .status()
         .map_err(|e| format!("cannot run {cargo}: {e}"))?;
@@ -89,7 +110,69 @@ fn test(rest: &[String]) -> Result<(), String> {
     ])?;
     let mut args = vec!["test", "--workspace"];
     args.extend(rest.iter().map(String::as_str));
-    cargo(&args)
+    cargo(&args)?;
+    test_mpi()
+}
+
+/// The MPI driver's manifest (outside the root workspace).
+const MPI_MANIFEST: &str = "crates/boundary-mpi/Cargo.toml";
+
+/// rustfmt, clippy and the tests of `crates/boundary-mpi`, when Open MPI is (or can be made)
+/// available; otherwise a clear note that they were skipped.
+fn test_mpi() -> Result<(), String> {
+    if let Err(why) = mpi_prereqs() {
+        eprintln!(
+            "xtask: NOTE: MPI checks SKIPPED ({MPI_MANIFEST}: fmt, clippy, mpirun equality \
+             tests): {why}"
+        );
+        return Ok(());
+    }
+    let manifest = MPI_MANIFEST;
+    cargo(&["fmt", "--manifest-path", manifest, "--", "--check"])?;
+    cargo(&[
+        "clippy",
+        "--manifest-path",
+        manifest,
+        "--locked",
+        "--all-targets",
+        "--",
+        "-D",
+        "warnings",
+    ])?;
+    cargo(&["test", "--manifest-path", manifest, "--locked"])
+}
+
+/// Makes sure `mpicc` and `mpirun` exist: installs Open MPI with apt-get when root, else says
+/// why not (with the command to run).
+fn mpi_prereqs() -> Result<(), String> {
+    if env::var("BOUNDARY_MPI").is_ok_and(|v| v == "skip") {
+        return Err("BOUNDARY_MPI=skip is set".to_owned());
+    }
+    let found = || has_program("mpicc") && has_program("mpirun");
+    if found() {
+        return Ok(());
+    }
+    let packages = ["libopenmpi-dev", "openmpi-bin"];
+    let install = format!("sudo apt-get install -y {}", packages.join(" "));
+    if !(is_root() && has_program("apt-get")) {
+        return Err(format!(
+            "Open MPI not found (mpicc, mpirun) and not root with apt-get to install it; \
+             install it with:\n    {install}"
+        ));
+    }
+    eprintln!("xtask: Open MPI not found (needed by {MPI_MANIFEST}); installing it");
+    run_system("apt-get", &["update", "-qq"])?;
+    let mut args = vec!["install", "-y", "-qq"];
+    args.extend(packages);
+    run_system("apt-get", &args)?;
+    if found() {
+        Ok(())
+    } else {
+        Err(format!(
+            "installed {} but mpicc or mpirun is still not on PATH",
+            packages.join(" ")
+        ))
+    }
 }
 
 fn sweep(rest: &[String]) -> Result<(), String> {

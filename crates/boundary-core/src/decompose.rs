@@ -36,23 +36,47 @@ impl Subdomain {
     }
 }
 
-/// Splits `order` (a permutation of the particles) into `parts` runs of nearly equal length
-/// and adds to each run the ghosts within `halo`.
-fn split_with_halo<const D: usize>(
+/// The owner of each particle when `order` (a permutation of the particles) is cut into
+/// `parts` runs of nearly equal length (run `k` is `order[k n / parts .. (k + 1) n / parts]`).
+fn owners_of_runs(order: &[usize], parts: usize) -> Vec<usize> {
+    let parts = parts.max(1);
+    let n = order.len();
+    let mut owner = vec![0usize; n];
+    for k in 0..parts {
+        for &i in &order[k * n / parts..(k + 1) * n / parts] {
+            owner[i] = k;
+        }
+    }
+    owner
+}
+
+/// Builds the subdomains of a given assignment: part `owner[i]` owns particle `i`, and holds as
+/// ghosts every particle of another part within `halo` (closed: `d <= halo`) of one it owns.
+///
+/// Errors: `owner` not one entry per particle, an owner `>= parts`, or a `halo` the neighbour
+/// grid rejects (not positive and finite).
+pub fn with_halo<const D: usize>(
     set: &ParticleSet<D>,
-    order: &[usize],
+    owner: &[usize],
     parts: usize,
     halo: f64,
 ) -> Result<Vec<Subdomain>, CoreError> {
     let parts = parts.max(1);
-    let n = order.len();
-    let mut owner = vec![0usize; n];
+    let n = set.len();
+    if owner.len() != n {
+        return Err(CoreError::InvalidDecomposition(format!(
+            "{} owners for {n} particles",
+            owner.len()
+        )));
+    }
     let mut subs: Vec<Subdomain> = (0..parts).map(|_| Subdomain::default()).collect();
-    for (rank, chunk) in (0..parts).map(|k| (k, &order[k * n / parts..(k + 1) * n / parts])) {
-        for &i in chunk {
-            owner[i] = rank;
-            subs[rank].owned.push(i);
-        }
+    for (i, &rank) in owner.iter().enumerate() {
+        let sub = subs.get_mut(rank).ok_or_else(|| {
+            CoreError::InvalidDecomposition(format!(
+                "particle {i} has owner {rank}, but there are {parts} parts"
+            ))
+        })?;
+        sub.owned.push(i);
     }
     if n == 0 {
         return Ok(subs);
@@ -60,7 +84,6 @@ fn split_with_halo<const D: usize>(
     let grid = NeighbourGrid::new(set, halo)?;
     let mut mark = vec![usize::MAX; n];
     for (rank, sub) in subs.iter_mut().enumerate() {
-        sub.owned.sort_unstable();
         for &i in &sub.owned {
             grid.for_each_within(&set.positions()[i], halo, |j, _| {
                 if owner[j] != rank && mark[j] != rank {
@@ -74,6 +97,16 @@ fn split_with_halo<const D: usize>(
     Ok(subs)
 }
 
+/// Owners of `parts` slabs along `axis`, balanced by count (particles sorted by that
+/// coordinate, ties by index).
+pub fn slab_owners<const D: usize>(set: &ParticleSet<D>, parts: usize, axis: usize) -> Vec<usize> {
+    let axis = axis.min(D - 1);
+    let p = set.positions();
+    let mut order: Vec<usize> = (0..set.len()).collect();
+    order.sort_by(|&a, &b| p[a][axis].total_cmp(&p[b][axis]).then(a.cmp(&b)));
+    owners_of_runs(&order, parts)
+}
+
 /// `parts` slabs along `axis`, balanced by count (particles sorted by that coordinate, ties
 /// by index), each with its ghosts within `halo`.
 pub fn slabs<const D: usize>(
@@ -82,11 +115,7 @@ pub fn slabs<const D: usize>(
     axis: usize,
     halo: f64,
 ) -> Result<Vec<Subdomain>, CoreError> {
-    let axis = axis.min(D - 1);
-    let p = set.positions();
-    let mut order: Vec<usize> = (0..set.len()).collect();
-    order.sort_by(|&a, &b| p[a][axis].total_cmp(&p[b][axis]).then(a.cmp(&b)));
-    split_with_halo(set, &order, parts, halo)
+    with_halo(set, &slab_owners(set, parts, axis), parts, halo)
 }
 
 /// Interleaves the bits of the cell coordinates (21 bits per axis in 3D, 32 in 2D).
@@ -101,6 +130,33 @@ fn morton<const D: usize>(cell: [u64; D]) -> u64 {
     code
 }
 
+/// Owners of `parts` blocks of consecutive particles in Morton order of their cells (side
+/// `cell`, counted from the bounding box's low corner and clamped to 2·10^6 cells per axis;
+/// ties in the code by index), balanced by count. A `cell` that is not positive and finite
+/// puts every particle in cell 0 (the blocks are then runs of indices).
+pub fn morton_owners<const D: usize>(set: &ParticleSet<D>, parts: usize, cell: f64) -> Vec<usize> {
+    let Some((lo, _)) = set.bounding_box() else {
+        return Vec::new();
+    };
+    let ok = cell.is_finite() && cell > 0.0;
+    let cell_of = |p: &Point<D>| -> [u64; D] {
+        std::array::from_fn(|k| {
+            if ok {
+                ((p[k] - lo[k]) / cell).floor().clamp(0.0, 2e6) as u64
+            } else {
+                0
+            }
+        })
+    };
+    let p = set.positions();
+    let mut keyed: Vec<(u64, usize)> = (0..set.len())
+        .map(|i| (morton(cell_of(&p[i])), i))
+        .collect();
+    keyed.sort_unstable();
+    let order: Vec<usize> = keyed.into_iter().map(|(_, i)| i).collect();
+    owners_of_runs(&order, parts)
+}
+
 /// `parts` blocks of consecutive particles in Morton order of their cells (side `halo`),
 /// balanced by count, each with its ghosts within `halo`.
 pub fn morton_blocks<const D: usize>(
@@ -108,17 +164,83 @@ pub fn morton_blocks<const D: usize>(
     parts: usize,
     halo: f64,
 ) -> Result<Vec<Subdomain>, CoreError> {
-    let Some((lo, _)) = set.bounding_box() else {
-        return split_with_halo(set, &[], parts, halo);
-    };
-    let cell = |p: &Point<D>| -> [u64; D] {
-        std::array::from_fn(|k| ((p[k] - lo[k]) / halo).floor().clamp(0.0, 2e6) as u64)
-    };
-    let p = set.positions();
-    let mut keyed: Vec<(u64, usize)> = (0..set.len()).map(|i| (morton(cell(&p[i])), i)).collect();
-    keyed.sort_unstable();
-    let order: Vec<usize> = keyed.into_iter().map(|(_, i)| i).collect();
-    split_with_halo(set, &order, parts, halo)
+    with_halo(set, &morton_owners(set, parts, halo), parts, halo)
+}
+
+/// Owners by recursive coordinate bisection (Berger & Bokhari 1987), balanced by count: a
+/// group of particles meant for `q` parts is cut across the longest side of its bounding box
+/// (ties: the lower axis) so that the low side holds `⌊len·⌊q/2⌋/q⌋` particles (ordered by that
+/// coordinate, ties by index, so the cut is unique), and each side is cut again for its share
+/// of the parts. Parts are numbered low side first. Part sizes differ by at most one.
+///
+/// ```
+/// use boundary_core::decompose::{rcb_owners, with_halo};
+/// use boundary_core::ParticleSet;
+///
+/// // A 4 x 2 strip is cut across x into two 2 x 2 squares.
+/// let rows: Vec<[f64; 2]> = (0..8).map(|k| [(k / 2) as f64, (k % 2) as f64]).collect();
+/// let set = ParticleSet::from_rows(&rows).unwrap();
+/// let owner = rcb_owners(&set, 2);
+/// assert_eq!(owner, vec![0, 0, 0, 0, 1, 1, 1, 1]);
+/// // With a halo of 1, each square sees the facing column of the other as ghosts.
+/// let subs = with_halo(&set, &owner, 2, 1.0).unwrap();
+/// assert_eq!(subs[0].ghosts, vec![4, 5]);
+/// assert_eq!(subs[1].ghosts, vec![2, 3]);
+/// ```
+pub fn rcb_owners<const D: usize>(set: &ParticleSet<D>, parts: usize) -> Vec<usize> {
+    let mut owner = vec![0usize; set.len()];
+    let mut idx: Vec<usize> = (0..set.len()).collect();
+    bisect(set.positions(), &mut idx, parts.max(1), 0, &mut owner);
+    owner
+}
+
+fn bisect<const D: usize>(
+    p: &[Point<D>],
+    idx: &mut [usize],
+    parts: usize,
+    first: usize,
+    owner: &mut [usize],
+) {
+    if parts <= 1 || idx.len() <= 1 {
+        for &i in idx.iter() {
+            owner[i] = first;
+        }
+        return;
+    }
+    let mut lo = [f64::INFINITY; D];
+    let mut hi = [f64::NEG_INFINITY; D];
+    for &i in idx.iter() {
+        for k in 0..D {
+            lo[k] = lo[k].min(p[i][k]);
+            hi[k] = hi[k].max(p[i][k]);
+        }
+    }
+    let mut axis = 0;
+    for k in 1..D {
+        if hi[k] - lo[k] > hi[axis] - lo[axis] {
+            axis = k;
+        }
+    }
+    let low_parts = parts / 2;
+    let cut = idx.len() * low_parts / parts;
+    if cut > 0 {
+        idx.select_nth_unstable_by(cut, |&a, &b| {
+            p[a][axis].total_cmp(&p[b][axis]).then(a.cmp(&b))
+        });
+    }
+    let (low, high) = idx.split_at_mut(cut);
+    bisect(p, low, low_parts, first, owner);
+    bisect(p, high, parts - low_parts, first + low_parts, owner);
+}
+
+/// `parts` boxes by recursive coordinate bisection ([`rcb_owners`]), each with its ghosts
+/// within `halo`.
+pub fn rcb<const D: usize>(
+    set: &ParticleSet<D>,
+    parts: usize,
+    halo: f64,
+) -> Result<Vec<Subdomain>, CoreError> {
+    with_halo(set, &rcb_owners(set, parts), parts, halo)
 }
 
 #[cfg(test)]
@@ -168,7 +290,65 @@ mod tests {
         for parts in [1, 2, 3, 8] {
             check_partition(&set, &slabs(&set, parts, 0, 1.5).unwrap(), 1.5);
             check_partition(&set, &morton_blocks(&set, parts, 1.5).unwrap(), 1.5);
+            check_partition(&set, &rcb(&set, parts, 1.5).unwrap(), 1.5);
         }
+    }
+
+    #[test]
+    fn rcb_parts_differ_by_at_most_one_and_cut_the_longest_side() {
+        for n in 0..40 {
+            let set = ParticleSet::<2>::new(
+                (0..n)
+                    .map(|k| Point::<2>::new((k % 7) as f64, (k / 7) as f64))
+                    .collect(),
+            )
+            .unwrap();
+            for parts in 1..12 {
+                let owner = rcb_owners(&set, parts);
+                let mut sizes = vec![0usize; parts];
+                for &o in &owner {
+                    sizes[o] += 1;
+                }
+                let (min, max) = (sizes.iter().min().unwrap(), sizes.iter().max().unwrap());
+                assert!(max - min <= 1, "n {n}, parts {parts}: {sizes:?}");
+            }
+        }
+        // A 10 x 2 strip is cut across x: the low half has x < 5 (ties at the cut by index).
+        let strip = ParticleSet::<2>::new(
+            (0..20)
+                .map(|k| Point::<2>::new((k / 2) as f64, (k % 2) as f64))
+                .collect(),
+        )
+        .unwrap();
+        let owner = rcb_owners(&strip, 2);
+        for (i, p) in strip.positions().iter().enumerate() {
+            assert_eq!(owner[i], usize::from(p[0] >= 5.0), "particle {i}");
+        }
+    }
+
+    #[test]
+    fn rcb_ties_are_cut_by_index() {
+        // Four coincident particles in two parts: the two lowest indices form part 0.
+        let set = ParticleSet::<3>::new(vec![Point::<3>::new(1.0, 1.0, 1.0); 4]).unwrap();
+        assert_eq!(rcb_owners(&set, 2), vec![0, 0, 1, 1]);
+        // More parts than particles: the extra parts are empty.
+        assert_eq!(rcb_owners(&set, 8).len(), 4);
+        let subs = rcb(&set, 8, 1.0).unwrap();
+        assert_eq!(subs.iter().map(|s| s.owned.len()).sum::<usize>(), 4);
+    }
+
+    #[test]
+    fn bad_owner_vectors_are_errors() {
+        let set = lattice(2);
+        assert!(matches!(
+            with_halo(&set, &[0; 3], 2, 1.0),
+            Err(CoreError::InvalidDecomposition(_))
+        ));
+        let mut owner = vec![0; set.len()];
+        owner[5] = 2;
+        let err = with_halo(&set, &owner, 2, 1.0).unwrap_err();
+        assert!(err.to_string().contains("particle 5"), "{err}");
+        assert!(with_halo(&set, &[0; 8], 1, -1.0).is_err());
     }
 
     #[test]

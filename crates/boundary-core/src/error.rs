@@ -35,4 +35,7 @@ pub enum CoreError {
     /// The index space of the particle set is exhausted (more than `u32::MAX` particles).
     #[error("too many particles: {0} (at most {max})", max = u32::MAX)]
     TooManyParticles(usize),
+    /// A decomposition's owner assignment does not fit its particle set or part count.
+    #[error("decomposition: {0}")]
+    InvalidDecomposition(String),
 }

@@ -1,10 +1,11 @@
-//! Subdomains with a 2r halo give the owned particles exactly the global labels.
+//! Subdomains with a 2r halo (slabs, Morton blocks, RCB boxes) give the owned particles
+//! exactly the global labels.
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
 use boundary_scenes::shared_set;
 
-use boundary_core::decompose::{morton_blocks, slabs, Subdomain};
+use boundary_core::decompose::{morton_blocks, rcb, slabs, Subdomain};
 use boundary_core::{BoundaryDetector, ParticleSet, Radius};
 use boundary_exact::ExactDetector;
 
@@ -22,6 +23,7 @@ fn check<const D: usize>(set: &ParticleSet<D>, r: f64) {
             format!("{parts} Morton blocks"),
             morton_blocks(set, parts, halo).unwrap(),
         ));
+        layouts.push((format!("{parts} RCB boxes"), rcb(set, parts, halo).unwrap()));
     }
     for (name, subs) in layouts {
         let mut merged = vec![None; set.len()];

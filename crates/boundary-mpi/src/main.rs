@@ -1,0 +1,794 @@
+//! `boundary-mpi`: boundary labels of a particle set split across MPI ranks.
+//!
+//! ```text
+//! mpirun -np N boundary-mpi detect INPUT --radius R [--method NAME] [--set KEY=VALUE]...
+//!        [--decomposition rcb|morton] [--output FILE] [--per-rank-output PATTERN]
+//!        [--dim 2|3] [--format FMT] [--threads N] [--timings] [--json]
+//! mpirun -np N boundary-mpi detect --per-rank-input 'part_{rank}.csv' --radius R ...
+//! ```
+//!
+//! Phases (each ends in a collective, so its slowest rank is its wall time):
+//! 1. **read**: rank 0 reads INPUT (any format of `boundary-io`); or every rank reads its own
+//!    CSV file with an `index` column of global indices (`--per-rank-input`), which is then
+//!    kept as the decomposition.
+//! 2. **decompose** (rank-0 read only): rank 0 assigns owners by recursive coordinate
+//!    bisection or Morton blocks, balanced by count (`boundary::decompose`).
+//! 3. **scatter**: rank 0 sends every rank its owned positions and global indices.
+//! 4. **halo**: ranks exchange boxes, send each other the strips within the halo width
+//!    `detector.halo_width(r)` and keep the exact ghosts (see the library docs).
+//! 5. **detect**: `detect_owned` on owned + ghosts.
+//! 6. **gather**: labels (and, for per-rank input, positions) to rank 0, put in input order.
+//! 7. **write**: rank 0 writes `--output` (the input with a `boundary` column, as
+//!    `boundary detect` writes it), and/or every rank writes `--per-rank-output`.
+//!
+//! Errors that one rank meets are agreed on collectively (every rank stops at the same point);
+//! the rank that met it prints it.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use boundary::decompose::{morton_owners, rcb_owners};
+use boundary::{
+    detector_with_params, parse_param, AnyParticleSet, BoundaryDetector, ParticleSet, Point, Radius,
+};
+use boundary_io::{read_csv_column, read_particles, write_particles, Column, Format, ReadOptions};
+use boundary_mpi::{
+    bounding_box, global_indices, keep_ghosts, labels_in_input_order, rank_path, strip_for,
+};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use mpi::collective::SystemOperation;
+use mpi::datatype::{Partition, PartitionMut};
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+use mpi::Count;
+use serde_json::json;
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "boundary-mpi",
+    version,
+    about = "Boundary particles of a particle set split across MPI ranks (run under mpirun)"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Label every particle as boundary (1) or interior (0), split across the ranks.
+    Detect(DetectArgs),
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum Decomposition {
+    /// Recursive coordinate bisection: boxes, cut across their longest side.
+    Rcb,
+    /// Blocks of consecutive particles in Morton (Z) order of cells of the halo width.
+    Morton,
+}
+
+#[derive(Debug, Args)]
+struct DetectArgs {
+    /// Particle file read by rank 0: .csv, .xyz/.txt, .ply, .vtk.
+    #[arg(required_unless_present = "per_rank_input")]
+    input: Option<PathBuf>,
+    /// Every rank reads its own CSV file (`{rank}` is replaced by the rank) with columns
+    /// x, y[, z] and `index` (the global index, 0..n over all files); its particles are the
+    /// ones the rank owns (no rebalancing).
+    #[arg(long, conflicts_with = "input", value_name = "PATTERN")]
+    per_rank_input: Option<String>,
+    /// Particle resolution r.
+    #[arg(long, short, allow_negative_numbers = true)]
+    radius: f64,
+    /// Method name (see `boundary methods`).
+    #[arg(long, short, default_value = "exact")]
+    method: String,
+    /// Method parameter, repeatable: `--set depth=4`.
+    #[arg(long = "set", value_parser = parse_param, value_name = "KEY=VALUE")]
+    params: Vec<(String, String)>,
+    /// How rank 0 splits the set (ignored with --per-rank-input).
+    #[arg(long, value_enum, default_value = "rcb")]
+    decomposition: Decomposition,
+    /// Rank 0 writes the particles in input order with a `boundary` column (0/1), format by
+    /// extension, exactly as `boundary detect --output` does.
+    #[arg(long, short)]
+    output: Option<PathBuf>,
+    /// Every rank writes its owned particles with columns `index` and `boundary` (`{rank}` is
+    /// replaced by the rank; format by extension).
+    #[arg(long, value_name = "PATTERN")]
+    per_rank_output: Option<String>,
+    /// Dimension of the scene; 2 on a file with x,y,z drops the constant axis.
+    #[arg(long, value_parser = clap::value_parser!(u8).range(2..=3))]
+    dim: Option<u8>,
+    /// Input format, when the extension does not say it.
+    #[arg(long, value_parser = parse_format, value_name = "FMT")]
+    format: Option<Format>,
+    /// Worker threads per rank for the detection.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..))]
+    threads: u16,
+    /// Print the time of every phase (slowest and mean rank) and the halo sizes.
+    #[arg(long)]
+    timings: bool,
+    /// Print one JSON object (counts, halo, phase times) on stdout.
+    #[arg(long)]
+    json: bool,
+}
+
+fn parse_format(text: &str) -> Result<Format, String> {
+    text.parse()
+}
+
+/// An error after which every rank stops: `Here` on the rank that met it (which prints it),
+/// `Elsewhere` on the others.
+#[derive(Debug)]
+enum Failure {
+    Here(String),
+    Elsewhere,
+}
+
+const PHASES: [&str; 7] = [
+    "read",
+    "decompose",
+    "scatter",
+    "halo",
+    "detect",
+    "gather",
+    "write",
+];
+
+/// Per-rank measurements, gathered to rank 0 at the end.
+#[derive(Debug, Default)]
+struct Stats {
+    seconds: [f64; 7],
+    owned: u64,
+    ghosts: u64,
+    /// Strip particles this rank sent to others (before the receivers' exact filter).
+    sent: u64,
+    boundary: u64,
+}
+
+fn main() -> ExitCode {
+    let Some((universe, _)) = mpi::initialize_with_threading(mpi::Threading::Funneled) else {
+        eprintln!("boundary-mpi: error: MPI cannot be initialised");
+        return ExitCode::FAILURE;
+    };
+    let world = universe.world();
+    let rank = world.rank();
+    let code = match Cli::try_parse() {
+        Err(e) => {
+            // Every rank parses the same arguments; one message is enough.
+            if rank == 0 {
+                let _ = e.print();
+            }
+            u8::from(e.use_stderr()) * 2
+        }
+        Ok(Cli {
+            command: Command::Detect(args),
+        }) => match detect(&world, &args) {
+            Ok(()) => 0,
+            Err(Failure::Here(message)) => {
+                eprintln!("boundary-mpi: rank {rank}: error: {message}");
+                1
+            }
+            Err(Failure::Elsewhere) => 1,
+        },
+    };
+    drop(universe); // MPI_Finalize before the process exits
+    ExitCode::from(code)
+}
+
+/// Makes a local result collective: if any rank failed, every rank returns an error.
+fn agree<T>(world: &SimpleCommunicator, local: Result<T, String>) -> Result<T, Failure> {
+    let mine = i32::from(local.is_err());
+    let mut any = 0i32;
+    world.all_reduce_into(&mine, &mut any, SystemOperation::max());
+    match local {
+        Err(message) => Err(Failure::Here(message)),
+        Ok(_) if any != 0 => Err(Failure::Elsewhere),
+        Ok(value) => Ok(value),
+    }
+}
+
+/// A wall clock for phases.
+struct Clock(f64);
+
+impl Clock {
+    fn start() -> Self {
+        Clock(mpi::time())
+    }
+    /// Seconds since the start or the last lap.
+    fn lap(&mut self) -> f64 {
+        let now = mpi::time();
+        let t = now - self.0;
+        self.0 = now;
+        t
+    }
+}
+
+fn detect(world: &SimpleCommunicator, args: &DetectArgs) -> Result<(), Failure> {
+    // Every rank sees the same arguments, so these fail on all ranks alike.
+    let setup = detector_with_params(&args.method, &args.params)
+        .map_err(|e| e.to_string())
+        .and_then(|d| {
+            Radius::new(args.radius)
+                .map(|r| (d, r))
+                .map_err(|e| e.to_string())
+        })
+        .and_then(|(d, r)| {
+            if let Some(p) = &args.output {
+                Format::from_path(p).ok_or_else(|| {
+                    format!(
+                        "{}: unknown output format (use .csv, .xyz, .ply or .vtk)",
+                        p.display()
+                    )
+                })?;
+            }
+            if let Some(p) = &args.per_rank_output {
+                rank_path(p, 0)?;
+            }
+            if let Some(p) = &args.per_rank_input {
+                rank_path(p, 0)?;
+            }
+            Ok((d, r))
+        });
+    let (detector, r) = match setup {
+        Ok(v) => v,
+        Err(message) if world.rank() == 0 => return Err(Failure::Here(message)),
+        Err(_) => return Err(Failure::Elsewhere),
+    };
+    let options = ReadOptions {
+        dim: args.dim.map(usize::from),
+        format: args.format,
+    };
+    let mut clock = Clock::start();
+    let input = match (&args.input, &args.per_rank_input) {
+        (Some(path), _) => {
+            let local = if world.rank() == 0 {
+                read_particles(path, &options)
+                    .map(Some)
+                    .map_err(|e| e.to_string())
+            } else {
+                Ok(None)
+            };
+            Input::Root(agree(world, local)?)
+        }
+        (None, Some(pattern)) => {
+            let local = rank_path(pattern, world.rank()).and_then(|path| {
+                let set = read_particles(Path::new(&path), &options).map_err(|e| e.to_string())?;
+                let column = read_csv_column(Path::new(&path), "index").map_err(|e| {
+                    format!("{e} (per-rank input needs a CSV file with an `index` column)")
+                })?;
+                let index = global_indices(&column, &path)?;
+                Ok((set, index))
+            });
+            let (set, index) = agree(world, local)?;
+            Input::PerRank(set, index)
+        }
+        (None, None) => return Err(Failure::Here("no input".to_owned())),
+    };
+    let read_seconds = clock.lap();
+    // The dimension every rank works in: rank 0's, or the files' (which must agree).
+    let dim = match &input {
+        Input::Root(set) => {
+            let mut dim = set.as_ref().map_or(0u64, |s| s.dim() as u64);
+            world.process_at_rank(0).broadcast_into(&mut dim);
+            dim
+        }
+        Input::PerRank(set, _) => {
+            let mine = set.dim() as u64;
+            let (mut lo, mut hi) = (0u64, 0u64);
+            world.all_reduce_into(&mine, &mut lo, SystemOperation::min());
+            world.all_reduce_into(&mine, &mut hi, SystemOperation::max());
+            if lo != hi {
+                return Err(if mine == lo {
+                    Failure::Here(format!("the per-rank files mix {lo}D and {hi}D sets"))
+                } else {
+                    Failure::Elsewhere
+                });
+            }
+            hi
+        }
+    };
+    let run = Run {
+        world,
+        args,
+        detector: detector.as_ref(),
+        r,
+        clock,
+        read_seconds,
+    };
+    match (dim, input) {
+        (2, Input::Root(set)) => run.go::<2>(set.map(two).transpose()?, None),
+        (3, Input::Root(set)) => run.go::<3>(set.map(three).transpose()?, None),
+        (2, Input::PerRank(set, index)) => run.go::<2>(None, Some((two(set)?, index))),
+        (3, Input::PerRank(set, index)) => run.go::<3>(None, Some((three(set)?, index))),
+        (d, _) => Err(Failure::Here(format!("unsupported dimension {d}"))),
+    }
+}
+
+enum Input {
+    /// Rank 0 read the whole set (`None` on the other ranks).
+    Root(Option<AnyParticleSet>),
+    /// This rank's own particles with their global indices.
+    PerRank(AnyParticleSet, Vec<u64>),
+}
+
+fn two(set: AnyParticleSet) -> Result<ParticleSet<2>, Failure> {
+    match set {
+        AnyParticleSet::D2(s) => Ok(s),
+        AnyParticleSet::D3(_) => Err(Failure::Here("expected a 2D set".to_owned())),
+    }
+}
+
+fn three(set: AnyParticleSet) -> Result<ParticleSet<3>, Failure> {
+    match set {
+        AnyParticleSet::D3(s) => Ok(s),
+        AnyParticleSet::D2(_) => Err(Failure::Here("expected a 3D set".to_owned())),
+    }
+}
+
+/// Counts and displacements (in elements of `per` values each) of a variable-count
+/// collective; an error when they exceed MPI's `int` counts.
+fn layout(counts: &[usize], per: usize) -> Result<(Vec<Count>, Vec<Count>), String> {
+    let mut c = Vec::with_capacity(counts.len());
+    let mut d = Vec::with_capacity(counts.len());
+    let mut offset = 0usize;
+    for &k in counts {
+        let too_many = || {
+            format!(
+                "a message of more than {} values (MPI counts are 32-bit); use more ranks or \
+                 --per-rank-input",
+                Count::MAX
+            )
+        };
+        let values = k.checked_mul(per).ok_or_else(too_many)?;
+        c.push(Count::try_from(values).map_err(|_| too_many())?);
+        d.push(Count::try_from(offset).map_err(|_| too_many())?);
+        offset += values;
+    }
+    Ok((c, d))
+}
+
+fn flatten<const D: usize>(points: &[Point<D>]) -> Vec<f64> {
+    points.iter().flat_map(|p| p.iter().copied()).collect()
+}
+
+fn unflatten<const D: usize>(coords: &[f64]) -> Vec<Point<D>> {
+    coords
+        .chunks_exact(D)
+        .map(|c| Point::<D>::from_fn(|k, _| c[k]))
+        .collect()
+}
+
+struct Run<'a> {
+    world: &'a SimpleCommunicator,
+    args: &'a DetectArgs,
+    detector: &'a dyn BoundaryDetector,
+    r: Radius,
+    clock: Clock,
+    read_seconds: f64,
+}
+
+impl Run<'_> {
+    /// The pipeline in `D` dimensions: `root_set` is the whole set on rank 0 (rank-0 read), or
+    /// `own` this rank's particles and global indices (per-rank read).
+    fn go<const D: usize>(
+        mut self,
+        root_set: Option<ParticleSet<D>>,
+        own: Option<(ParticleSet<D>, Vec<u64>)>,
+    ) -> Result<(), Failure>
+    where
+        AnyParticleSet: From<ParticleSet<D>>,
+    {
+        let world = self.world;
+        let size = world.size() as usize;
+        let root = world.process_at_rank(0);
+        let w = self.detector.halo_width(self.r);
+        let mut stats = Stats::default();
+        stats.seconds[0] = self.read_seconds;
+        let per_rank = own.is_some();
+
+        // Owned particles (ascending global index) of this rank.
+        let (owned, owned_index, n) = match own {
+            Some((set, index)) => {
+                // Sorted by global index, as the rank-0 path has them.
+                let mut pairs: Vec<(u64, Point<D>)> = index
+                    .into_iter()
+                    .zip(set.positions().iter().copied())
+                    .collect();
+                pairs.sort_by_key(|&(i, _)| i);
+                let local_n = pairs.len() as u64;
+                let mut n = 0u64;
+                world.all_reduce_into(&local_n, &mut n, SystemOperation::sum());
+                let (index, owned): (Vec<u64>, Vec<Point<D>>) = pairs.into_iter().unzip();
+                (owned, index, n as usize)
+            }
+            None => {
+                // Decompose on rank 0.
+                let plan = match &root_set {
+                    Some(set) => {
+                        let owner = match self.args.decomposition {
+                            Decomposition::Rcb => rcb_owners(set, size),
+                            Decomposition::Morton => morton_owners(set, size, w),
+                        };
+                        let mut buckets: Vec<Vec<usize>> = vec![Vec::new(); size];
+                        for (i, &o) in owner.iter().enumerate() {
+                            buckets[o].push(i);
+                        }
+                        let counts: Vec<usize> = buckets.iter().map(Vec::len).collect();
+                        let p = set.positions();
+                        let coords: Vec<f64> = buckets
+                            .iter()
+                            .flatten()
+                            .flat_map(|&i| p[i].iter().copied())
+                            .collect();
+                        let index: Vec<u64> = buckets.iter().flatten().map(|&i| i as u64).collect();
+                        let layouts = layout(&counts, D).and_then(|c| Ok((c, layout(&counts, 1)?)));
+                        layouts.map(|(lc, li)| Some((counts, coords, index, lc, li)))
+                    }
+                    None => Ok(None),
+                };
+                let plan = agree(world, plan)?;
+                stats.seconds[1] = self.clock.lap();
+
+                let mut n = root_set.as_ref().map_or(0, |s| s.len() as u64);
+                root.broadcast_into(&mut n);
+                let mut count = 0u64;
+                let (mut coords, mut index);
+                match &plan {
+                    Some((counts, all_coords, all_index, (cc, cd), (ic, id))) => {
+                        let counts64: Vec<u64> = counts.iter().map(|&c| c as u64).collect();
+                        root.scatter_into_root(&counts64[..], &mut count);
+                        coords = vec![0.0; count as usize * D];
+                        index = vec![0u64; count as usize];
+                        let part = Partition::new(&all_coords[..], &cc[..], &cd[..]);
+                        root.scatter_varcount_into_root(&part, &mut coords[..]);
+                        let part = Partition::new(&all_index[..], &ic[..], &id[..]);
+                        root.scatter_varcount_into_root(&part, &mut index[..]);
+                    }
+                    None => {
+                        root.scatter_into(&mut count);
+                        coords = vec![0.0; count as usize * D];
+                        index = vec![0u64; count as usize];
+                        root.scatter_varcount_into(&mut coords[..]);
+                        root.scatter_varcount_into(&mut index[..]);
+                    }
+                }
+                drop(plan);
+                stats.seconds[2] = self.clock.lap();
+                (unflatten::<D>(&coords), index, n as usize)
+            }
+        };
+        stats.owned = owned.len() as u64;
+
+        // Halo exchange.
+        let (ghosts, ghost_index) = self.exchange_halo(&owned, &owned_index, w, &mut stats)?;
+        stats.ghosts = ghosts.len() as u64;
+        stats.seconds[3] = self.clock.lap();
+
+        // Detection on owned + ghosts.
+        let labels = {
+            let n_owned = owned.len();
+            let mut local = owned.clone();
+            local.extend_from_slice(&ghosts);
+            drop(ghosts);
+            drop(ghost_index);
+            let result = ParticleSet::new(local)
+                .map_err(|e| e.to_string())
+                .and_then(|set| {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(usize::from(self.args.threads))
+                        .build()
+                        .map_err(|e| format!("cannot start worker threads: {e}"))?;
+                    pool.install(|| {
+                        self.detector
+                            .detect_owned(&AnyParticleSet::from(set), n_owned, self.r)
+                            .map_err(|e| e.to_string())
+                    })
+                })
+                .map(|d| {
+                    d.labels
+                        .as_slice()
+                        .iter()
+                        .map(|&b| u8::from(b))
+                        .collect::<Vec<u8>>()
+                });
+            agree(world, result)?
+        };
+        stats.boundary = labels.iter().map(|&l| u64::from(l)).sum();
+        stats.seconds[4] = self.clock.lap();
+
+        // Gather to rank 0 (only what an --output needs).
+        let gathered = if self.args.output.is_some() {
+            let gathered = self.gather(&owned, &owned_index, &labels, per_rank, n)?;
+            stats.seconds[5] = self.clock.lap();
+            gathered
+        } else {
+            None
+        };
+
+        // Write.
+        let mut written = Ok(());
+        if let (Some(path), Some((full_labels, gathered_set))) = (&self.args.output, gathered) {
+            // Rank 0 has the set: it read it, or gathered it with the labels.
+            written = match root_set.or(gathered_set) {
+                Some(set) => {
+                    let flags: Vec<i64> = full_labels.iter().map(|&l| i64::from(l)).collect();
+                    write_particles(
+                        path,
+                        None,
+                        &AnyParticleSet::from(set),
+                        &[("boundary", Column::Int(&flags))],
+                    )
+                    .map_err(|e| e.to_string())
+                }
+                None => Err("rank 0 holds no particle set to write".to_owned()),
+            };
+        }
+        if written.is_ok() {
+            if let Some(pattern) = &self.args.per_rank_output {
+                written = rank_path(pattern, world.rank()).and_then(|path| {
+                    let set = ParticleSet::new(owned.clone()).map_err(|e| e.to_string())?;
+                    let idx: Vec<i64> = owned_index.iter().map(|&i| i as i64).collect();
+                    let flags: Vec<i64> = labels.iter().map(|&l| i64::from(l)).collect();
+                    write_particles(
+                        Path::new(&path),
+                        None,
+                        &AnyParticleSet::from(set),
+                        &[
+                            ("index", Column::Int(&idx)),
+                            ("boundary", Column::Int(&flags)),
+                        ],
+                    )
+                    .map_err(|e| e.to_string())
+                });
+            }
+        }
+        agree(world, written)?;
+        stats.seconds[6] = self.clock.lap();
+        self.report(&stats, n, D);
+        Ok(())
+    }
+
+    /// Sends every other rank the owned particles within `w` of its box; returns the ghosts
+    /// (within `w` of an owned particle), ascending by global index.
+    fn exchange_halo<const D: usize>(
+        &self,
+        owned: &[Point<D>],
+        owned_index: &[u64],
+        w: f64,
+        stats: &mut Stats,
+    ) -> Result<(Vec<Point<D>>, Vec<u64>), Failure> {
+        let world = self.world;
+        let size = world.size() as usize;
+        let me = world.rank() as usize;
+        // Boxes: lo then hi; an empty rank publishes an empty box (lo > hi).
+        let my_box: Vec<f64> = match bounding_box(owned) {
+            Some((lo, hi)) => lo.iter().chain(hi.iter()).copied().collect(),
+            None => [f64::INFINITY; D]
+                .into_iter()
+                .chain([f64::NEG_INFINITY; D])
+                .collect(),
+        };
+        let mut boxes = vec![0.0f64; 2 * D * size];
+        world.all_gather_into(&my_box[..], &mut boxes[..]);
+        let mut send: Vec<Vec<usize>> = vec![Vec::new(); size];
+        for (q, b) in boxes.chunks_exact(2 * D).enumerate() {
+            let (lo, hi) = (
+                Point::<D>::from_fn(|k, _| b[k]),
+                Point::<D>::from_fn(|k, _| b[D + k]),
+            );
+            if q != me && (0..D).all(|k| lo[k] <= hi[k]) {
+                send[q] = strip_for(owned, &(lo, hi), w);
+            }
+        }
+        let send_counts: Vec<usize> = send.iter().map(Vec::len).collect();
+        stats.sent = send_counts.iter().sum::<usize>() as u64;
+        let send_counts64: Vec<u64> = send_counts.iter().map(|&c| c as u64).collect();
+        let mut recv_counts64 = vec![0u64; size];
+        world.all_to_all_into(&send_counts64[..], &mut recv_counts64[..]);
+        let recv_counts: Vec<usize> = recv_counts64.iter().map(|&c| c as usize).collect();
+        let layouts = layout(&send_counts, D).and_then(|sc| {
+            Ok((
+                sc,
+                layout(&send_counts, 1)?,
+                layout(&recv_counts, D)?,
+                layout(&recv_counts, 1)?,
+            ))
+        });
+        let ((scc, scd), (sic, sid), (rcc, rcd), (ric, rid)) = agree(world, layouts)?;
+        let send_coords: Vec<f64> = send
+            .iter()
+            .flatten()
+            .flat_map(|&i| owned[i].iter().copied())
+            .collect();
+        let send_index: Vec<u64> = send.iter().flatten().map(|&i| owned_index[i]).collect();
+        let total: usize = recv_counts.iter().sum();
+        let mut recv_coords = vec![0.0f64; total * D];
+        let mut recv_index = vec![0u64; total];
+        {
+            let sp = Partition::new(&send_coords[..], &scc[..], &scd[..]);
+            let mut rp = PartitionMut::new(&mut recv_coords[..], &rcc[..], &rcd[..]);
+            world.all_to_all_varcount_into(&sp, &mut rp);
+            let sp = Partition::new(&send_index[..], &sic[..], &sid[..]);
+            let mut rp = PartitionMut::new(&mut recv_index[..], &ric[..], &rid[..]);
+            world.all_to_all_varcount_into(&sp, &mut rp);
+        }
+        let candidates = unflatten::<D>(&recv_coords);
+        let kept = agree(
+            world,
+            keep_ghosts(owned, &candidates, w).map_err(|e| e.to_string()),
+        )?;
+        let mut ghosts: Vec<(u64, Point<D>)> = kept
+            .into_iter()
+            .map(|j| (recv_index[j], candidates[j]))
+            .collect();
+        ghosts.sort_by_key(|&(i, _)| i);
+        Ok(ghosts.into_iter().map(|(i, p)| (p, i)).unzip())
+    }
+
+    /// Gathers labels (and, for per-rank input, positions) to rank 0 and puts them in input
+    /// order; `Some((labels, positions if gathered))` on rank 0, `None` elsewhere.
+    #[allow(clippy::type_complexity)]
+    fn gather<const D: usize>(
+        &self,
+        owned: &[Point<D>],
+        owned_index: &[u64],
+        labels: &[u8],
+        with_positions: bool,
+        n: usize,
+    ) -> Result<Option<(Vec<u8>, Option<ParticleSet<D>>)>, Failure> {
+        let world = self.world;
+        let size = world.size() as usize;
+        let root = world.process_at_rank(0);
+        let count = owned.len() as u64;
+        let coords = flatten(owned);
+        // Open MPI's MPI_IN_PLACE is the address 1, which is also where Rust puts an empty
+        // slice of bytes; an allocated buffer keeps an empty rank's labels from reading as
+        // "in place" (MPI_ERR_ARG in MPI_Gatherv).
+        let mut label_buf: Vec<u8> = Vec::with_capacity(labels.len().max(1));
+        label_buf.extend_from_slice(labels);
+        let labels = &label_buf[..];
+        if world.rank() != 0 {
+            root.gather_into(&count);
+            agree(world, Ok(()))?;
+            root.gather_varcount_into(owned_index);
+            root.gather_varcount_into(labels);
+            if with_positions {
+                root.gather_varcount_into(&coords[..]);
+            }
+            agree(world, Ok(()))?;
+            return Ok(None);
+        }
+        let mut counts64 = vec![0u64; size];
+        root.gather_into_root(&count, &mut counts64[..]);
+        let counts: Vec<usize> = counts64.iter().map(|&c| c as usize).collect();
+        let total: usize = counts.iter().sum();
+        let ((ic, id), (cc, cd)) = agree(
+            world,
+            layout(&counts, 1).and_then(|i| Ok((i, layout(&counts, D)?))),
+        )?;
+        let mut index = vec![0u64; total];
+        let mut all_labels = vec![0u8; total];
+        {
+            let mut part = PartitionMut::new(&mut index[..], &ic[..], &id[..]);
+            root.gather_varcount_into_root(owned_index, &mut part);
+            let mut part = PartitionMut::new(&mut all_labels[..], &ic[..], &id[..]);
+            root.gather_varcount_into_root(labels, &mut part);
+        }
+        let mut positions = None;
+        if with_positions {
+            let mut all = vec![0.0f64; total * D];
+            let mut part = PartitionMut::new(&mut all[..], &cc[..], &cd[..]);
+            root.gather_varcount_into_root(&coords[..], &mut part);
+            positions = Some(all);
+        }
+        let result = labels_in_input_order(n, &index, &all_labels).and_then(|ordered| {
+            let set = match positions {
+                Some(all) => {
+                    let mut points = vec![Point::<D>::zeros(); n];
+                    for (k, p) in unflatten::<D>(&all).into_iter().enumerate() {
+                        points[index[k] as usize] = p;
+                    }
+                    Some(ParticleSet::new(points).map_err(|e| e.to_string())?)
+                }
+                None => None,
+            };
+            Ok((ordered, set))
+        });
+        agree(world, result).map(Some)
+    }
+
+    /// Gathers the statistics to rank 0 and prints them.
+    fn report(&self, stats: &Stats, n: usize, dim: usize) {
+        let world = self.world;
+        let size = world.size() as usize;
+        let root = world.process_at_rank(0);
+        let mut mine = stats.seconds.to_vec();
+        mine.extend([
+            stats.owned as f64,
+            stats.ghosts as f64,
+            stats.sent as f64,
+            stats.boundary as f64,
+        ]);
+        let width = mine.len();
+        if world.rank() != 0 {
+            root.gather_into(&mine[..]);
+            return;
+        }
+        let mut all = vec![0.0f64; width * size];
+        root.gather_into_root(&mine[..], &mut all[..]);
+        let rows: Vec<&[f64]> = all.chunks_exact(width).collect();
+        let col = |k: usize| rows.iter().map(move |r| r[k]);
+        let max = |k: usize| col(k).fold(0.0f64, f64::max);
+        let sum = |k: usize| col(k).sum::<f64>();
+        let owned = sum(7);
+        let ghosts = sum(8);
+        let sent = sum(9);
+        let boundary = sum(10) as u64;
+        let halo_fraction = if owned > 0.0 { ghosts / owned } else { 0.0 };
+        let owned_min = col(7).fold(f64::INFINITY, f64::min);
+        let owned_max = max(7);
+        let total: f64 = (0..PHASES.len()).map(max).sum();
+        let args = self.args;
+        if args.json {
+            let phases: serde_json::Map<String, serde_json::Value> = PHASES
+                .iter()
+                .enumerate()
+                .map(|(k, name)| ((*name).to_owned(), json!(max(k))))
+                .collect();
+            let object = json!({
+                "method": self.detector.name(),
+                "params": self.detector.params().to_string(),
+                "n": n,
+                "dim": dim,
+                "radius": self.r.get(),
+                "ranks": size,
+                "threads_per_rank": args.threads,
+                "decomposition": if args.per_rank_input.is_some() { "per-rank input" } else {
+                    match args.decomposition { Decomposition::Rcb => "rcb", Decomposition::Morton => "morton" }
+                },
+                "halo_width": self.detector.halo_width(self.r),
+                "boundary": boundary,
+                "owned_min": owned_min,
+                "owned_max": owned_max,
+                "ghosts": ghosts,
+                "halo_fraction": halo_fraction,
+                "strip_sent": sent,
+                "seconds_max": phases,
+                "seconds_total": total,
+            });
+            println!("{object}");
+        } else {
+            eprintln!(
+                "{}: {boundary} of {n} particles boundary, {dim}D, r = {}, {} on {size} rank{} \
+                 ({} thread{} each) in {total:.3} s",
+                args.input.as_ref().map_or_else(
+                    || args.per_rank_input.clone().unwrap_or_default(),
+                    |p| p.display().to_string()
+                ),
+                self.r.get(),
+                self.detector.name(),
+                if size == 1 { "" } else { "s" },
+                args.threads,
+                if args.threads == 1 { "" } else { "s" },
+            );
+        }
+        if args.timings {
+            eprintln!("phase        slowest rank   mean rank");
+            for (k, name) in PHASES.iter().enumerate() {
+                eprintln!(
+                    "{name:<10} {:>12.4} s {:>10.4} s",
+                    max(k),
+                    sum(k) / size as f64
+                );
+            }
+            eprintln!(
+                "owned per rank {owned_min}..{owned_max}; ghosts {ghosts} (halo fraction \
+                 {halo_fraction:.4} of owned; width {}); strip particles sent {sent}",
+                self.detector.halo_width(self.r)
+            );
+        }
+    }
+}

@@ -1,0 +1,316 @@
+//! `mpirun -np 2` and `-np 4` give the labels of the single-process run, byte for byte, on
+//! every scene of `fixtures/scenes.toml` (our fixtures, `../shared/data`, the mesh samples).
+//!
+//! The single-process reference is computed here with the library (`detect` on the whole set)
+//! and written with `boundary-io` exactly as `boundary detect --output` writes it; the MPI runs
+//! write their gathered labels with the same writer, so the files must be identical.
+//! Needs `mpirun` on PATH (this crate only builds where MPI is installed).
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use boundary::{detector_by_name, AnyParticleSet, Radius};
+use boundary_io::{read_csv_column, write_particles, Column};
+use boundary_scenes::{data_dir, fixtures_dir, Manifest, Origin, SceneEntry};
+
+const BIN: &str = env!("CARGO_BIN_EXE_boundary-mpi");
+
+/// A run that takes longer than this has deadlocked (the longest scene takes seconds).
+const DEADLINE: Duration = Duration::from_secs(180);
+
+/// Runs `boundary-mpi ARGS` on `np` ranks; kills it past [`DEADLINE`].
+fn mpirun(np: usize, args: &[&str]) -> Output {
+    let mut child = Command::new("mpirun")
+        .args(["--allow-run-as-root", "--oversubscribe", "-np"])
+        .arg(np.to_string())
+        .arg(BIN)
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("mpirun not found on PATH (install Open MPI: see docs/MPI.md)");
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > DEADLINE {
+            child.kill().unwrap();
+            panic!("mpirun -np {np} {args:?}: no result after {DEADLINE:?} (deadlock?)");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+fn ok(np: usize, args: &[&str]) -> String {
+    let out = mpirun(np, args);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(
+        out.status.success(),
+        "mpirun -np {np} {args:?} failed: {stderr}"
+    );
+    stderr
+}
+
+/// The file the driver reads for `entry`: its own file, or (mesh scenes, sampled at run
+/// time) the sample written to CSV, which reads back to the same coordinates.
+fn input_file(entry: &SceneEntry, set: &AnyParticleSet, dir: &Path) -> PathBuf {
+    match entry.origin {
+        Origin::Fixture | Origin::Shared => entry.path(&fixtures_dir(), &data_dir()),
+        Origin::Mesh => {
+            let path = dir.join(format!("{}.csv", entry.name));
+            write_particles(&path, None, set, &[]).unwrap();
+            path
+        }
+    }
+}
+
+/// Writes the single-process labels of `method` the way `boundary detect --output` does.
+fn reference(set: &AnyParticleSet, r: f64, method: &str, path: &Path) {
+    let detection = detector_by_name(method)
+        .unwrap()
+        .detect(set, Radius::new(r).unwrap())
+        .unwrap();
+    let flags: Vec<i64> = detection
+        .labels
+        .as_slice()
+        .iter()
+        .map(|&b| i64::from(b))
+        .collect();
+    write_particles(path, None, set, &[("boundary", Column::Int(&flags))]).unwrap();
+}
+
+/// Second methods, with the decomposition they run under, on a few scenes: a certified
+/// approximation (`ia`, halo 2r), the other reference (`dilts`), an SPH baseline whose
+/// halo is wider (`muller`, 4h) and the visibility method (`hpr`, halo 11.9r).
+const SECOND: &[(&str, &str, &str)] = &[
+    ("vortex2d_t4", "ia", "morton"),
+    ("ball_bubble3d", "ia", "rcb"),
+    ("sandim_vortex_050", "dilts", "morton"),
+    ("duplicates3d", "dilts", "rcb"),
+    ("dambreak9_r0.1", "muller", "rcb"),
+    ("zalesak2d_rot45", "muller", "morton"),
+    ("sheet_ligament_droplets3d", "hpr", "rcb"),
+    ("far_offset3d", "marrone", "morton"),
+];
+
+#[test]
+fn two_and_four_ranks_match_the_single_process_labels_on_every_scene() {
+    let manifest = Manifest::load(&fixtures_dir().join("scenes.toml")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let mut skipped = Vec::new();
+    let mut runs = 0;
+    for entry in &manifest.scene {
+        let source = entry.path(&fixtures_dir(), &data_dir());
+        if entry.origin != Origin::Fixture && !source.is_file() {
+            skipped.push(entry.name.clone());
+            continue;
+        }
+        let set = entry.load(&fixtures_dir(), &data_dir()).unwrap();
+        let input = input_file(entry, &set, dir.path());
+        let input = input.to_str().unwrap();
+        let radius = entry.radius.to_string();
+        let dim = entry.dim.to_string();
+        let mut jobs: Vec<(&str, &str, Vec<usize>)> = vec![("exact", "rcb", vec![2, 4])];
+        for &(scene, method, decomposition) in SECOND {
+            if scene == entry.name {
+                jobs.push((method, decomposition, vec![2, 4]));
+            }
+        }
+        for (method, decomposition, ranks) in jobs {
+            let expected = dir.path().join(format!("{}-{method}.csv", entry.name));
+            reference(&set, entry.radius, method, &expected);
+            let expected = std::fs::read(&expected).unwrap();
+            for np in ranks {
+                let out = dir.path().join(format!("{}-{method}-{np}.csv", entry.name));
+                ok(
+                    np,
+                    &[
+                        "detect",
+                        input,
+                        "--radius",
+                        &radius,
+                        "--dim",
+                        &dim,
+                        "--method",
+                        method,
+                        "--decomposition",
+                        decomposition,
+                        "--output",
+                        out.to_str().unwrap(),
+                    ],
+                );
+                let got = std::fs::read(&out).unwrap();
+                assert!(
+                    got == expected,
+                    "{}: {method} on {np} ranks ({decomposition}) differs from one process",
+                    entry.name
+                );
+                runs += 1;
+            }
+        }
+    }
+    if !skipped.is_empty() {
+        eprintln!(
+            "mpirun: shared data not found under {}; skipped {}",
+            data_dir().display(),
+            skipped.join(", ")
+        );
+    }
+    assert!(runs >= 36, "only {runs} runs");
+}
+
+/// Per-rank files in, per-rank files and a gathered file out: the simulation's own
+/// decomposition (here: particles dealt round-robin, so every rank's box spans the scene and
+/// the strips are large) gives the same labels.
+#[test]
+fn per_rank_input_and_output_match_the_single_process_labels() {
+    let manifest = Manifest::load(&fixtures_dir().join("scenes.toml")).unwrap();
+    let entry = manifest
+        .scene
+        .iter()
+        .find(|e| e.name == "ball_bubble3d")
+        .unwrap();
+    let set = entry.load(&fixtures_dir(), &data_dir()).unwrap();
+    let AnyParticleSet::D3(points) = &set else {
+        panic!("ball_bubble3d is 3D")
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let ranks = 3;
+    for rank in 0..ranks {
+        // Rank k holds particles k, k + 3, ... in reverse order (the driver sorts them).
+        let mine: Vec<usize> = (rank..points.len()).step_by(ranks).rev().collect();
+        let part =
+            boundary::ParticleSet::new(mine.iter().map(|&i| points.positions()[i]).collect())
+                .unwrap();
+        let index: Vec<i64> = mine.iter().map(|&i| i as i64).collect();
+        write_particles(
+            &dir.path().join(format!("part_{rank}.csv")),
+            None,
+            &AnyParticleSet::from(part),
+            &[("index", Column::Int(&index))],
+        )
+        .unwrap();
+    }
+    let expected = dir.path().join("expected.csv");
+    reference(&set, entry.radius, "exact", &expected);
+    let gathered = dir.path().join("gathered.csv");
+    let pattern = dir.path().join("part_{rank}.csv");
+    let out_pattern = dir.path().join("labels_{rank}.csv");
+    ok(
+        ranks,
+        &[
+            "detect",
+            "--per-rank-input",
+            pattern.to_str().unwrap(),
+            "--radius",
+            &entry.radius.to_string(),
+            "--output",
+            gathered.to_str().unwrap(),
+            "--per-rank-output",
+            out_pattern.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(
+        std::fs::read(&gathered).unwrap(),
+        std::fs::read(&expected).unwrap()
+    );
+    let truth = read_csv_column(&expected, "boundary").unwrap();
+    let mut seen = 0;
+    for rank in 0..ranks {
+        let file = dir.path().join(format!("labels_{rank}.csv"));
+        let index = read_csv_column(&file, "index").unwrap();
+        let labels = read_csv_column(&file, "boundary").unwrap();
+        assert!(
+            index.windows(2).all(|w| w[0] < w[1]),
+            "rank {rank}: ascending"
+        );
+        for (i, l) in index.iter().zip(&labels) {
+            assert_eq!(truth[*i as usize], *l, "particle {i}");
+            assert_eq!(*i as usize % ranks, rank);
+        }
+        seen += index.len();
+    }
+    assert_eq!(seen, set.len());
+}
+
+#[test]
+fn errors_stop_every_rank_and_name_the_cause() {
+    let dir = tempfile::tempdir().unwrap();
+    // A missing input: rank 0 names the file, every rank exits.
+    let missing = dir.path().join("missing.csv");
+    let out = mpirun(2, &["detect", missing.to_str().unwrap(), "--radius", "1"]);
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("missing.csv"), "{stderr}");
+
+    // An unknown method and a bad radius: one message, from rank 0.
+    let input = fixtures_dir().join("tiny2d.csv");
+    let input = input.to_str().unwrap();
+    let out = mpirun(2, &["detect", input, "--radius", "1", "--method", "nope"]);
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stderr.matches("nope").count(), 1, "{stderr}");
+    let out = mpirun(2, &["detect", input, "--radius", "-1"]);
+    assert!(!out.status.success());
+
+    // A per-rank file with a duplicate global index.
+    let set = AnyParticleSet::from(
+        boundary::ParticleSet::<2>::from_rows(&[[0.0, 0.0], [1.0, 0.0]]).unwrap(),
+    );
+    for rank in 0..2 {
+        write_particles(
+            &dir.path().join(format!("p_{rank}.csv")),
+            None,
+            &set,
+            &[("index", Column::Int(&[0, 1 + rank as i64]))],
+        )
+        .unwrap();
+    }
+    let pattern = dir.path().join("p_{rank}.csv");
+    let gathered = dir.path().join("out.csv");
+    let out = mpirun(
+        2,
+        &[
+            "detect",
+            "--per-rank-input",
+            pattern.to_str().unwrap(),
+            "--radius",
+            "1",
+            "--output",
+            gathered.to_str().unwrap(),
+        ],
+    );
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("global index 0 is owned by two ranks"),
+        "{stderr}"
+    );
+
+    // More ranks than particles: the empty ranks take part and the labels are right.
+    let out_file = dir.path().join("tiny.csv");
+    ok(
+        4,
+        &[
+            "detect",
+            input,
+            "--radius",
+            "1",
+            "--output",
+            out_file.to_str().unwrap(),
+        ],
+    );
+    let tiny = boundary_io::read_particles(
+        &fixtures_dir().join("tiny2d.csv"),
+        &boundary_io::ReadOptions::default(),
+    )
+    .unwrap();
+    let expected = dir.path().join("tiny-expected.csv");
+    reference(&tiny, 1.0, "exact", &expected);
+    assert_eq!(
+        std::fs::read(&out_file).unwrap(),
+        std::fs::read(&expected).unwrap()
+    );
+}
