@@ -1,10 +1,10 @@
 //! Project tasks, run as `cargo xtask <task>` (alias in `.cargo/config.toml`).
 //!
 //! - `cargo xtask test`: check the system prerequisites, then `cargo fmt --check`,
-//!   `cargo clippy --workspace --all-targets -D warnings` and `cargo test --workspace`; then
-//!   the same three for the MPI driver `crates/boundary-mpi` (its own workspace), whose tests
-//!   compare `mpirun -np 2` and `-np 4` with the single-process labels. What CI runs
-//!   (`.ci/run`).
+//!   `cargo clippy --workspace --all-targets -D warnings` and `cargo test --workspace`. The
+//!   workspace includes the MPI driver `crates/boundary-mpi` (outside `default-members`), whose
+//!   tests compare `mpirun -np 2` and `-np 4` with the single-process labels; without Open MPI
+//!   it is excluded, with a note saying so. What CI runs (`.ci/run`).
 //! - `cargo xtask test-mpi`: only the MPI driver's part of `test`.
 //! - `cargo xtask sweep [ARGS…]`: check the prerequisites, then run the comparison sweep
 //!   (every detector on every scene) in release mode; ARGS go to the sweep (`--help` lists them).
@@ -78,16 +78,11 @@ fn root() -> PathBuf {
 }
 
 /// Runs `cargo ARGS` in the workspace root, echoing the command; an error if it fails.
-/// Builds go to the root's target directory (or `CARGO_TARGET_DIR`), also for the MPI crate's
-/// own workspace, so that the dependencies both share are built once.
 fn cargo(args: &[&str]) -> Result<(), String> {
     let cargo = env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
     eprintln!("xtask: cargo {}", args.join(" "));
-    let target =
-        env::var_os("CARGO_TARGET_DIR").map_or_else(|| root().join("target"), PathBuf::from);
     let status = Command::new(&cargo)
         .args(args)
-        .env("CARGO_TARGET_DIR", target)
         .current_dir(root())
         .status()
         .map_err(|e| format!("cannot run {cargo}: {e}"))?;
@@ -98,48 +93,61 @@ fn cargo(args: &[&str]) -> Result<(), String> {
     }
 }
 
-fn test(rest: &[String]) -> Result<(), String> {
-    cargo(&["fmt", "--all", "--", "--check"])?;
-    cargo(&[
-        "clippy",
-        "--workspace",
-        "--all-targets",
-        "--",
-        "-D",
-        "warnings",
-    ])?;
-    let mut args = vec!["test", "--workspace"];
-    args.extend(rest.iter().map(String::as_str));
-    cargo(&args)?;
-    test_mpi()
+/// The MPI driver's package: a workspace member outside `default-members`.
+const MPI_PACKAGE: &str = "boundary-mpi";
+
+/// Whether the MPI driver can be built here; says why not when it cannot.
+fn mpi_usable() -> bool {
+    match mpi_prereqs() {
+        Ok(()) => true,
+        Err(why) => {
+            eprintln!(
+                "xtask: NOTE: MPI checks SKIPPED ({MPI_PACKAGE}: clippy, tests including the \
+                 mpirun equality tests): {why}"
+            );
+            false
+        }
+    }
 }
 
-/// The MPI driver's manifest (outside the root workspace).
-const MPI_MANIFEST: &str = "crates/boundary-mpi/Cargo.toml";
+/// fmt, clippy and the tests of the whole workspace; the MPI driver only when `mpi`.
+fn test_workspace(mpi: bool, rest: &[String]) -> Result<(), String> {
+    let exclude: &[&str] = if mpi {
+        &[]
+    } else {
+        &["--exclude", MPI_PACKAGE]
+    };
+    cargo(&["fmt", "--all", "--", "--check"])?;
+    let mut args = vec!["clippy", "--workspace"];
+    args.extend(exclude);
+    args.extend(["--all-targets", "--", "-D", "warnings"]);
+    cargo(&args)?;
+    let mut args = vec!["test", "--workspace"];
+    args.extend(exclude);
+    args.extend(rest.iter().map(String::as_str));
+    cargo(&args)
+}
 
-/// rustfmt, clippy and the tests of `crates/boundary-mpi`, when Open MPI is (or can be made)
-/// available; otherwise a clear note that they were skipped.
+fn test(rest: &[String]) -> Result<(), String> {
+    let mpi = mpi_usable();
+    test_workspace(mpi, rest)
+}
+
+/// clippy and the tests of the MPI driver alone (`cargo xtask test-mpi`).
 fn test_mpi() -> Result<(), String> {
-    if let Err(why) = mpi_prereqs() {
-        eprintln!(
-            "xtask: NOTE: MPI checks SKIPPED ({MPI_MANIFEST}: fmt, clippy, mpirun equality \
-             tests): {why}"
-        );
+    if !mpi_usable() {
         return Ok(());
     }
-    let manifest = MPI_MANIFEST;
-    cargo(&["fmt", "--manifest-path", manifest, "--", "--check"])?;
     cargo(&[
         "clippy",
-        "--manifest-path",
-        manifest,
-        "--locked",
+        "-p",
+        MPI_PACKAGE,
         "--all-targets",
         "--",
         "-D",
         "warnings",
     ])?;
-    cargo(&["test", "--manifest-path", manifest, "--locked"])
+    cargo(&["test", "-p", MPI_PACKAGE])
 }
 
 /// Makes sure `mpicc` and `mpirun` exist: installs Open MPI with apt-get when root, else says
@@ -160,7 +168,7 @@ fn mpi_prereqs() -> Result<(), String> {
              install it with:\n    {install}"
         ));
     }
-    eprintln!("xtask: Open MPI not found (needed by {MPI_MANIFEST}); installing it");
+    eprintln!("xtask: Open MPI not found (needed by {MPI_PACKAGE}); installing it");
     run_system("apt-get", &["update", "-qq"])?;
     let mut args = vec!["install", "-y", "-qq"];
     args.extend(packages);

@@ -1,6 +1,6 @@
 //! Writes the jittered lattice ball of the timings in docs/MPI.md (spacing 1, jitter ±0.15,
 //! seed 42; run at r = 1.2):
-//! `cargo run --release --manifest-path crates/boundary-mpi/Cargo.toml --example write_ball -- 1000000 ball.csv`
+//! `cargo run --release -p boundary-mpi --example write_ball -- 1000000 ball.csv`
 
 use std::path::Path;
 use std::process::ExitCode;
