@@ -30,6 +30,7 @@ fn main() -> ExitCode {
         "test" => prereqs().and_then(|()| test(rest)),
         "sweep" => prereqs().and_then(|()| sweep(rest)),
         "fixtures" => fixtures(rest),
+        "train-svm" => train_svm(rest),
         "prereqs" => prereqs(),
         "help" | "--help" | "-h" => {
             println!("{}", usage());
@@ -52,6 +53,8 @@ fn usage() -> &'static str {
      test       prerequisites, rustfmt --check, clippy -D warnings, the whole test suite (CI)\n  \
      sweep      prerequisites, then every detector on every scene: target/sweep/report.md\n  \
      fixtures   regenerate the generated scenes in fixtures/\n  \
+     train-svm  retrain the shipped svm models (seeded) and score them on held-out scenes:\n             \
+crates/boundary-svm/models/, target/svm/training.md\n  \
      prereqs    check the system prerequisites (install them when root with apt-get)"
 }
 
@@ -107,6 +110,23 @@ fn fixtures(rest: &[String]) -> Result<(), String> {
         "boundary-scenes",
         "--bin",
         "make-fixtures",
+        "--",
+    ];
+    args.extend(rest.iter().map(String::as_str));
+    cargo(&args)
+}
+
+/// Retrains the shipped `svm` models (deterministic: seeded sampling, linfa-svm's SMO) and
+/// writes the held-out confusion matrices to `target/svm/training.md`.
+fn train_svm(rest: &[String]) -> Result<(), String> {
+    let mut args = vec![
+        "run",
+        "--release",
+        "--quiet",
+        "-p",
+        "boundary-svm-train",
+        "--bin",
+        "train-svm",
         "--",
     ];
     args.extend(rest.iter().map(String::as_str));
