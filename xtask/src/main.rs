@@ -40,6 +40,7 @@ fn main() -> ExitCode {
         "test-mpi" => prereqs().and_then(|()| test_mpi()),
         "sweep" => prereqs().and_then(|()| sweep(rest)),
         "fixtures" => fixtures(rest),
+        "train-svm" => train_svm(rest),
         "prereqs" => prereqs().map(|()| {
             if let Err(why) = mpi_prereqs() {
                 eprintln!("xtask: MPI driver not buildable here: {why}");
@@ -63,11 +64,13 @@ fn main() -> ExitCode {
 fn usage() -> &'static str {
     "usage: cargo xtask <task>\n\
      tasks:\n  \
-     test       prerequisites, rustfmt --check, clippy -D warnings, the whole test suite, then\n             \
-     the same for the MPI driver when Open MPI is installed or installable (CI)\n  \
+     test       prerequisites, rustfmt --check, clippy -D warnings, the whole test suite; the\n             \
+     MPI driver included when Open MPI is installed or installable (CI)\n  \
      test-mpi   only the MPI driver's part of `test`\n  \
      sweep      prerequisites, then every detector on every scene: target/sweep/report.md\n  \
      fixtures   regenerate the generated scenes in fixtures/\n  \
+     train-svm  retrain the shipped svm models (seeded) and score them on held-out scenes:\n             \
+crates/boundary-svm/models/, target/svm/training.md\n  \
      prereqs    check the system prerequisites (install them when root with apt-get)"
 }
 
@@ -198,6 +201,23 @@ fn fixtures(rest: &[String]) -> Result<(), String> {
         "boundary-scenes",
         "--bin",
         "make-fixtures",
+        "--",
+    ];
+    args.extend(rest.iter().map(String::as_str));
+    cargo(&args)
+}
+
+/// Retrains the shipped `svm` models (deterministic: seeded sampling, linfa-svm's SMO) and
+/// writes the held-out confusion matrices to `target/svm/training.md`.
+fn train_svm(rest: &[String]) -> Result<(), String> {
+    let mut args = vec![
+        "run",
+        "--release",
+        "--quiet",
+        "-p",
+        "boundary-svm-train",
+        "--bin",
+        "train-svm",
         "--",
     ];
     args.extend(rest.iter().map(String::as_str));

@@ -59,8 +59,9 @@ impl MethodConfig {
 }
 
 /// Parameter grids swept besides the defaults: depth 1..8 for the interval methods (the JCP
-/// paper's Fig. 7 / thesis Fig. 27), a gamma grid for the visibility method, and thresholds
-/// around the default 0.4 for the colour field of `muller` (how sensitive M is to it).
+/// paper's Fig. 7 / thesis Fig. 27), a gamma grid for the visibility method, thresholds
+/// around the default 0.4 for the colour field of `muller` (how sensitive M is to it), and the
+/// `svm` cascades `refine=exact|ge`.
 pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
     let mut out = Vec::new();
     for &m in methods {
@@ -84,6 +85,12 @@ pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
             "muller" => {
                 for threshold in ["0.1", "0.2", "0.3", "0.5", "0.6"] {
                     out.push(MethodConfig::with(m, "threshold", threshold));
+                }
+            }
+            // The cascades of thesis Sec. 3.4: the SVM's boundary particles re-tested.
+            "svm" => {
+                for refine in ["exact", "ge"] {
+                    out.push(MethodConfig::with(m, "refine", refine));
                 }
             }
             _ => {}

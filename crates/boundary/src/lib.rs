@@ -47,6 +47,8 @@ pub use boundary_ia::IaDetector;
 pub use boundary_marrone::MarroneDetector;
 #[cfg(feature = "muller")]
 pub use boundary_muller::MullerDetector;
+#[cfg(feature = "svm")]
+pub use boundary_svm::SvmDetector;
 
 use thiserror::Error;
 
@@ -120,6 +122,13 @@ const REGISTRY: &[Entry] = &[
         summary: "visibility: hidden point removal with exponential flipping from grid and \
                   cavity viewpoints (Sandim 2020, ch. 2, Alg. 1)",
         make: || Box::new(HprDetector::default()),
+    },
+    #[cfg(feature = "svm")]
+    Entry {
+        name: "svm",
+        summary: "RBF support vector machine on six SPH features, trained on exact labels; \
+                  refine=exact|ge re-tests its boundary particles (Sandim 2020, ch. 3)",
+        make: || Box::new(SvmDetector::default()),
     },
 ];
 

@@ -148,6 +148,8 @@ fn isolated_label(method: &str) -> Option<bool> {
         // boundary-muller: "An isolated particle has ∇c = 0: it is labelled interior, a known
         // failure of the colour field."
         "muller" => Some(false),
+        // boundary-svm: "a particle with at most D neighbours within 2r ... is boundary".
+        "svm" => Some(true),
         _ => None,
     }
 }

@@ -1,0 +1,342 @@
+//! Boundary particles by a support vector machine (Sandim 2020 thesis, ch. 3), method name
+//! `svm`.
+//!
+//! # Method
+//! Each particle gets six SPH features (thesis Sec. 3.2.1, made scale-free; see
+//! [`features`]): the Parzen density, the modulus of its gradient, the SPH divergence of the
+//! position field, the neighbour count within the influence radius `2r`, and the smallest and
+//! largest eigenvalue of the neighbourhood covariance. An RBF-kernel C-SVC (thesis Sec. 3.2.3)
+//! trained against the `exact` labels classifies them ([`SvmModel`]). One model per
+//! dimension ships inside the crate (`models/svm2d.json`, `models/svm3d.json`), made by
+//! `cargo xtask train-svm` with `linfa-svm` and evaluated here by our own RBF loop, parallel
+//! over particles.
+//!
+//! **Cascade** (thesis Sec. 3.4): with `refine=exact` or `refine=ge` the particles the SVM
+//! calls boundary are re-tested by that method (the others, as ghosts, only serve as
+//! neighbours); the particles it calls interior stay interior. The cascade's false positives
+//! are those of the refiner (none for `exact`), its misses those of the SVM, so its recall is
+//! the SVM's.
+//!
+//! # Parameters (`--set key=value`)
+//! | key | default | meaning |
+//! |---|---|---|
+//! | `refine` | `none` | `none`, `exact` or `ge` (at its default depth): re-test the SVM's boundary particles |
+//! | `model` | `default` | `default` (the shipped model of the set's dimension) or the path of a model file (JSON, see [`SvmModel`]) |
+//!
+//! `model=PATH` reads the file when the parameter is set, and fails with an error that names
+//! the file if it cannot be read or is not a valid model: the one place where a method crate
+//! touches the file system, because the model is the method's parameter.
+//!
+//! # Policy: ties, duplicates, degenerate input
+//! - A decision value of exactly 0 is boundary.
+//! - **Too few neighbours to be covered:** a particle with at most `D` neighbours within `2r`
+//!   (duplicates of it not counted) is boundary whatever the model says, with margin
+//!   `max(d, 0)`. This is the definition, not a heuristic: each ball of radius `r` centred
+//!   within `2r` covers less than a hemisphere of `S_i`, and `D` such caps leave a point
+//!   uncovered (a direction orthogonal to `D − 1` of the centres, signed away from the last).
+//!   The rule is needed because such particles (isolated ones, pairs, short chains) are rare
+//!   in training frames: the shipped 2D model alone calls an isolated particle interior.
+//! - Features of isolated particles, pairs and duplicates are defined (see [`features`]).
+//! - A loaded model of the wrong dimension is an error naming the model file.
+//! - Not certified: the SVM can miss boundary particles, and so can the cascade.
+//!
+//! # Example
+//! ```
+//! use boundary_core::{BoundaryDetector, ParticleSet, Radius};
+//! use boundary_svm::SvmDetector;
+//!
+//! // A 20 x 20 square lattice of spacing 1 at r = 1.5: the outer ring is boundary and the
+//! // centre is interior.
+//! let rows: Vec<[f64; 2]> = (0..400).map(|k| [(k % 20) as f64, (k / 20) as f64]).collect();
+//! let set = ParticleSet::from_rows(&rows).unwrap();
+//! let r = Radius::new(1.5).unwrap();
+//! let labels = SvmDetector::default().detect_2d(&set, r).unwrap().labels;
+//! assert!(labels.is_boundary(0) && labels.is_boundary(19));
+//! assert!(!labels.is_boundary(10 * 20 + 10));
+//!
+//! // The cascade with `exact` keeps only true boundary particles.
+//! let mut cascade = SvmDetector::default();
+//! cascade.set_param("refine", "exact").unwrap();
+//! let refined = cascade.detect_2d(&set, r).unwrap().labels;
+//! assert_eq!(refined.boundary_count(), 76);
+//! ```
+
+pub mod features;
+mod model;
+
+pub use features::{compute_features, feature_reach, Features, FEATURE_VERSION, N_FEATURES};
+
+use features::features_and_distinct_neighbours;
+pub use model::{ModelError, SvmModel, MODEL_FORMAT};
+
+use boundary_core::{
+    AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, ParamError, ParamInfo,
+    Params, ParticleSet, Radius,
+};
+use boundary_exact::ExactDetector;
+use boundary_ge::GeDetector;
+use rayon::prelude::*;
+use std::sync::{Arc, OnceLock};
+
+const METHOD: &str = "svm";
+const KEYS: [&str; 2] = ["refine", "model"];
+
+/// The shipped 2D model (JSON), made by `cargo xtask train-svm`.
+pub const MODEL_2D_JSON: &str = include_str!("../models/svm2d.json");
+/// The shipped 3D model (JSON), made by `cargo xtask train-svm`.
+pub const MODEL_3D_JSON: &str = include_str!("../models/svm3d.json");
+
+/// The shipped model of dimension `dim` (2 or 3), parsed once.
+pub fn shipped_model(dim: usize) -> Result<&'static SvmModel, ModelError> {
+    static M2: OnceLock<Result<SvmModel, ModelError>> = OnceLock::new();
+    static M3: OnceLock<Result<SvmModel, ModelError>> = OnceLock::new();
+    let cell = match dim {
+        2 => M2.get_or_init(|| SvmModel::from_json(MODEL_2D_JSON)),
+        3 => M3.get_or_init(|| SvmModel::from_json(MODEL_3D_JSON)),
+        _ => return Err(ModelError(format!("no shipped model for dimension {dim}"))),
+    };
+    cell.as_ref()
+        .map_err(|e| ModelError(format!("shipped {dim}D model: {e}")))
+}
+
+/// What re-tests the SVM's boundary particles (thesis Sec. 3.4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Refine {
+    /// The SVM's labels as they are.
+    #[default]
+    None,
+    /// `exact` re-tests them: no false positive remains.
+    Exact,
+    /// `ge` at its default depth re-tests them.
+    Ge,
+}
+
+impl Refine {
+    fn name(self) -> &'static str {
+        match self {
+            Refine::None => "none",
+            Refine::Exact => "exact",
+            Refine::Ge => "ge",
+        }
+    }
+}
+
+/// A model loaded with `model=PATH`, with the path it came from.
+#[derive(Debug, Clone, PartialEq)]
+struct LoadedModel {
+    path: String,
+    model: Arc<SvmModel>,
+}
+
+/// The SVM detector (`svm`). See the crate documentation.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SvmDetector {
+    /// The cascade's second stage.
+    pub refine: Refine,
+    loaded: Option<LoadedModel>,
+}
+
+impl SvmDetector {
+    /// The detector with a given model (instead of the shipped one) and no cascade; `label`
+    /// is what `params()` shows as the model's value.
+    pub fn with_model(model: SvmModel, label: &str) -> Result<Self, ModelError> {
+        model.validate()?;
+        Ok(SvmDetector {
+            refine: Refine::None,
+            loaded: Some(LoadedModel {
+                path: label.to_owned(),
+                model: Arc::new(model),
+            }),
+        })
+    }
+
+    /// The model used for `D`-dimensional sets.
+    fn model_for(&self, dim: usize) -> Result<&SvmModel, DetectError> {
+        let fail = |message: String| DetectError::Method {
+            method: METHOD,
+            message,
+        };
+        match &self.loaded {
+            Some(l) if l.model.dim == dim => Ok(&l.model),
+            Some(l) => Err(fail(format!(
+                "model '{}' is for {}D particle sets, this set is {dim}D",
+                l.path, l.model.dim
+            ))),
+            None => shipped_model(dim).map_err(|e| fail(e.0)),
+        }
+    }
+
+    /// The decision values of the first `count` particles: the SVM's, except that a particle
+    /// with at most `D` distinct neighbours within `2r` gets `max(d, 0)` (boundary).
+    fn decisions<const D: usize>(
+        &self,
+        set: &ParticleSet<D>,
+        count: usize,
+        r: Radius,
+    ) -> Result<Vec<f64>, DetectError> {
+        let model = self.model_for(D)?;
+        let features = features_and_distinct_neighbours(set, count, r)?;
+        Ok(features
+            .par_iter()
+            .map(|(f, distinct)| {
+                let d = model.decision(f);
+                if *distinct <= D {
+                    d.max(0.0)
+                } else {
+                    d
+                }
+            })
+            .collect())
+    }
+
+    fn detect_first<const D: usize>(
+        &self,
+        set: &ParticleSet<D>,
+        count: usize,
+        r: Radius,
+    ) -> Result<Detection, DetectError>
+    where
+        AnyParticleSet: From<ParticleSet<D>>,
+    {
+        let decisions = self.decisions(set, count, r)?;
+        let labels: Vec<bool> = decisions.iter().map(|&d| d >= 0.0).collect();
+        let refined = match self.refine {
+            Refine::None => {
+                return Ok(Detection {
+                    labels: Labels::new(labels),
+                    margin: Some(decisions),
+                })
+            }
+            Refine::Exact => refine_candidates(&ExactDetector, set, &labels, r)?,
+            Refine::Ge => refine_candidates(&GeDetector::default(), set, &labels, r)?,
+        };
+        // The refiner's margins and the SVM's decision values are in different units: the
+        // cascade reports labels only.
+        Ok(Detection {
+            labels: Labels::new(refined),
+            margin: None,
+        })
+    }
+}
+
+/// Re-tests the particles flagged in `candidates` (the first `candidates.len()` of `set`)
+/// with `refiner`: the candidates go first in a reordered copy of the set, every other
+/// particle follows as a ghost, and the refiner classifies the owned (candidate) part.
+fn refine_candidates<const D: usize>(
+    refiner: &dyn BoundaryDetector,
+    set: &ParticleSet<D>,
+    candidates: &[bool],
+    r: Radius,
+) -> Result<Vec<bool>, DetectError>
+where
+    AnyParticleSet: From<ParticleSet<D>>,
+{
+    let positions = set.positions();
+    let mut order: Vec<usize> = (0..candidates.len()).filter(|&i| candidates[i]).collect();
+    let owned = order.len();
+    if owned == 0 {
+        return Ok(candidates.to_vec());
+    }
+    order.extend((0..positions.len()).filter(|&i| i >= candidates.len() || !candidates[i]));
+    let reordered = ParticleSet::new(order.iter().map(|&i| positions[i]).collect())?;
+    let detection = refiner.detect_owned(&AnyParticleSet::from(reordered), owned, r)?;
+    let mut labels = vec![false; candidates.len()];
+    for (k, &i) in order[..owned].iter().enumerate() {
+        labels[i] = detection.labels.is_boundary(k);
+    }
+    Ok(labels)
+}
+
+impl BoundaryDetector for SvmDetector {
+    fn name(&self) -> &'static str {
+        METHOD
+    }
+
+    fn params(&self) -> Params {
+        Params(vec![
+            ParamInfo {
+                name: "refine",
+                value: self.refine.name().to_owned(),
+                default: Refine::None.name().to_owned(),
+                description: "none, exact or ge: re-test the particles the SVM calls boundary \
+                              (the cascade of thesis Sec. 3.4)",
+            },
+            ParamInfo {
+                name: "model",
+                value: self
+                    .loaded
+                    .as_ref()
+                    .map_or_else(|| "default".to_owned(), |l| l.path.clone()),
+                default: "default".to_owned(),
+                description: "default (the shipped model of the set's dimension, trained by \
+                              `cargo xtask train-svm`) or the path of a model file (JSON)",
+            },
+        ])
+    }
+
+    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        match key {
+            "refine" => {
+                self.refine = match value.trim() {
+                    "none" => Refine::None,
+                    "exact" => Refine::Exact,
+                    "ge" => Refine::Ge,
+                    _ => {
+                        return Err(ParamError::invalid(
+                            METHOD,
+                            key,
+                            value,
+                            "must be none, exact or ge",
+                        ))
+                    }
+                };
+            }
+            "model" => {
+                let path = value.trim();
+                if path == "default" {
+                    self.loaded = None;
+                    return Ok(());
+                }
+                let text = std::fs::read_to_string(path).map_err(|e| {
+                    ParamError::invalid(METHOD, key, value, format!("cannot read '{path}': {e}"))
+                })?;
+                let model = SvmModel::from_json(&text).map_err(|e| {
+                    ParamError::invalid(METHOD, key, value, format!("'{path}': {e}"))
+                })?;
+                self.loaded = Some(LoadedModel {
+                    path: path.to_owned(),
+                    model: Arc::new(model),
+                });
+            }
+            _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
+        }
+        Ok(())
+    }
+
+    fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
+        self.detect_first(set, set.len(), r)
+    }
+
+    fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
+        self.detect_first(set, set.len(), r)
+    }
+
+    /// Two kernel supports (`4r`): the features of a particle use its neighbours' volumes.
+    fn halo_width(&self, r: Radius) -> f64 {
+        feature_reach(r)
+    }
+
+    /// Classifies only the owned particles; the ghosts serve as neighbours and for volumes.
+    fn detect_owned(
+        &self,
+        set: &AnyParticleSet,
+        owned: usize,
+        r: Radius,
+    ) -> Result<Detection, DetectError> {
+        DetectError::check_owned(METHOD, owned, set.len())?;
+        match set {
+            AnyParticleSet::D2(s) => self.detect_first(s, owned, r),
+            AnyParticleSet::D3(s) => self.detect_first(s, owned, r),
+        }
+    }
+}

@@ -1,0 +1,228 @@
+//! The serialised SVM model and its RBF evaluation.
+//!
+//! A model is plain data: the standardisation of the features (`z = (f − mean) / scale`),
+//! the support vectors (standardised), their signed dual coefficients `α_k y_k`, the bias and
+//! the RBF width `γ`. The decision value of a feature vector is
+//!
+//! `d(f) = Σ_k coef_k · exp(−γ |z − s_k|²) + bias`,
+//!
+//! and the particle is boundary iff `d(f) >= 0` (a tie counts as boundary, the safe side of a
+//! filter whose misses cannot be recovered by the cascade). This is the decision function of
+//! a C-SVC with an RBF kernel in LIBSVM's convention; the shipped models are trained with
+//! `linfa-svm` (`cargo xtask train-svm`) and exported into this form, so inference needs no
+//! machine-learning crate.
+//!
+//! The file format is JSON (`serde_json`): small (a few hundred support vectors), diffable and
+//! read back exactly (`f64` values round-trip through their shortest decimal form).
+
+use crate::features::{Features, FEATURE_VERSION, N_FEATURES};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// The value of [`SvmModel::format`].
+pub const MODEL_FORMAT: &str = "boundary-svm model";
+
+/// A trained RBF SVM over the particle features. See the module documentation.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SvmModel {
+    /// Always [`MODEL_FORMAT`]: tells a model file from any other JSON.
+    pub format: String,
+    /// The [`FEATURE_VERSION`] the model was trained on.
+    pub feature_version: u32,
+    /// Dimension of the particle sets it classifies (2 or 3).
+    pub dim: usize,
+    /// RBF width `γ` in `exp(−γ |z − s|²)`, in standardised feature units.
+    pub gamma: f64,
+    /// The soft-margin constant `C` it was trained with (informative).
+    pub c: f64,
+    /// Added to the kernel sum (LIBSVM's `−ρ`).
+    pub bias: f64,
+    /// Feature means subtracted before scaling.
+    pub feature_mean: Features,
+    /// Feature standard deviations (positive) divided out.
+    pub feature_scale: Features,
+    /// Standardised support vectors.
+    pub support_vectors: Vec<Features>,
+    /// Signed dual coefficients `α_k y_k`, one per support vector (boundary = `+1`).
+    pub coefficients: Vec<f64>,
+    /// How the model was made (scenes, sample sizes, seed, validation scores).
+    pub provenance: String,
+}
+
+/// Why a model was refused.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ModelError(pub String);
+
+impl fmt::Display for ModelError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ModelError {}
+
+impl SvmModel {
+    /// Parses and validates a model from its JSON text.
+    pub fn from_json(text: &str) -> Result<Self, ModelError> {
+        let model: SvmModel =
+            serde_json::from_str(text).map_err(|e| ModelError(format!("not a model: {e}")))?;
+        model.validate()?;
+        Ok(model)
+    }
+
+    /// The JSON text of the model: compact, with one support vector per line so that a
+    /// retrained model diffs line by line.
+    pub fn to_json(&self) -> String {
+        // Serialising plain structs of numbers and strings cannot fail. The rows are spliced
+        // in where the empty list stands: `"support_vectors":[]` cannot occur inside a JSON
+        // string, whose quotes are escaped.
+        let mut head = self.clone();
+        head.support_vectors = vec![];
+        let head = serde_json::to_string(&head).unwrap_or_default();
+        let rows: Vec<String> = self
+            .support_vectors
+            .iter()
+            .map(|row| serde_json::to_string(row).unwrap_or_default())
+            .collect();
+        head.replacen(
+            "\"support_vectors\":[]",
+            &format!("\"support_vectors\":[\n{}\n]", rows.join(",\n")),
+            1,
+        )
+    }
+
+    /// Checks the invariants the evaluation relies on.
+    pub fn validate(&self) -> Result<(), ModelError> {
+        let fail = |m: String| Err(ModelError(m));
+        if self.format != MODEL_FORMAT {
+            return fail(format!(
+                "format is '{}', expected '{MODEL_FORMAT}'",
+                self.format
+            ));
+        }
+        if self.feature_version != FEATURE_VERSION {
+            return fail(format!(
+                "trained on feature version {}, this build computes version {FEATURE_VERSION}",
+                self.feature_version
+            ));
+        }
+        if self.dim != 2 && self.dim != 3 {
+            return fail(format!("dimension {} (expected 2 or 3)", self.dim));
+        }
+        if !(self.gamma.is_finite() && self.gamma > 0.0) {
+            return fail(format!("gamma {} is not positive and finite", self.gamma));
+        }
+        if !self.bias.is_finite() {
+            return fail("bias is not finite".into());
+        }
+        if self.feature_mean.iter().any(|m| !m.is_finite())
+            || self
+                .feature_scale
+                .iter()
+                .any(|s| !(s.is_finite() && *s > 0.0))
+        {
+            return fail("feature means must be finite and scales positive and finite".into());
+        }
+        if self.support_vectors.len() != self.coefficients.len() {
+            return fail(format!(
+                "{} support vectors but {} coefficients",
+                self.support_vectors.len(),
+                self.coefficients.len()
+            ));
+        }
+        if let Some(k) = self
+            .support_vectors
+            .iter()
+            .zip(&self.coefficients)
+            .position(|(s, c)| !c.is_finite() || s.iter().any(|x| !x.is_finite()))
+        {
+            return fail(format!("support vector {k} is not finite"));
+        }
+        Ok(())
+    }
+
+    /// `(f − mean) / scale`.
+    pub fn standardise(&self, f: &Features) -> Features {
+        std::array::from_fn(|k| (f[k] - self.feature_mean[k]) / self.feature_scale[k])
+    }
+
+    /// The decision value `d(f)`; boundary iff `>= 0`. The sum runs over the support vectors
+    /// in stored order, so the value does not depend on threads.
+    pub fn decision(&self, f: &Features) -> f64 {
+        let z = self.standardise(f);
+        let mut sum = self.bias;
+        for (s, c) in self.support_vectors.iter().zip(&self.coefficients) {
+            let mut d2 = 0.0;
+            for k in 0..N_FEATURES {
+                let t = z[k] - s[k];
+                d2 += t * t;
+            }
+            sum += c * (-self.gamma * d2).exp();
+        }
+        sum
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+mod tests {
+    use super::*;
+
+    fn tiny() -> SvmModel {
+        SvmModel {
+            format: MODEL_FORMAT.into(),
+            feature_version: FEATURE_VERSION,
+            dim: 2,
+            gamma: 0.5,
+            c: 1.0,
+            bias: -0.25,
+            feature_mean: [1.0; 6],
+            feature_scale: [2.0; 6],
+            support_vectors: vec![[0.0; 6], [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]],
+            coefficients: vec![1.0, -0.5],
+            provenance: "unit test".into(),
+        }
+    }
+
+    #[test]
+    fn decision_matches_the_formula() {
+        let m = tiny();
+        // f = mean gives z = 0: d = 1·e^0 − 0.5·e^{−0.5} − 0.25.
+        let d = m.decision(&[1.0; 6]);
+        assert!((d - (0.75 - 0.5 * (-0.5f64).exp())).abs() < 1e-15);
+    }
+
+    #[test]
+    fn json_round_trip_is_exact() {
+        let mut m = tiny();
+        m.support_vectors[1][3] = 0.1 + 0.2;
+        m.bias = -1.0 / 3.0;
+        let text = m.to_json();
+        assert_eq!(text.lines().count(), 4, "{text}");
+        assert_eq!(SvmModel::from_json(&text).unwrap(), m);
+        // The splice point cannot be faked from inside a string.
+        m.provenance = "a \"support_vectors\":[] b ],[ c".into();
+        assert_eq!(SvmModel::from_json(&m.to_json()).unwrap(), m);
+    }
+
+    #[test]
+    fn invalid_models_are_refused_with_a_reason() {
+        let mut m = tiny();
+        m.coefficients.pop();
+        assert!(m
+            .validate()
+            .unwrap_err()
+            .0
+            .contains("2 support vectors but 1"));
+        let mut m = tiny();
+        m.feature_scale[3] = 0.0;
+        assert!(m.validate().is_err());
+        let mut m = tiny();
+        m.feature_version += 1;
+        assert!(m.validate().unwrap_err().0.contains("feature version"));
+        let mut m = tiny();
+        m.support_vectors[1][2] = f64::NAN;
+        assert!(m.validate().unwrap_err().0.contains("support vector 1"));
+        assert!(SvmModel::from_json("{\"a\": 1}").is_err());
+    }
+}
