@@ -231,6 +231,7 @@ pub(crate) fn read<R: BufRead>(mut reader: R, name: &str) -> Result<Positions, I
                     coords,
                     stride: 3,
                     padded_2d,
+                    ..Default::default()
                 });
             }
             b"FIELD" => skip_field(&mut c, name, line, words.nth(1), binary)?,

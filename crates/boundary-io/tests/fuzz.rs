@@ -4,11 +4,26 @@
 
 mod common;
 
-use boundary_io::{write_particles_to, Column, Format};
+use boundary_io::{read_particle_file_from, write_particles_to, Column, Format, ReadOptions};
 use common::{read_bytes, set2, set3};
 use proptest::prelude::*;
 
-const FORMATS: [Format; 4] = [Format::Csv, Format::Xyz, Format::Ply, Format::Vtk];
+const FORMATS: [Format; 6] = [
+    Format::Csv,
+    Format::Xyz,
+    Format::Ply,
+    Format::Vtk,
+    Format::Vtu,
+    Format::Vtp,
+];
+
+/// Files written by VTK itself (see `data/make_vtk_xml.py`): every data mode and compression.
+const VTK_XML: [(Format, &[u8]); 4] = [
+    (Format::Vtu, include_bytes!("data/grid_appended_zlib.vtu")),
+    (Format::Vtu, include_bytes!("data/grid_binary_zlib_be.vtu")),
+    (Format::Vtp, include_bytes!("data/poly_appended_base64.vtp")),
+    (Format::Vtp, include_bytes!("data/poly_ascii.vtp")),
+];
 
 /// Reads with every dimension option; checks that errors are one line naming the source.
 fn read_all_ways(bytes: &[u8], format: Format) {
@@ -25,6 +40,12 @@ fn read_all_ways(bytes: &[u8], format: Format) {
                 assert!(!message.contains('\n'), "{message}");
             }
         }
+    }
+    // With the attributes: the same positions, or an error.
+    let options = ReadOptions::default();
+    if let Ok(file) = read_particle_file_from(bytes, "fuzz.in", format, &options) {
+        let n = file.set.len();
+        assert!(file.attributes.iter().all(|a| a.column().len() == n));
     }
 }
 
@@ -48,6 +69,9 @@ fn samples() -> Vec<(Format, Vec<u8>)> {
     vtk.extend_from_slice(b"\nPOINTS 2 float\n");
     vtk.extend((0..24u8).map(|k| k.wrapping_mul(41)));
     out.push((Format::Vtk, vtk));
+    for (format, bytes) in VTK_XML {
+        out.push((format, bytes.to_vec()));
+    }
     out.push((Format::Xyz, b"3\nc\nH 0 0 0\nO 1 1 1\nN 2 2 2\n".to_vec()));
     out.push((
         Format::Csv,

@@ -31,7 +31,7 @@ fn sets() -> [(usize, AnyParticleSet); 2] {
 #[test]
 fn every_format_round_trips_positions_exactly_through_files() {
     let dir = tempfile::tempdir().unwrap();
-    for ext in ["csv", "xyz", "txt", "ply", "vtk"] {
+    for ext in ["csv", "xyz", "txt", "ply", "vtk", "vtu", "vtp"] {
         for (d, set) in sets() {
             let path = dir.path().join(format!("p{d}.{ext}"));
             write_particles(&path, None, &set, &columns()).unwrap();
