@@ -1034,3 +1034,21 @@ fn list_methods(args: MethodsArgs) -> Result<(), String> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::natural_cmp;
+    use std::cmp::Ordering::{Equal, Greater, Less};
+
+    #[test]
+    fn natural_order_compares_digit_runs_by_value() {
+        assert_eq!(natural_cmp("fluid_2.vtk", "fluid_10.vtk"), Less);
+        assert_eq!(natural_cmp("fluid_10.vtk", "fluid_9.vtk"), Greater);
+        assert_eq!(natural_cmp("f_007", "f_7"), Greater);
+        assert_eq!(natural_cmp("f_7", "f_7"), Equal);
+        assert_eq!(natural_cmp("a1b2", "a1b10"), Less);
+        assert_eq!(natural_cmp("run2/f_1", "run10/f_0"), Less);
+        assert_eq!(natural_cmp("f", "f_1"), Less);
+        assert_eq!(natural_cmp("b", "a99"), Greater);
+    }
+}
