@@ -57,7 +57,8 @@
 //! ([`ParticleFile::columns`]) and the output opens in ParaView beside the simulation fields.
 //! Formats that keep them: CSV (every other column of a header whose values are all numbers;
 //! integers stay integers) and VTK XML (every numeric `PointData` array; a vector of `k`
-//! components becomes `name:0` … `name:k-1`, ParaView's names for components). XYZ, PLY and
+//! components becomes `name:0` … `name:k-1`, ParaView's names for components), PLY (every other
+//! scalar vertex property; integer types stay integers; list properties are skipped). XYZ and
 //! legacy VTK keep none yet. Names are made valid column names (a character a column name may
 //! not hold becomes `_`); an attribute is skipped, with the reason in
 //! [`ParticleFile::skipped`], when a value is not a number, when its name would read back as a
@@ -422,7 +423,7 @@ fn read_any(
     let mut positions = match format {
         Format::Csv => csv::read(reader, name, options.dim, attributes)?,
         Format::Xyz => xyz::read(reader, name)?,
-        Format::Ply => ply::read(reader, name)?,
+        Format::Ply => ply::read(reader, name, attributes)?,
         Format::Vtk => vtk::read(reader, name)?,
         Format::Vtu => vtk_xml::read(reader, name, vtk_xml::Kind::UnstructuredGrid, attributes)?,
         Format::Vtp => vtk_xml::read(reader, name, vtk_xml::Kind::PolyData, attributes)?,
