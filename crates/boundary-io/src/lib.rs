@@ -44,7 +44,8 @@
 //! **VTK legacy** (hand-written; see the `vtk` module for why not `vtkio`): the `POINTS` of a
 //! POLYDATA, UNSTRUCTURED_GRID or STRUCTURED_GRID dataset, `float` or `double`, ascii or binary
 //! (big endian, as the format prescribes; splashsurf and SPlisHSPlasH write these). A `FIELD`
-//! block before `POINTS` is skipped. Everything after `POINTS` is ignored.
+//! block before `POINTS` is skipped. Everything after `POINTS` is ignored by [`read_particles`];
+//! [`read_particle_file`] also reads the `POINT_DATA` arrays (see "Attributes").
 //!
 //! **VTK XML** (hand-written on `quick-xml`; see the `vtk_xml` module for why not `vtkio`):
 //! UnstructuredGrid (`.vtu`) and PolyData (`.vtp`) as VTK, ParaView and SPHinXsys write them.
@@ -58,8 +59,11 @@
 //! Formats that keep them: CSV (every other column of a header whose values are all numbers;
 //! integers stay integers) and VTK XML (every numeric `PointData` array; a vector of `k`
 //! components becomes `name:0` … `name:k-1`, ParaView's names for components), PLY (every other
-//! scalar vertex property; integer types stay integers; list properties are skipped). XYZ and
-//! legacy VTK keep none yet. Names are made valid column names (a character a column name may
+//! scalar vertex property; integer types stay integers; list properties are skipped) and legacy
+//! VTK (the `POINT_DATA` arrays: `SCALARS`, `VECTORS`, `NORMALS`, `TENSORS`,
+//! `TEXTURE_COORDINATES`, `COLOR_SCALARS`, `FIELD`, after cell sections of either the classic
+//! or the 5.1 `OFFSETS`/`CONNECTIVITY` layout; a damaged section after `POINTS` loses the
+//! attributes, reported in `skipped`, not the positions). XYZ keeps none yet. Names are made valid column names (a character a column name may
 //! not hold becomes `_`); an attribute is skipped, with the reason in
 //! [`ParticleFile::skipped`], when a value is not a number, when its name would read back as a
 //! position (`px` beside `x`), or when it repeats a name. [`read_particles`] parses none of it.
@@ -424,7 +428,7 @@ fn read_any(
         Format::Csv => csv::read(reader, name, options.dim, attributes)?,
         Format::Xyz => xyz::read(reader, name)?,
         Format::Ply => ply::read(reader, name, attributes)?,
-        Format::Vtk => vtk::read(reader, name)?,
+        Format::Vtk => vtk::read(reader, name, attributes)?,
         Format::Vtu => vtk_xml::read(reader, name, vtk_xml::Kind::UnstructuredGrid, attributes)?,
         Format::Vtp => vtk_xml::read(reader, name, vtk_xml::Kind::PolyData, attributes)?,
     };

@@ -17,8 +17,11 @@ const FORMATS: [Format; 6] = [
     Format::Vtp,
 ];
 
-/// Files written by VTK itself (see `data/make_vtk_xml.py`): every data mode and compression.
-const VTK_XML: [(Format, &[u8]); 4] = [
+/// Files written by VTK itself (see `data/make_vtk_xml.py`): every XML data mode and
+/// compression, and legacy 5.1 files with point data.
+const VTK_XML: [(Format, &[u8]); 6] = [
+    (Format::Vtk, include_bytes!("data/poly_legacy_ascii.vtk")),
+    (Format::Vtk, include_bytes!("data/grid_legacy_binary.vtk")),
     (Format::Vtu, include_bytes!("data/grid_appended_zlib.vtu")),
     (Format::Vtu, include_bytes!("data/grid_binary_zlib_be.vtu")),
     (Format::Vtp, include_bytes!("data/poly_appended_base64.vtp")),

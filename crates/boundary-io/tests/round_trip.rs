@@ -324,7 +324,7 @@ fn attributes_round_trip_through_every_format_that_keeps_them() {
         ("Density", Column::Float(&density)),
         ("red", Column::Byte(&red)),
     ];
-    for ext in ["csv", "ply", "vtu", "vtp"] {
+    for ext in ["csv", "ply", "vtk", "vtu", "vtp"] {
         for (d, set) in sets() {
             let path = dir.path().join(format!("a{d}.{ext}"));
             write_particles(&path, None, &set, &columns).unwrap();

@@ -1,4 +1,4 @@
-//! VTK XML (`.vtu`, `.vtp`): files written by VTK 9.5 itself (`data/make_vtk_xml.py`, every
+//! VTK XML (`.vtu`, `.vtp`) and legacy VTK point data: files written by VTK 9.5 itself (`data/make_vtk_xml.py`, every
 //! data mode: ascii, inline base64, appended raw and base64, zlib, big endian, `UInt32` and
 //! `UInt64` headers) read to the known positions and point data; our writer round-trips
 //! positions bit for bit and every attribute; damaged files give errors naming the file and
@@ -21,7 +21,11 @@ fn data(file: &str) -> PathBuf {
         .join(file)
 }
 
-const VTK_FILES: [&str; 9] = [
+/// Written by VTK 9.5 (`data/make_vtk_xml.py`), legacy ones included (version 5.1: OFFSETS
+/// and CONNECTIVITY sections, point data as FIELD arrays).
+const VTK_FILES: [&str; 11] = [
+    "poly_legacy_ascii.vtk",
+    "grid_legacy_binary.vtk",
     "grid_ascii.vtu",
     "grid_binary.vtu",
     "grid_appended_raw.vtu",

@@ -104,3 +104,15 @@ write(vtk.vtkXMLPolyDataWriter(), polydata(True), "poly_binary_zlib.vtp", "binar
 write(vtk.vtkXMLPolyDataWriter(), polydata(False), "poly_appended_base64.vtp", "appended", encode=True, header64=False)
 write(vtk.vtkXMLPolyDataWriter(), polydata(True), "poly_appended_raw_be.vtp", "appended", big=True)
 print(vtk.vtkVersion.GetVTKVersion())
+
+# Legacy VTK (.vtk) from the same data, as VTK 9 writes it (version 5.1: OFFSETS and
+# CONNECTIVITY, METADATA blocks); read by the legacy reader's POINT_DATA walk.
+for mode, name in [("ascii", "poly_legacy_ascii.vtk"), ("binary", "grid_legacy_binary.vtk")]:
+    w = vtk.vtkPolyDataWriter() if mode == "ascii" else vtk.vtkUnstructuredGridWriter()
+    w.SetInputData(polydata(False) if mode == "ascii" else grid(True))
+    w.SetFileName(name)
+    if mode == "ascii":
+        w.SetFileTypeToASCII()
+    else:
+        w.SetFileTypeToBinary()
+    assert w.Write() == 1
