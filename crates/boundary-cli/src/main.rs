@@ -54,7 +54,8 @@ enum Command {
 
 #[derive(Debug, Args)]
 struct InputArgs {
-    /// Particle file: .csv (header x,y[,z]), .xyz/.txt, .ply, .vtk (legacy), .vtu, .vtp.
+    /// Particle file: .csv (header x,y[,z]), .xyz/.txt, .ply, .vtk (legacy), .vtu, .vtp,
+    /// .bgeo[.gz].
     /// `detect` also takes a glob pattern of frames ('frames/fluid_*.vtu', quoted).
     input: PathBuf,
     /// Particle resolution r (positive, in the file's length unit), or `auto`: the median
@@ -322,7 +323,7 @@ fn radius(value: f64) -> Result<Radius, String> {
 fn output_format(path: &Path) -> Result<Format, String> {
     Format::from_path(path).ok_or_else(|| {
         format!(
-            "{}: unknown output format (use .csv, .xyz, .ply, .vtk, .vtu or .vtp)",
+            "{}: unknown output format (use .csv, .xyz, .ply, .vtk, .vtu, .vtp, .bgeo or .bgeo.gz)",
             path.display()
         )
     })
@@ -601,7 +602,14 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
                 .output_format
                 .or(args.input.format)
                 .or_else(|| Format::from_path(path));
+            // `fluid_1.bgeo.gz` is named `fluid_1`, like `fluid_1.vtk`.
             let stem = path.file_stem().unwrap_or_default().to_string_lossy();
+            let stem = match Format::from_path(path) {
+                Some(Format::Bgeo) => Path::new(stem.as_ref())
+                    .file_stem()
+                    .map_or(stem.to_string(), |s| s.to_string_lossy().into_owned()),
+                _ => stem.to_string(),
+            };
             outputs.push(match format {
                 None => Err(format!(
                     "{}: unknown format (name it with --format / --output-format)",

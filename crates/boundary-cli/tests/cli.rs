@@ -304,7 +304,7 @@ fn resample_rejects_bad_parameters_and_outputs_in_one_line() {
     let out = dir.path().join("o.csv");
     let out = out.to_str().unwrap();
     assert_one_line_error(
-        &["resample", input, "-r", "1.2", "-o", "o.bgeo"],
+        &["resample", input, "-r", "1.2", "-o", "o.pdb"],
         "unknown output format",
     );
     assert_one_line_error(

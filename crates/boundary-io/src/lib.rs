@@ -124,6 +124,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod bgeo;
 mod csv;
 mod error;
 mod ply;
@@ -159,13 +160,19 @@ pub enum Format {
     Vtu,
     /// VTK XML PolyData (`.vtp`).
     Vtp,
+    /// Houdini classic BGEO version 5 (`.bgeo`, gzip-compressed `.bgeo.gz`), as partio writes.
+    Bgeo,
 }
 
 impl Format {
     /// The format named by the extension of `path`, case-insensitive: `csv`; `xyz`, `txt`,
-    /// `dat`; `ply`; `vtk`; `vtu`; `vtp`.
+    /// `dat`; `ply`; `vtk`; `vtu`; `vtp`; `bgeo`, and `gz` after `.bgeo`.
     pub fn from_path(path: &Path) -> Option<Format> {
         let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        if ext == "gz" {
+            let inner = Path::new(path.file_stem()?).extension()?.to_str()?;
+            return inner.eq_ignore_ascii_case("bgeo").then_some(Format::Bgeo);
+        }
         match ext.as_str() {
             "csv" => Some(Format::Csv),
             "xyz" | "txt" | "dat" => Some(Format::Xyz),
@@ -173,6 +180,7 @@ impl Format {
             "vtk" => Some(Format::Vtk),
             "vtu" => Some(Format::Vtu),
             "vtp" => Some(Format::Vtp),
+            "bgeo" => Some(Format::Bgeo),
             _ => None,
         }
     }
@@ -187,6 +195,7 @@ impl Format {
             Format::Vtk => "vtk",
             Format::Vtu => "vtu",
             Format::Vtp => "vtp",
+            Format::Bgeo => "bgeo",
         }
     }
 }
@@ -210,8 +219,9 @@ impl FromStr for Format {
             "vtk" => Ok(Format::Vtk),
             "vtu" => Ok(Format::Vtu),
             "vtp" => Ok(Format::Vtp),
+            "bgeo" => Ok(Format::Bgeo),
             _ => Err(format!(
-                "unknown format {s:?} (expected csv, xyz, ply, vtk, vtu or vtp)"
+                "unknown format {s:?} (expected csv, xyz, ply, vtk, vtu, vtp or bgeo)"
             )),
         }
     }
@@ -431,6 +441,7 @@ fn read_any(
         Format::Vtk => vtk::read(reader, name, attributes)?,
         Format::Vtu => vtk_xml::read(reader, name, vtk_xml::Kind::UnstructuredGrid, attributes)?,
         Format::Vtp => vtk_xml::read(reader, name, vtk_xml::Kind::PolyData, attributes)?,
+        Format::Bgeo => bgeo::read(reader, name, attributes)?,
     };
     let n = positions.coords.len() / positions.stride.max(1);
     let attributes = std::mem::take(&mut positions.attributes);
@@ -557,6 +568,17 @@ pub fn write_particles(
     };
     check_columns(&name, format, set, columns)?;
     let file = std::fs::File::create(path).map_err(|e| IoError::write(&name, e))?;
+    let gzip = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+    if gzip {
+        // `.bgeo.gz` (and any other name ending in .gz): gzip-compressed.
+        let mut out =
+            flate2::write::GzEncoder::new(BufWriter::new(file), flate2::Compression::default());
+        write_body(&mut out, format, set, columns).map_err(|e| IoError::write(&name, e))?;
+        let mut inner = out.finish().map_err(|e| IoError::write(&name, e))?;
+        return inner.flush().map_err(|e| IoError::write(&name, e));
+    }
     let mut out = BufWriter::new(file);
     write_body(&mut out, format, set, columns).map_err(|e| IoError::write(&name, e))?;
     out.flush().map_err(|e| IoError::write(&name, e))
@@ -587,6 +609,21 @@ fn check_columns(
         name: column.to_owned(),
         message,
     };
+    if format == Format::Bgeo {
+        // BGEO stores 32-bit floats: a coordinate beyond their range would become infinite.
+        if let Some((i, axis)) = (0..set.len())
+            .flat_map(|i| (0..set.dim()).map(move |a| (i, a)))
+            .find(|&(i, a)| set.coords(i)[a].abs() > f64::from(f32::MAX))
+        {
+            return Err(column_error(
+                out::AXES[axis],
+                format!(
+                    "coordinate {} of particle {i} does not fit BGEO's 32-bit float",
+                    set.coords(i)[axis]
+                ),
+            ));
+        }
+    }
     for (k, (column, values)) in columns.iter().enumerate() {
         if values.len() != set.len() {
             return Err(column_error(
@@ -618,6 +655,11 @@ fn check_columns(
         {
             return Err(column_error(column, "duplicate column name".into()));
         }
+        if format == Format::Bgeo {
+            if let Err((column, message)) = bgeo::check(&columns[k..=k]) {
+                return Err(column_error(&column, message));
+            }
+        }
         if let (Format::Ply | Format::Vtk, Column::Float(values)) = (format, values) {
             if let Some((i, v)) = values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
                 return Err(column_error(
@@ -647,6 +689,7 @@ fn write_body(
         Format::Vtk => vtk::write(out, set, columns),
         Format::Vtu => vtk_xml::write(out, set, columns, vtk_xml::Kind::UnstructuredGrid),
         Format::Vtp => vtk_xml::write(out, set, columns, vtk_xml::Kind::PolyData),
+        Format::Bgeo => bgeo::write(out, set, columns),
     }
 }
 
@@ -726,6 +769,7 @@ mod tests {
             Format::Vtk,
             Format::Vtu,
             Format::Vtp,
+            Format::Bgeo,
         ] {
             assert_eq!(f.name().parse::<Format>(), Ok(f));
             assert_eq!(f.to_string(), f.name());
@@ -736,9 +780,15 @@ mod tests {
         assert_eq!(Format::from_path(Path::new("b.vtk")), Some(Format::Vtk));
         assert_eq!(Format::from_path(Path::new("b.vtu")), Some(Format::Vtu));
         assert_eq!(Format::from_path(Path::new("b.VTP")), Some(Format::Vtp));
-        assert_eq!(Format::from_path(Path::new("b.bgeo")), None);
+        assert_eq!(Format::from_path(Path::new("b.bgeo")), Some(Format::Bgeo));
+        assert_eq!(
+            Format::from_path(Path::new("a/b.bgeo.GZ")),
+            Some(Format::Bgeo)
+        );
+        assert_eq!(Format::from_path(Path::new("b.csv.gz")), None);
+        assert_eq!(Format::from_path(Path::new("b.bgeo.sc")), None);
         assert_eq!(Format::from_path(Path::new("noext")), None);
-        assert!("bgeo".parse::<Format>().unwrap_err().contains("bgeo"));
+        assert!("pdb".parse::<Format>().unwrap_err().contains("pdb"));
     }
 
     #[test]

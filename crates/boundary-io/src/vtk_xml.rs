@@ -883,6 +883,17 @@ fn groups<'c, 'a>(columns: &'c [(&str, Column<'a>)]) -> Vec<Group<'c, 'a>> {
     out
 }
 
+/// Consecutive columns `base:0`, `base:1`, … of one kind as `(base, members)`; any other
+/// column alone under its name. Shared with the BGEO writer (its vector attributes).
+pub(crate) fn group_columns<'c, 'a>(
+    columns: &'c [(&str, Column<'a>)],
+) -> Vec<(String, Vec<&'c Column<'a>>)> {
+    groups(columns)
+        .into_iter()
+        .map(|g| (g.name, g.columns))
+        .collect()
+}
+
 /// Writes one inline base64 `DataArray` with a `UInt64` byte-count header.
 fn write_array(
     out: &mut dyn Write,
