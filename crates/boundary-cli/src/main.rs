@@ -462,7 +462,8 @@ fn detect(args: DetectArgs) -> Result<(), String> {
     let detector = detector_with_params(&args.method.method, &args.method.params)
         .map_err(|e| e.to_string())?;
     let pattern = args.input.input.to_string_lossy().into_owned();
-    if args.output_dir.is_some() || is_pattern(&pattern) {
+    // A single file with --output-dir or --summary is a sequence of one frame.
+    if args.output_dir.is_some() || args.summary.is_some() || is_pattern(&pattern) {
         return detect_frames(&args, detector.as_ref());
     }
     if (args.margin || args.normals) && args.output.is_none() {

@@ -612,3 +612,22 @@ fn radius_auto_on_shared_data_is_the_listed_spacing() {
         "{v}"
     );
 }
+
+#[test]
+fn summary_of_a_single_file_is_a_sequence_of_one_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = lattice_csv(dir.path());
+    let summary = dir.path().join("one.csv");
+    let out = boundary(&[
+        "detect",
+        input.to_str().unwrap(),
+        "-r",
+        "1.2",
+        "--summary",
+        summary.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&summary).unwrap();
+    let row: Vec<&str> = text.lines().nth(1).unwrap().split(',').collect();
+    assert_eq!(&row[3..7], &["343", "3", "1.2", "218"], "{text}");
+}
