@@ -304,7 +304,7 @@ fn resample_rejects_bad_parameters_and_outputs_in_one_line() {
     let out = dir.path().join("o.csv");
     let out = out.to_str().unwrap();
     assert_one_line_error(
-        &["resample", input, "-r", "1.2", "-o", "o.vtu"],
+        &["resample", input, "-r", "1.2", "-o", "o.pdb"],
         "unknown output format",
     );
     assert_one_line_error(
@@ -411,4 +411,223 @@ fn enormous_declared_counts_fail_without_allocating() {
     assert_one_line_error(&["detect", &vtk, "-r", "1"], "huge.vtk");
     let xyz = write_input(dir.path(), "huge.xyz", b"1000000000000\ncomment\n0 0 0\n");
     assert_one_line_error(&["detect", &xyz, "-r", "1"], "huge.xyz");
+}
+
+/// The 7 x 7 x 7 lattice with extra columns `vx` (the index) and `kind` (text), as a frame.
+fn lattice_with_fields(path: &Path, shift: f64) {
+    let mut text = String::from("x,y,z,vx,kind\n");
+    for k in 0..343 {
+        text += &format!(
+            "{},{},{},{k},fluid\n",
+            f64::from(k % 7) + shift,
+            (k / 7) % 7,
+            k / 49
+        );
+    }
+    std::fs::write(path, text).unwrap();
+}
+
+#[test]
+fn detect_writes_back_the_input_attributes_next_to_boundary() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("f.csv");
+    lattice_with_fields(&input, 0.0);
+    let output = dir.path().join("f.vtu");
+    let out = boundary(&[
+        "detect",
+        input.to_str().unwrap(),
+        "-r",
+        "1.2",
+        "-o",
+        output.to_str().unwrap(),
+        "--normals",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    // The text column is reported, not written.
+    assert!(stderr(&out).contains("\"kind\""), "{}", stderr(&out));
+    let back = boundary_io::read_particle_file(&output, &Default::default()).unwrap();
+    let names: Vec<&str> = back.attributes.iter().map(|a| a.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["boundary", "normal:0", "normal:1", "normal:2", "vx"]
+    );
+    assert_eq!(
+        back.attributes[4].values,
+        boundary_io::AttributeValues::Int((0..343).collect())
+    );
+    let boundary_io::AttributeValues::Int(flags) = &back.attributes[0].values else {
+        panic!("boundary is not an integer column");
+    };
+    assert_eq!(flags.iter().sum::<i64>(), 218);
+    // Normals: unit on the boundary, pointing out of the lattice; zero inside.
+    let component = |k: usize| match &back.attributes[1 + k].values {
+        boundary_io::AttributeValues::Float(v) => v.clone(),
+        other => panic!("{other:?}"),
+    };
+    let (nx, ny, nz) = (component(0), component(1), component(2));
+    for i in 0..343 {
+        let norm = (nx[i] * nx[i] + ny[i] * ny[i] + nz[i] * nz[i]).sqrt();
+        if flags[i] == 1 {
+            assert!((norm - 1.0).abs() < 1e-12, "particle {i}: {norm}");
+        } else {
+            assert_eq!(norm, 0.0, "particle {i}");
+        }
+    }
+    // The middle of the x = 0 face (particle 3·7 + 3·49 = 168) points to −x.
+    assert!(
+        (nx[168] + 1.0).abs() < 1e-9 && ny[168].abs() < 1e-9,
+        "{}",
+        nx[168]
+    );
+}
+
+#[test]
+fn frames_are_processed_in_natural_order_and_a_bad_frame_is_skipped() {
+    let dir = tempfile::tempdir().unwrap();
+    let frames = dir.path().join("frames");
+    std::fs::create_dir(&frames).unwrap();
+    for k in [1, 2, 10] {
+        lattice_with_fields(&frames.join(format!("fluid_{k}.csv")), f64::from(k));
+    }
+    std::fs::write(frames.join("fluid_3.csv"), "x,y,z\n1,2\n").unwrap();
+    let out_dir = dir.path().join("out");
+    let summary = dir.path().join("counts.csv");
+    let pattern = frames.join("fluid_*.csv");
+    let out = boundary(&[
+        "detect",
+        pattern.to_str().unwrap(),
+        "--radius",
+        "1.2",
+        "--output-dir",
+        out_dir.to_str().unwrap(),
+        "--output-format",
+        "vtp",
+        "--summary",
+        summary.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(err.contains("fluid_3.csv"), "{err}");
+    assert!(err.contains("1 of 4 frames failed"), "{err}");
+    let mut written: Vec<String> = std::fs::read_dir(&out_dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    written.sort();
+    assert_eq!(written, ["fluid_1.vtp", "fluid_10.vtp", "fluid_2.vtp"]);
+    let text = std::fs::read_to_string(&summary).unwrap();
+    let rows: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+    assert_eq!(
+        rows[0],
+        ["frame", "input", "output", "n", "dim", "radius", "boundary", "seconds", "error"]
+    );
+    // Natural order: 1, 2, 3, 10.
+    let inputs: Vec<&str> = rows[1..].iter().map(|r| r[1]).collect();
+    assert!(inputs[0].ends_with("fluid_1.csv") && inputs[3].ends_with("fluid_10.csv"));
+    assert!(inputs[2].ends_with("fluid_3.csv"), "{inputs:?}");
+    for row in [&rows[1], &rows[2], &rows[4]] {
+        assert_eq!(&row[3..7], &["343", "3", "1.2", "218"], "{row:?}");
+        assert!(row[8].is_empty());
+    }
+    // The error is one quoted field naming the file and the line.
+    let bad = text.lines().nth(3).unwrap();
+    assert!(bad.contains(",\"too few columns: 2, need 3 in "), "{bad}");
+    assert!(bad.ends_with("fluid_3.csv line 2\""), "{bad}");
+    // Attributes survive into every frame's output.
+    let back = boundary_io::read_particle_file(&out_dir.join("fluid_10.vtp"), &Default::default())
+        .unwrap();
+    assert_eq!(back.set.coords(0), &[10.0, 0.0, 0.0]);
+    assert_eq!(back.attributes[1].name, "vx");
+}
+
+#[test]
+fn all_frames_failing_is_an_error_and_no_match_too() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("a_1.csv"), "nothing\n").unwrap();
+    let pattern = dir.path().join("a_*.csv");
+    let out = boundary(&["detect", pattern.to_str().unwrap(), "-r", "1"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).contains("all 1 frames failed"),
+        "{}",
+        stderr(&out)
+    );
+    let pattern = dir.path().join("b_*.csv");
+    let out = boundary(&["detect", pattern.to_str().unwrap(), "-r", "1"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("no file matches"), "{}", stderr(&out));
+}
+
+#[test]
+fn radius_auto_is_the_median_spacing_reported_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = lattice_csv(dir.path());
+    let out = boundary(&[
+        "detect",
+        input.to_str().unwrap(),
+        "--radius",
+        "auto",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    assert_eq!(v["radius"], 1.0);
+    assert_eq!(v["radius_estimated"], true);
+    assert!(stderr(&out).contains("estimate"), "{}", stderr(&out));
+    // The score and resample commands take it too.
+    let out = boundary(&[
+        "score",
+        input.to_str().unwrap(),
+        "-r",
+        "auto",
+        "--json",
+        "-m",
+        "dilts",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    assert_eq!(v["radius"], 1.0);
+    // One particle has no spacing.
+    let one = dir.path().join("one.csv");
+    std::fs::write(&one, "x,y\n0,0\n").unwrap();
+    let out = boundary(&["detect", one.to_str().unwrap(), "-r", "auto"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("two distinct"), "{}", stderr(&out));
+}
+
+#[test]
+fn radius_auto_on_shared_data_is_the_listed_spacing() {
+    // The data README lists the median nearest-neighbour spacing of each file: 0.005293 here.
+    let out = boundary(&[
+        "detect",
+        shared(VORTEX).to_str().unwrap(),
+        "-r",
+        "auto",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    assert!(
+        (v["radius"].as_f64().unwrap() - 0.005293).abs() < 5e-7,
+        "{v}"
+    );
+}
+
+#[test]
+fn summary_of_a_single_file_is_a_sequence_of_one_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = lattice_csv(dir.path());
+    let summary = dir.path().join("one.csv");
+    let out = boundary(&[
+        "detect",
+        input.to_str().unwrap(),
+        "-r",
+        "1.2",
+        "--summary",
+        summary.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&summary).unwrap();
+    let row: Vec<&str> = text.lines().nth(1).unwrap().split(',').collect();
+    assert_eq!(&row[3..7], &["343", "3", "1.2", "218"], "{text}");
 }

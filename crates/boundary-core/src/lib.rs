@@ -12,6 +12,7 @@
 //! - [`Radius`]: a positive, finite resolution `r`.
 //! - [`NeighbourGrid`]: a uniform grid for fixed-radius neighbour queries.
 //! - [`BoundaryDetector`]: the trait every method implements, returning a [`Detection`].
+//! - [`median_nearest_neighbour_distance`]: the particle spacing, to estimate `r`.
 //! - [`Confusion`]: accuracy metrics (Rec, FPR, M = Rec·(1−FPR), precision, F1).
 //!
 //! Architecture invariant: this crate knows no file format, prints nothing and touches no file.
@@ -34,6 +35,7 @@ mod error;
 mod grid;
 mod metrics;
 mod particles;
+mod spacing;
 
 pub use detector::{
     BoundaryDetector, DetectError, Detection, Labels, ParamError, ParamInfo, Params,
@@ -42,6 +44,7 @@ pub use error::CoreError;
 pub use grid::NeighbourGrid;
 pub use metrics::Confusion;
 pub use particles::{AnyParticleSet, ParticleSet, Point, Radius};
+pub use spacing::median_nearest_neighbour_distance;
 
 /// Re-export of the linear-algebra crate used in public signatures.
 pub use nalgebra;

@@ -68,6 +68,7 @@ pub(crate) fn read<R: BufRead>(
     reader: R,
     name: &str,
     dim: Option<usize>,
+    with_attributes: bool,
 ) -> Result<Positions, IoError> {
     let mut lines = TextLines::new(reader);
     let Some((first_number, first, sep)) = first_line(&mut lines, name)? else {
@@ -108,6 +109,17 @@ pub(crate) fn read<R: BufRead>(
         (columns, labels)
     };
     let stride = columns.len();
+    // The other named columns, kept as attributes while all their values are numbers.
+    let mut extra: Vec<ExtraColumn> = if with_attributes && !headerless {
+        first_fields
+            .iter()
+            .enumerate()
+            .filter(|(c, _)| !columns.contains(c))
+            .map(|(c, f)| ExtraColumn::new(c, f))
+            .collect()
+    } else {
+        Vec::new()
+    };
     let needed = columns.iter().copied().max().unwrap_or(0) + 1;
     // Position k of the particle's row for each field index < needed, or usize::MAX.
     let mut slot = vec![usize::MAX; needed];
@@ -160,6 +172,12 @@ pub(crate) fn read<R: BufRead>(
         }
         coords.extend_from_slice(&row[..stride]);
         index += 1;
+        if !extra.is_empty() {
+            let all: Vec<&str> = fields(line, sep).collect();
+            for column in &mut extra {
+                column.push(all.get(column.index).copied(), sep, line_number);
+            }
+        }
         Ok(())
     };
     if headerless {
@@ -172,11 +190,87 @@ pub(crate) fn read<R: BufRead>(
         }
         parse_row(line_number, line, &mut coords)?;
     }
+    let mut attributes = Vec::new();
+    let mut skipped = Vec::new();
+    for column in extra {
+        column.finish(&mut attributes, &mut skipped);
+    }
     Ok(Positions {
         coords,
         stride,
-        padded_2d: false,
+        attributes,
+        skipped,
+        ..Default::default()
     })
+}
+
+/// A non-position column of the header, read as an attribute.
+struct ExtraColumn {
+    /// 0-based field index.
+    index: usize,
+    /// The header's name (trimmed of spaces and quotes).
+    header: String,
+    /// While every value is an integer.
+    ints: Option<Vec<i64>>,
+    floats: Vec<f64>,
+    /// Why the column cannot be kept, once known.
+    failed: Option<String>,
+}
+
+impl ExtraColumn {
+    fn new(index: usize, header: &str) -> Self {
+        ExtraColumn {
+            index,
+            header: trim_field(header).to_owned(),
+            ints: Some(Vec::new()),
+            floats: Vec::new(),
+            failed: None,
+        }
+    }
+
+    fn push(&mut self, field: Option<&str>, sep: char, line: usize) {
+        if self.failed.is_some() {
+            return;
+        }
+        let Some(field) = field else {
+            self.failed = Some(format!("no value on line {line}"));
+            return;
+        };
+        let text = trim_field(field);
+        if let Some(ints) = self.ints.as_mut() {
+            match text.parse::<i64>() {
+                Ok(v) => ints.push(v),
+                Err(_) => self.ints = None,
+            }
+        }
+        match number(field, sep) {
+            Some(v) => self.floats.push(v),
+            None => {
+                self.failed = Some(format!(
+                    "{:?} on line {line} is not a number",
+                    excerpt(text, 20)
+                ))
+            }
+        }
+    }
+
+    fn finish(self, attributes: &mut Vec<crate::Attribute>, skipped: &mut Vec<String>) {
+        let shown = excerpt(&self.header, 40);
+        if let Some(why) = self.failed {
+            skipped.push(format!("column {shown:?}: {why}"));
+            return;
+        }
+        let name = crate::attribute_name(&self.header, self.index);
+        if let Some(why) = crate::attribute_conflict(&name, attributes) {
+            skipped.push(format!("column {shown:?}: {why}"));
+            return;
+        }
+        let values = match self.ints {
+            Some(ints) => crate::AttributeValues::Int(ints),
+            None => crate::AttributeValues::Float(self.floats),
+        };
+        attributes.push(crate::Attribute { name, values });
+    }
 }
 
 /// The values of the column named `column` of a CSV file with a header.
@@ -285,15 +379,50 @@ mod tests {
     #[test]
     fn multibyte_text_at_the_sep_prefix_is_not_sliced() {
         // Found by the fuzz test: byte 4 inside a two-byte character.
-        let e = read("|U\u{212}i\n".as_bytes(), "m.csv", None).unwrap_err();
+        let e = read("|U\u{212}i\n".as_bytes(), "m.csv", None, false).unwrap_err();
         assert!(e.to_string().contains("missing position column"), "{e}");
-        assert!(read("sep\u{212}\n".as_bytes(), "m.csv", None).is_err());
+        assert!(read("sep\u{212}\n".as_bytes(), "m.csv", None, false).is_err());
+    }
+
+    #[test]
+    fn other_columns_are_read_as_attributes_when_asked() {
+        use crate::AttributeValues::{Float, Int};
+        let text = "idp;x;y;Vel.x [m/s];Type;px\n1;0,5;2;0,25;fluid;9\n2;1;3;-1;wall;8\n";
+        let p = read(text.as_bytes(), "dsph.csv", None, true).unwrap();
+        assert_eq!((p.stride, &p.coords), (2, &vec![0.5, 2.0, 1.0, 3.0]));
+        let got: Vec<(&str, &crate::AttributeValues)> = p
+            .attributes
+            .iter()
+            .map(|a| (a.name.as_str(), &a.values))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                ("idp", &Int(vec![1, 2])),
+                ("Vel.x_[m/s]", &Float(vec![0.25, -1.0])),
+            ]
+        );
+        // A text column and a name that would read back as a position are skipped, with why.
+        assert_eq!(p.skipped.len(), 2, "{:?}", p.skipped);
+        assert!(p.skipped[0].contains("\"Type\"") && p.skipped[0].contains("line 2"));
+        assert!(p.skipped[1].contains("position"), "{:?}", p.skipped);
+        // Without the flag nothing but the positions is parsed.
+        let p = read(text.as_bytes(), "dsph.csv", None, false).unwrap();
+        assert!(p.attributes.is_empty() && p.skipped.is_empty());
+        // A short row drops the column, not the file.
+        let p = read("x,y,a\n1,2,3\n4,5\n".as_bytes(), "s.csv", None, true).unwrap();
+        assert!(p.attributes.is_empty());
+        assert!(
+            p.skipped[0].contains("no value on line 3"),
+            "{:?}",
+            p.skipped
+        );
     }
 
     #[test]
     fn trailing_separator_and_excel_sep_line() {
         let text = "sep=;\nx;y;\n1,5;2;\n";
-        let p = read(text.as_bytes(), "t.csv", None).unwrap();
+        let p = read(text.as_bytes(), "t.csv", None, false).unwrap();
         assert_eq!((p.stride, p.coords), (2, vec![1.5, 2.0]));
     }
 }

@@ -66,7 +66,7 @@ pub enum IoError {
     },
     /// No format was given and the file's extension names none.
     #[error(
-        "unknown particle file format for {file}: expected extension .csv, .xyz, .txt, .ply or .vtk, \
+        "unknown particle file format for {file}: expected extension .csv, .xyz, .txt, .ply, .vtk, .vtu, .vtp, .bgeo or .bgeo.gz, \
          or name the format"
     )]
     UnknownFormat {

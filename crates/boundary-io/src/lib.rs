@@ -1,5 +1,8 @@
-//! Particle files: read positions from CSV, XYZ, PLY and legacy VTK into an
-//! [`AnyParticleSet`], write them back with per-particle columns such as the `boundary` label.
+//! Particle files: read positions from CSV, XYZ, PLY, legacy VTK, VTK XML (`.vtu`, `.vtp`) and
+//! Houdini BGEO
+//! into an [`AnyParticleSet`], with the other point attributes where asked
+//! ([`read_particle_file`]), and write them back with per-particle columns such as the
+//! `boundary` label next to the attributes of the input.
 //!
 //! Architecture invariant: this is the only crate of the workspace that parses or writes
 //! particle files; `boundary-core` and the detector crates know no file format.
@@ -10,6 +13,8 @@
 //! | XYZ | `.xyz`, `.txt`, `.dat` | whitespace-separated numbers, one particle per line; optional count + comment lines | `# x y [z] <columns>` then rows |
 //! | PLY | `.ply` | ascii, binary little and big endian; element `vertex`, properties `x, y[, z]` | ascii, columns as vertex properties |
 //! | VTK legacy | `.vtk` | `POINTS` (float or double) of POLYDATA, UNSTRUCTURED_GRID or STRUCTURED_GRID, ascii or binary | ascii POLYDATA: `POINTS`, `VERTICES`, `POINT_DATA` scalars |
+//! | BGEO | `.bgeo`, `.bgeo.gz` | Houdini classic BGEO 5 (partio, SPlisHSPlasH): points and point attributes, gzip detected by its magic | BGEO 5, 32-bit floats, gzip for `.gz` |
+//! | VTK XML | `.vtu`, `.vtp` | `Points` and every numeric `PointData` array of the first `Piece`; ascii, base64 binary, appended raw or base64; zlib; either byte order; `UInt32`/`UInt64` headers | base64 binary: `Points`, a vertex cell per particle, `PointData` (vectors joined, see below) |
 //!
 //! # Reading
 //!
@@ -41,7 +46,35 @@
 //! **VTK legacy** (hand-written; see the `vtk` module for why not `vtkio`): the `POINTS` of a
 //! POLYDATA, UNSTRUCTURED_GRID or STRUCTURED_GRID dataset, `float` or `double`, ascii or binary
 //! (big endian, as the format prescribes; splashsurf and SPlisHSPlasH write these). A `FIELD`
-//! block before `POINTS` is skipped. Everything after `POINTS` is ignored.
+//! block before `POINTS` is skipped. Everything after `POINTS` is ignored by [`read_particles`];
+//! [`read_particle_file`] also reads the `POINT_DATA` arrays (see "Attributes").
+//!
+//! **VTK XML** (hand-written on `quick-xml`; see the `vtk_xml` module for why not `vtkio`):
+//! UnstructuredGrid (`.vtu`) and PolyData (`.vtp`) as VTK, ParaView and SPHinXsys write them.
+//! Files with several `Piece`s are an error; cells are not read.
+//!
+//! **BGEO** (hand-written from the format's public description; see the `bgeo` module): the
+//! classic binary geometry of Houdini, version 5, as partio writes it; the new Houdini 12+
+//! format and Blosc `.bgeo.sc` are errors that say so. It stores 32-bit floats: a coordinate
+//! or real beyond their range is an error on writing, others are rounded.
+//!
+//! # Attributes
+//!
+//! [`read_particle_file`] also returns the input's other per-particle values as
+//! [`Attribute`]s, so that a tool can write them back next to its own columns
+//! ([`ParticleFile::columns`]) and the output opens in ParaView beside the simulation fields.
+//! Formats that keep them: CSV (every other column of a header whose values are all numbers;
+//! integers stay integers) and VTK XML (every numeric `PointData` array; a vector of `k`
+//! components becomes `name:0` … `name:k-1`, ParaView's names for components), PLY (every other
+//! scalar vertex property; integer types stay integers; list properties are skipped), BGEO
+//! (every point attribute; indexed strings as their index) and legacy VTK (the `POINT_DATA`
+//! arrays: `SCALARS`, `VECTORS`, `NORMALS`, `TENSORS`,
+//! `TEXTURE_COORDINATES`, `COLOR_SCALARS`, `FIELD`, after cell sections of either the classic
+//! or the 5.1 `OFFSETS`/`CONNECTIVITY` layout; a damaged section after `POINTS` loses the
+//! attributes, reported in `skipped`, not the positions). XYZ keeps none yet. Names are made valid column names (a character a column name may
+//! not hold becomes `_`); an attribute is skipped, with the reason in
+//! [`ParticleFile::skipped`], when a value is not a number, when its name would read back as a
+//! position (`px` beside `x`), or when it repeats a name. [`read_particles`] parses none of it.
 //!
 //! # Dimension
 //!
@@ -52,7 +85,8 @@
 //! tools write z = 0); if several axes are constant, z is dropped first, then y, then x; if none
 //! is, it is an error. A 3D file whose z is all zero is still read as 3D without `dim` (it is the
 //! user's file), with one exception: VTK files written by this crate from a 2D set carry
-//! `dim=2` in their title line and read back as 2D when their z is all zero.
+//! `dim=2` in their title line (VTK XML: the comment `boundary-io dim=2`) and read back as 2D
+//! when their z is all zero.
 //!
 //! # Writing
 //!
@@ -66,7 +100,10 @@
 //! is written there with z = 0 (and the `dim=2` title marker above); it is the only place a 2D
 //! set gets a z coordinate. NaN and infinite reals in a [`Column::Float`] are written as `NaN`
 //! and `inf` in CSV and XYZ (Rust reads them back); PLY and VTK readers have no common text for
-//! them, so writing one there is an error naming the column and the particle.
+//! them, so writing one there is an error naming the column and the particle. VTK XML is
+//! binary and writes every value exactly (NaN included); integer columns are `Int32` when every
+//! value fits, `Int64` otherwise, and consecutive columns `name:0`, `name:1`, … of one kind are
+//! written as one array `name` with that many components.
 //!
 //! # Errors and robustness
 //!
@@ -95,11 +132,13 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod bgeo;
 mod csv;
 mod error;
 mod ply;
 mod text;
 mod vtk;
+mod vtk_xml;
 mod xyz;
 
 pub use error::{IoError, Location};
@@ -125,29 +164,46 @@ pub enum Format {
     Ply,
     /// Legacy VTK (ascii or binary).
     Vtk,
+    /// VTK XML UnstructuredGrid (`.vtu`).
+    Vtu,
+    /// VTK XML PolyData (`.vtp`).
+    Vtp,
+    /// Houdini classic BGEO version 5 (`.bgeo`, gzip-compressed `.bgeo.gz`), as partio writes.
+    Bgeo,
 }
 
 impl Format {
     /// The format named by the extension of `path`, case-insensitive: `csv`; `xyz`, `txt`,
-    /// `dat`; `ply`; `vtk`.
+    /// `dat`; `ply`; `vtk`; `vtu`; `vtp`; `bgeo`, and `gz` after `.bgeo`.
     pub fn from_path(path: &Path) -> Option<Format> {
         let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        if ext == "gz" {
+            let inner = Path::new(path.file_stem()?).extension()?.to_str()?;
+            return inner.eq_ignore_ascii_case("bgeo").then_some(Format::Bgeo);
+        }
         match ext.as_str() {
             "csv" => Some(Format::Csv),
             "xyz" | "txt" | "dat" => Some(Format::Xyz),
             "ply" => Some(Format::Ply),
             "vtk" => Some(Format::Vtk),
+            "vtu" => Some(Format::Vtu),
+            "vtp" => Some(Format::Vtp),
+            "bgeo" => Some(Format::Bgeo),
             _ => None,
         }
     }
 
-    /// The format's short name: `"csv"`, `"xyz"`, `"ply"`, `"vtk"`.
+    /// The format's short name (and usual extension): `"csv"`, `"xyz"`, `"ply"`, `"vtk"`,
+    /// `"vtu"`, `"vtp"`.
     pub fn name(self) -> &'static str {
         match self {
             Format::Csv => "csv",
             Format::Xyz => "xyz",
             Format::Ply => "ply",
             Format::Vtk => "vtk",
+            Format::Vtu => "vtu",
+            Format::Vtp => "vtp",
+            Format::Bgeo => "bgeo",
         }
     }
 }
@@ -161,15 +217,19 @@ impl fmt::Display for Format {
 impl FromStr for Format {
     type Err = String;
 
-    /// Parses a format name, case-insensitive: `csv`, `xyz` (also `txt`, `dat`), `ply`, `vtk`.
+    /// Parses a format name, case-insensitive: `csv`, `xyz` (also `txt`, `dat`), `ply`, `vtk`,
+    /// `vtu`, `vtp`.
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s.trim().to_ascii_lowercase().as_str() {
             "csv" => Ok(Format::Csv),
             "xyz" | "txt" | "dat" => Ok(Format::Xyz),
             "ply" => Ok(Format::Ply),
             "vtk" => Ok(Format::Vtk),
+            "vtu" => Ok(Format::Vtu),
+            "vtp" => Ok(Format::Vtp),
+            "bgeo" => Ok(Format::Bgeo),
             _ => Err(format!(
-                "unknown format {s:?} (expected csv, xyz, ply or vtk)"
+                "unknown format {s:?} (expected csv, xyz, ply, vtk, vtu, vtp or bgeo)"
             )),
         }
     }
@@ -213,6 +273,94 @@ impl Column<'_> {
     }
 }
 
+/// The values of a point attribute read from a file.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AttributeValues {
+    /// Integer data (any integer type of the file; unsigned 64-bit values beyond `i64` are
+    /// read as reals).
+    Int(Vec<i64>),
+    /// Real data.
+    Float(Vec<f64>),
+}
+
+/// A per-particle attribute of the input file other than the positions (velocity, pressure,
+/// density, ids): one scalar per particle. A vector attribute of `k` components is read as `k`
+/// attributes `name:0` … `name:k-1` (ParaView's names for components), which the VTK XML
+/// writer joins again into one vector.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Attribute {
+    /// A valid column name (see the crate docs, "Writing").
+    pub name: String,
+    /// One value per particle, in file order.
+    pub values: AttributeValues,
+}
+
+impl Attribute {
+    /// The attribute as a column to write back.
+    pub fn column(&self) -> Column<'_> {
+        match &self.values {
+            AttributeValues::Int(v) => Column::Int(v),
+            AttributeValues::Float(v) => Column::Float(v),
+        }
+    }
+}
+
+/// A column name made from an attribute's name in a file: characters a column name may not
+/// hold (see "Writing") become `_`; an empty name becomes `column<k>`.
+pub(crate) fn attribute_name(name: &str, k: usize) -> String {
+    let s: String = text::trim_field(name)
+        .chars()
+        .map(|c| {
+            if c.is_ascii_graphic() && !",;#\"'".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() {
+        format!("column{k}")
+    } else {
+        s
+    }
+}
+
+/// Why an attribute named `name` cannot be kept beside `kept`: a name that reads as a position
+/// (it would be taken for one when the output is read back), or a duplicate.
+pub(crate) fn attribute_conflict(name: &str, kept: &[Attribute]) -> Option<&'static str> {
+    if text::position_axis(name).is_some() {
+        Some("its name reads as a position column")
+    } else if kept.iter().any(|a| a.name.eq_ignore_ascii_case(name)) {
+        Some("duplicate name")
+    } else {
+        None
+    }
+}
+
+/// A particle file read with its attributes: what [`read_particle_file`] returns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParticleFile {
+    /// The positions, after the dimension policy.
+    pub set: AnyParticleSet,
+    /// Every other per-particle attribute the reader keeps, in file order.
+    pub attributes: Vec<Attribute>,
+    /// Attributes the file has but the reader could not keep, each with the reason (a
+    /// non-numeric column, a name that would read as a position, a duplicate name).
+    pub skipped: Vec<String>,
+}
+
+impl ParticleFile {
+    /// The attributes as columns for [`write_particles`], leaving out those whose name equals
+    /// (ignoring ASCII case) one in `except`: the columns the caller writes itself.
+    pub fn columns<'a>(&'a self, except: &[&str]) -> Vec<(&'a str, Column<'a>)> {
+        self.attributes
+            .iter()
+            .filter(|a| !except.iter().any(|e| e.eq_ignore_ascii_case(&a.name)))
+            .map(|a| (a.name.as_str(), a.column()))
+            .collect()
+    }
+}
+
 /// Coordinates as a reader found them, before the dimension policy.
 #[derive(Debug, Default)]
 pub(crate) struct Positions {
@@ -222,6 +370,10 @@ pub(crate) struct Positions {
     pub stride: usize,
     /// The file says it holds a 2D set padded with z = 0 (VTK written by this crate).
     pub padded_2d: bool,
+    /// Other point attributes, one value per particle each (formats that read them).
+    pub attributes: Vec<Attribute>,
+    /// Attributes not kept, with the reason.
+    pub skipped: Vec<String>,
 }
 
 /// Reads the particles of the file at `path`; the format is `options.format` or the one the
@@ -246,6 +398,41 @@ pub fn read_particles_from(
     format: Format,
     options: &ReadOptions,
 ) -> Result<AnyParticleSet, IoError> {
+    read_any(reader, name, format, options, false).map(|f| f.set)
+}
+
+/// Reads the particles of the file at `path` with their other point attributes (see the crate
+/// docs, "Attributes"); the format is `options.format` or the one the extension names.
+pub fn read_particle_file(path: &Path, options: &ReadOptions) -> Result<ParticleFile, IoError> {
+    let name = path.display().to_string();
+    let format = match options.format {
+        Some(f) => f,
+        None => {
+            Format::from_path(path).ok_or_else(|| IoError::UnknownFormat { file: name.clone() })?
+        }
+    };
+    let file = std::fs::File::open(path).map_err(|e| IoError::read(&name, e))?;
+    read_particle_file_from(file, &name, format, options)
+}
+
+/// [`read_particle_file`] from a reader; `name` names the source in error messages.
+pub fn read_particle_file_from(
+    reader: impl Read,
+    name: &str,
+    format: Format,
+    options: &ReadOptions,
+) -> Result<ParticleFile, IoError> {
+    read_any(reader, name, format, options, true)
+}
+
+/// Reads positions, and the other point attributes when `attributes` is set.
+fn read_any(
+    reader: impl Read,
+    name: &str,
+    format: Format,
+    options: &ReadOptions,
+    attributes: bool,
+) -> Result<ParticleFile, IoError> {
     if let Some(d) = options.dim {
         if d != 2 && d != 3 {
             return Err(IoError::dimension(
@@ -255,13 +442,25 @@ pub fn read_particles_from(
         }
     }
     let reader = BufReader::new(reader);
-    let positions = match format {
-        Format::Csv => csv::read(reader, name, options.dim)?,
+    let mut positions = match format {
+        Format::Csv => csv::read(reader, name, options.dim, attributes)?,
         Format::Xyz => xyz::read(reader, name)?,
-        Format::Ply => ply::read(reader, name)?,
-        Format::Vtk => vtk::read(reader, name)?,
+        Format::Ply => ply::read(reader, name, attributes)?,
+        Format::Vtk => vtk::read(reader, name, attributes)?,
+        Format::Vtu => vtk_xml::read(reader, name, vtk_xml::Kind::UnstructuredGrid, attributes)?,
+        Format::Vtp => vtk_xml::read(reader, name, vtk_xml::Kind::PolyData, attributes)?,
+        Format::Bgeo => bgeo::read(reader, name, attributes)?,
     };
-    apply_dimension(positions, name, options.dim)
+    let n = positions.coords.len() / positions.stride.max(1);
+    let attributes = std::mem::take(&mut positions.attributes);
+    let skipped = std::mem::take(&mut positions.skipped);
+    debug_assert!(attributes.iter().all(|a| a.column().len() == n));
+    let set = apply_dimension(positions, name, options.dim)?;
+    Ok(ParticleFile {
+        set,
+        attributes,
+        skipped,
+    })
 }
 
 /// Whether coordinate `axis` has the same value for every particle (vacuously for none).
@@ -377,6 +576,17 @@ pub fn write_particles(
     };
     check_columns(&name, format, set, columns)?;
     let file = std::fs::File::create(path).map_err(|e| IoError::write(&name, e))?;
+    let gzip = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+    if gzip {
+        // `.bgeo.gz` (and any other name ending in .gz): gzip-compressed.
+        let mut out =
+            flate2::write::GzEncoder::new(BufWriter::new(file), flate2::Compression::default());
+        write_body(&mut out, format, set, columns).map_err(|e| IoError::write(&name, e))?;
+        let mut inner = out.finish().map_err(|e| IoError::write(&name, e))?;
+        return inner.flush().map_err(|e| IoError::write(&name, e));
+    }
     let mut out = BufWriter::new(file);
     write_body(&mut out, format, set, columns).map_err(|e| IoError::write(&name, e))?;
     out.flush().map_err(|e| IoError::write(&name, e))
@@ -407,6 +617,21 @@ fn check_columns(
         name: column.to_owned(),
         message,
     };
+    if format == Format::Bgeo {
+        // BGEO stores 32-bit floats: a coordinate beyond their range would become infinite.
+        if let Some((i, axis)) = (0..set.len())
+            .flat_map(|i| (0..set.dim()).map(move |a| (i, a)))
+            .find(|&(i, a)| set.coords(i)[a].abs() > f64::from(f32::MAX))
+        {
+            return Err(column_error(
+                out::AXES[axis],
+                format!(
+                    "coordinate {} of particle {i} does not fit BGEO's 32-bit float",
+                    set.coords(i)[axis]
+                ),
+            ));
+        }
+    }
     for (k, (column, values)) in columns.iter().enumerate() {
         if values.len() != set.len() {
             return Err(column_error(
@@ -438,6 +663,11 @@ fn check_columns(
         {
             return Err(column_error(column, "duplicate column name".into()));
         }
+        if format == Format::Bgeo {
+            if let Err((column, message)) = bgeo::check(&columns[k..=k]) {
+                return Err(column_error(&column, message));
+            }
+        }
         if let (Format::Ply | Format::Vtk, Column::Float(values)) = (format, values) {
             if let Some((i, v)) = values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
                 return Err(column_error(
@@ -465,6 +695,9 @@ fn write_body(
         Format::Xyz => xyz::write(out, set, columns),
         Format::Ply => ply::write(out, set, columns),
         Format::Vtk => vtk::write(out, set, columns),
+        Format::Vtu => vtk_xml::write(out, set, columns, vtk_xml::Kind::UnstructuredGrid),
+        Format::Vtp => vtk_xml::write(out, set, columns, vtk_xml::Kind::PolyData),
+        Format::Bgeo => bgeo::write(out, set, columns),
     }
 }
 
@@ -537,7 +770,15 @@ mod tests {
 
     #[test]
     fn format_names_and_extensions() {
-        for f in [Format::Csv, Format::Xyz, Format::Ply, Format::Vtk] {
+        for f in [
+            Format::Csv,
+            Format::Xyz,
+            Format::Ply,
+            Format::Vtk,
+            Format::Vtu,
+            Format::Vtp,
+            Format::Bgeo,
+        ] {
             assert_eq!(f.name().parse::<Format>(), Ok(f));
             assert_eq!(f.to_string(), f.name());
         }
@@ -545,9 +786,17 @@ mod tests {
         assert_eq!(Format::from_path(Path::new("b.txt")), Some(Format::Xyz));
         assert_eq!(Format::from_path(Path::new("b.Ply")), Some(Format::Ply));
         assert_eq!(Format::from_path(Path::new("b.vtk")), Some(Format::Vtk));
-        assert_eq!(Format::from_path(Path::new("b.vtu")), None);
+        assert_eq!(Format::from_path(Path::new("b.vtu")), Some(Format::Vtu));
+        assert_eq!(Format::from_path(Path::new("b.VTP")), Some(Format::Vtp));
+        assert_eq!(Format::from_path(Path::new("b.bgeo")), Some(Format::Bgeo));
+        assert_eq!(
+            Format::from_path(Path::new("a/b.bgeo.GZ")),
+            Some(Format::Bgeo)
+        );
+        assert_eq!(Format::from_path(Path::new("b.csv.gz")), None);
+        assert_eq!(Format::from_path(Path::new("b.bgeo.sc")), None);
         assert_eq!(Format::from_path(Path::new("noext")), None);
-        assert!("bgeo".parse::<Format>().unwrap_err().contains("bgeo"));
+        assert!("pdb".parse::<Format>().unwrap_err().contains("pdb"));
     }
 
     #[test]
@@ -581,7 +830,7 @@ mod tests {
         Positions {
             coords: rows.iter().flatten().copied().collect(),
             stride: 3,
-            padded_2d: false,
+            ..Positions::default()
         }
     }
 
@@ -619,7 +868,7 @@ mod tests {
         let p = Positions {
             coords: vec![0.0, 1.0],
             stride: 2,
-            padded_2d: false,
+            ..Positions::default()
         };
         let e = apply_dimension(p, "g.csv", Some(3)).unwrap_err();
         assert!(matches!(e, IoError::Dimension { .. }), "{e}");

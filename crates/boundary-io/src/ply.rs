@@ -1,5 +1,6 @@
 //! PLY through `ply-rs-bw`: ascii, binary little and big endian. The element `vertex` must have
-//! scalar properties `x`, `y`, optionally `z`, of any numeric type; everything else is skipped.
+//! scalar properties `x`, `y`, optionally `z`, of any numeric type; its other scalar properties
+//! are kept as attributes when asked; other elements and list properties are skipped.
 //!
 //! `ply-rs-bw` caps its preallocation from declared counts and reports errors with the line (for
 //! binary payloads: a running element counter, from which the vertex index is recovered). The
@@ -8,10 +9,10 @@
 
 use crate::error::{IoError, Location};
 use crate::out::{self, Real, AXES};
-use crate::{Column, Positions};
+use crate::{Attribute, AttributeValues, Column, Positions};
 use boundary_core::AnyParticleSet;
 use ply_rs_bw::parser::{ParseError, Parser, Reader};
-use ply_rs_bw::ply::{Encoding, PropertyAccess, PropertyType};
+use ply_rs_bw::ply::{Encoding, PropertyAccess, PropertyType, ScalarType};
 use std::io::{BufRead, Write};
 
 /// An element the reader does not need: every property is ignored (lists are still read
@@ -24,17 +25,19 @@ impl PropertyAccess for Skip {
     }
 }
 
-/// A vertex: its x, y, z.
-struct Vertex([f64; 3]);
+/// A vertex: its x, y, z, and its other scalar properties in header order (the parser sets
+/// the properties of an element in the order the header declares them; every PLY scalar type
+/// converts exactly to `f64`).
+struct Vertex([f64; 3], Vec<f64>);
 
 impl Vertex {
     fn set(&mut self, name: &str, value: f64) -> ply_rs_bw::ply::PropertyAccessResult {
-        use ply_rs_bw::ply::PropertyAccessResult::{Ignored, Set};
+        use ply_rs_bw::ply::PropertyAccessResult::Set;
         match name {
             "x" => self.0[0] = value,
             "y" => self.0[1] = value,
             "z" => self.0[2] = value,
-            _ => return Ignored,
+            _ => self.1.push(value),
         }
         Set
     }
@@ -42,7 +45,7 @@ impl Vertex {
 
 impl PropertyAccess for Vertex {
     fn new() -> Self {
-        Vertex([0.0; 3])
+        Vertex([0.0; 3], Vec::new())
     }
     fn set_char(&mut self, n: &str, v: i8) -> ply_rs_bw::ply::PropertyAccessResult {
         self.set(n, f64::from(v))
@@ -90,7 +93,11 @@ fn flatten(e: &ParseError) -> String {
     format!("malformed PLY: {message}")
 }
 
-pub(crate) fn read<R: BufRead>(reader: R, name: &str) -> Result<Positions, IoError> {
+pub(crate) fn read<R: BufRead>(
+    reader: R,
+    name: &str,
+    with_attributes: bool,
+) -> Result<Positions, IoError> {
     let mut reader = Reader::new(reader);
     let header = Parser::<Skip>::new()
         .read_header(&mut reader)
@@ -195,10 +202,57 @@ pub(crate) fn read<R: BufRead>(reader: R, name: &str) -> Result<Positions, IoErr
         }
         coords.extend_from_slice(&v.0[..stride]);
     }
+    let mut attributes = Vec::new();
+    let mut skipped = Vec::new();
+    if with_attributes {
+        // The other scalar vertex properties, in header order (the order `Vertex` saw them).
+        let others: Vec<(&String, bool)> = vertex
+            .properties
+            .iter()
+            .filter(|(key, _)| !AXES.contains(&key.as_str()))
+            .filter_map(|(key, p)| match &p.data_type {
+                PropertyType::Scalar(t) => {
+                    Some((key, !matches!(t, ScalarType::Float | ScalarType::Double)))
+                }
+                PropertyType::List(..) => {
+                    skipped.push(format!(
+                        "vertex property {:?}: a list",
+                        crate::error::excerpt(key, 40)
+                    ));
+                    None
+                }
+            })
+            .collect();
+        if vertices.iter().all(|v| v.1.len() == others.len()) {
+            for (k, (key, integer)) in others.iter().enumerate() {
+                let attribute = crate::attribute_name(key, k);
+                if let Some(why) = crate::attribute_conflict(&attribute, &attributes) {
+                    skipped.push(format!(
+                        "vertex property {:?}: {why}",
+                        crate::error::excerpt(key, 40)
+                    ));
+                    continue;
+                }
+                let values = vertices.iter().map(|v| v.1[k]);
+                let values = if *integer {
+                    // Every PLY integer type fits i64 exactly.
+                    AttributeValues::Int(values.map(|x| x as i64).collect())
+                } else {
+                    AttributeValues::Float(values.collect())
+                };
+                attributes.push(Attribute {
+                    name: attribute,
+                    values,
+                });
+            }
+        }
+    }
     Ok(Positions {
         coords,
         stride,
-        padded_2d: false,
+        attributes,
+        skipped,
+        ..Default::default()
     })
 }
 

@@ -1,5 +1,6 @@
 //! Legacy VTK (`.vtk`): the `POINTS` of a POLYDATA, UNSTRUCTURED_GRID or STRUCTURED_GRID
-//! dataset, `float` or `double`, ascii or binary (big endian, as the legacy format prescribes).
+//! dataset, `float` or `double`, ascii or binary (big endian, as the legacy format prescribes),
+//! and on request the `POINT_DATA` arrays after them (`read_point_data`).
 //!
 //! Hand-written rather than through `vtkio` 0.6: only `POINTS` is needed, and vtkio's legacy
 //! parser (nom 3 `many_m_n!`) reserves a vector of the declared size before reading, so a
@@ -117,7 +118,11 @@ fn type_size(name: &[u8]) -> Option<usize> {
     })
 }
 
-pub(crate) fn read<R: BufRead>(mut reader: R, name: &str) -> Result<Positions, IoError> {
+pub(crate) fn read<R: BufRead>(
+    mut reader: R,
+    name: &str,
+    with_attributes: bool,
+) -> Result<Positions, IoError> {
     let mut bytes = Vec::new();
     reader
         .read_to_end(&mut bytes)
@@ -227,11 +232,20 @@ pub(crate) fn read<R: BufRead>(mut reader: R, name: &str) -> Result<Positions, I
                 } else {
                     read_ascii_points(&mut c, name, line, count)?
                 };
-                return Ok(Positions {
+                let n = coords.len() / 3;
+                let mut positions = Positions {
                     coords,
                     stride: 3,
                     padded_2d,
-                });
+                    ..Default::default()
+                };
+                if with_attributes {
+                    // The file's points are read; damage after them costs the attributes only.
+                    if let Err(e) = read_point_data(&mut c, binary, n, &mut positions.attributes) {
+                        positions.skipped.push(format!("POINT_DATA not read: {e}"));
+                    }
+                }
+                return Ok(positions);
             }
             b"FIELD" => skip_field(&mut c, name, line, words.nth(1), binary)?,
             b"DIMENSIONS" => {}
@@ -335,6 +349,267 @@ fn read_ascii_points(
         coords.push(value);
     }
     Ok(coords)
+}
+
+/// Values of a data section: `count` numbers of `ty`, big-endian in binary files.
+fn read_values(
+    c: &mut Cursor<'_>,
+    binary: bool,
+    ty: &[u8],
+    count: usize,
+) -> Result<crate::AttributeValues, String> {
+    use crate::AttributeValues;
+    let ty = ty.to_ascii_lowercase();
+    let size = type_size(&ty).ok_or_else(|| format!("unknown data type {:?}", show(&ty)))?;
+    let float = matches!(ty.as_slice(), b"float" | b"double");
+    if binary {
+        if size == 0 {
+            return Err("bit arrays are not supported".into());
+        }
+        let bytes = count
+            .checked_mul(size)
+            .and_then(|b| c.take(b))
+            .ok_or_else(|| format!("{count} values declared, fewer bytes present"))?;
+        let word = |chunk: &[u8]| {
+            let mut w = [0u8; 8];
+            w[8 - chunk.len()..].copy_from_slice(chunk);
+            u64::from_be_bytes(w)
+        };
+        let signed = !ty.starts_with(b"unsigned") && ty.as_slice() != b"vtktypeuint64";
+        Ok(if float {
+            AttributeValues::Float(
+                bytes
+                    .chunks_exact(size)
+                    .map(|ch| match *ch {
+                        [a, b, c, d] => f64::from(f32::from_be_bytes([a, b, c, d])),
+                        _ => f64::from_bits(word(ch)),
+                    })
+                    .collect(),
+            )
+        } else {
+            let bits = 8 * size as u32;
+            AttributeValues::Int(
+                bytes
+                    .chunks_exact(size)
+                    .map(|ch| {
+                        let raw = word(ch);
+                        if signed && bits < 64 {
+                            let shift = 64 - bits;
+                            ((raw << shift) as i64) >> shift
+                        } else {
+                            raw as i64
+                        }
+                    })
+                    .collect(),
+            )
+        })
+    } else {
+        let cap = count.min(c.remaining() / 2).min(MAX_PREALLOCATE);
+        let mut ints: Option<Vec<i64>> = (!float).then(|| Vec::with_capacity(cap));
+        let mut reals = Vec::with_capacity(cap);
+        for k in 0..count {
+            let (line, token) = c
+                .token()
+                .ok_or_else(|| format!("{count} values declared, the data ends after {k}"))?;
+            let text = std::str::from_utf8(token).unwrap_or("");
+            if let Some(v) = ints.as_mut() {
+                match text.parse::<i64>() {
+                    Ok(x) => v.push(x),
+                    Err(_) => ints = None,
+                }
+            }
+            reals.push(
+                text.parse::<f64>()
+                    .map_err(|_| format!("invalid number {:?} on line {line}", show(token)))?,
+            );
+        }
+        Ok(match ints {
+            Some(v) => AttributeValues::Int(v),
+            None => AttributeValues::Float(reals),
+        })
+    }
+}
+
+/// Walks the sections after `POINTS` (cells, `CELL_DATA`, `METADATA` are skipped) and keeps
+/// the arrays of `POINT_DATA`: `SCALARS`, `VECTORS`, `NORMALS`, `TENSORS`,
+/// `TEXTURE_COORDINATES`, `COLOR_SCALARS` and `FIELD` arrays; a `k`-component array becomes
+/// `name:0` … `name:k-1`. Stops quietly at an unknown keyword.
+fn read_point_data(
+    c: &mut Cursor<'_>,
+    binary: bool,
+    points: usize,
+    out: &mut Vec<crate::Attribute>,
+) -> Result<(), String> {
+    let number = |w: Option<&&[u8]>| -> Result<usize, String> {
+        w.and_then(|w| std::str::from_utf8(w).ok()?.parse().ok())
+            .ok_or_else(|| "invalid count".to_owned())
+    };
+    // Elements of the current data block, and whether it is POINT_DATA.
+    let mut tuples = 0usize;
+    let mut is_point = false;
+    while let Some((line, text)) = c.next_text_line() {
+        let words: Vec<&[u8]> = text
+            .split(|b| b.is_ascii_whitespace())
+            .filter(|w| !w.is_empty())
+            .collect();
+        let keyword = words
+            .first()
+            .map(|w| w.to_ascii_uppercase())
+            .unwrap_or_default();
+        let at = |m: String| format!("{m} (line {line})");
+        // (name, type, components) of an array to read in the current block.
+        let array: Option<(&[u8], Vec<u8>, usize)> = match keyword.as_slice() {
+            b"VERTICES" | b"LINES" | b"POLYGONS" | b"TRIANGLE_STRIPS" | b"CELLS" => {
+                let n = number(words.get(1)).map_err(at)?;
+                let size = number(words.get(2)).map_err(at)?;
+                // VTK 5.1 legacy: OFFSETS and CONNECTIVITY subsections with their own type.
+                let save = (c.pos, c.line);
+                match c.next_text_line() {
+                    Some((_, sub)) if sub.to_ascii_uppercase().starts_with(b"OFFSETS") => {
+                        let ty = sub.split(|b| b.is_ascii_whitespace()).nth(1).unwrap_or(b"");
+                        read_values(c, binary, ty, n).map_err(at)?;
+                        let (_, sub) = c.next_text_line().ok_or("truncated cells")?;
+                        let ty = sub.split(|b| b.is_ascii_whitespace()).nth(1).unwrap_or(b"");
+                        read_values(c, binary, ty, size).map_err(at)?;
+                    }
+                    _ => {
+                        (c.pos, c.line) = save;
+                        read_values(c, binary, b"int", size).map_err(at)?;
+                    }
+                }
+                None
+            }
+            b"CELL_TYPES" => {
+                read_values(c, binary, b"int", number(words.get(1)).map_err(at)?).map_err(at)?;
+                None
+            }
+            b"POINT_DATA" | b"CELL_DATA" => {
+                tuples = number(words.get(1)).map_err(at)?;
+                is_point = keyword.as_slice() == b"POINT_DATA";
+                if is_point && tuples != points {
+                    return Err(at(format!("POINT_DATA {tuples} for {points} points")));
+                }
+                None
+            }
+            b"METADATA" => {
+                // Ends at the first blank line.
+                while let Some(rest) = c.raw_line() {
+                    if rest.trim_ascii().is_empty() {
+                        break;
+                    }
+                }
+                None
+            }
+            b"SCALARS" => {
+                let comps = match words.get(3) {
+                    Some(_) => number(words.get(3)).map_err(at)?,
+                    None => 1,
+                };
+                // An optional LOOKUP_TABLE line.
+                let save = (c.pos, c.line);
+                match c.next_text_line() {
+                    Some((_, l)) if l.to_ascii_uppercase().starts_with(b"LOOKUP_TABLE") => {}
+                    _ => (c.pos, c.line) = save,
+                }
+                Some((
+                    words.get(1).copied().unwrap_or(b""),
+                    words.get(2).copied().unwrap_or(b"").to_vec(),
+                    comps,
+                ))
+            }
+            b"VECTORS" | b"NORMALS" => Some((
+                words.get(1).copied().unwrap_or(b""),
+                words.get(2).copied().unwrap_or(b"").to_vec(),
+                3,
+            )),
+            b"TENSORS" => Some((
+                words.get(1).copied().unwrap_or(b""),
+                words.get(2).copied().unwrap_or(b"").to_vec(),
+                9,
+            )),
+            b"TEXTURE_COORDINATES" => Some((
+                words.get(1).copied().unwrap_or(b""),
+                words.get(3).copied().unwrap_or(b"").to_vec(),
+                number(words.get(2)).map_err(at)?,
+            )),
+            b"COLOR_SCALARS" => Some((
+                words.get(1).copied().unwrap_or(b""),
+                if binary {
+                    b"unsigned_char".to_vec()
+                } else {
+                    b"float".to_vec()
+                },
+                number(words.get(2)).map_err(at)?,
+            )),
+            b"LOOKUP_TABLE" => {
+                let size = number(words.get(2)).map_err(at)?;
+                let ty: &[u8] = if binary { b"unsigned_char" } else { b"float" };
+                read_values(c, binary, ty, size.saturating_mul(4)).map_err(at)?;
+                None
+            }
+            b"FIELD" => {
+                let arrays = number(words.get(2)).map_err(at)?;
+                for _ in 0..arrays {
+                    let (line, header) = c.next_text_line().ok_or("truncated FIELD")?;
+                    let w: Vec<&[u8]> = header
+                        .split(|b| b.is_ascii_whitespace())
+                        .filter(|w| !w.is_empty())
+                        .collect();
+                    let comps = number(w.get(1)).map_err(|m| format!("{m} (line {line})"))?;
+                    let count = number(w.get(2)).map_err(|m| format!("{m} (line {line})"))?;
+                    let ty = w.get(3).copied().unwrap_or(b"");
+                    let values = read_values(c, binary, ty, comps.saturating_mul(count))
+                        .map_err(|m| format!("{m} (line {line})"))?;
+                    if is_point && count == points {
+                        push_components(out, w.first().copied().unwrap_or(b""), comps, values);
+                    }
+                }
+                None
+            }
+            _ => return Ok(()),
+        };
+        if let Some((array_name, ty, comps)) = array {
+            let values = read_values(c, binary, &ty, tuples.saturating_mul(comps)).map_err(at)?;
+            if is_point {
+                push_components(out, array_name, comps, values);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Adds an array of `comps` interleaved components as attributes (`name` or `name:k`);
+/// names that would clash are dropped.
+fn push_components(
+    out: &mut Vec<crate::Attribute>,
+    name: &[u8],
+    comps: usize,
+    values: crate::AttributeValues,
+) {
+    use crate::AttributeValues;
+    let base = crate::attribute_name(&String::from_utf8_lossy(name), out.len());
+    for k in 0..comps {
+        let column = if comps == 1 {
+            base.clone()
+        } else {
+            format!("{base}:{k}")
+        };
+        if crate::attribute_conflict(&column, out).is_some() {
+            continue;
+        }
+        let values = match &values {
+            AttributeValues::Int(v) => {
+                AttributeValues::Int(v.iter().skip(k).step_by(comps).copied().collect())
+            }
+            AttributeValues::Float(v) => {
+                AttributeValues::Float(v.iter().skip(k).step_by(comps).copied().collect())
+            }
+        };
+        out.push(crate::Attribute {
+            name: column,
+            values,
+        });
+    }
 }
 
 /// Skips a `FIELD name n` block: `n` arrays, each `name components tuples type` then data.
@@ -450,22 +725,55 @@ mod tests {
         for v in [1.5f64, -2.0, 0.25] {
             file.extend_from_slice(&v.to_be_bytes());
         }
-        let p = read(file.as_slice(), "f.vtk").unwrap();
+        let p = read(file.as_slice(), "f.vtk", false).unwrap();
         assert_eq!(p.coords, vec![1.5, -2.0, 0.25]);
     }
 
     #[test]
     fn ascii_points_across_lines() {
         let file = "# vtk DataFile Version 2.0\ntitle\nASCII\n\nDATASET UNSTRUCTURED_GRID\nPOINTS 2 float\n1 2\n3 4 5 6\nCELLS 0 0\n";
-        let p = read(file.as_bytes(), "a.vtk").unwrap();
+        let p = read(file.as_bytes(), "a.vtk", false).unwrap();
         assert_eq!(p.coords, vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
         assert!(!p.padded_2d);
     }
 
     #[test]
+    fn point_data_is_read_and_damage_after_points_keeps_the_positions() {
+        use crate::AttributeValues::{Float, Int};
+        let file = "# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 2 float\n0 0 0 1 1 1\nVERTICES 2 4\n1 0\n1 1\nPOINT_DATA 2\nSCALARS p double 1\nLOOKUP_TABLE default\n1.5 2\nVECTORS v float\n1 2 3 4 5 6\nSCALARS id int\n7 8\nCELL_DATA 2\nSCALARS c int 1\nLOOKUP_TABLE default\n0 0\n";
+        let p = read(file.as_bytes(), "a.vtk", true).unwrap();
+        let got: Vec<(&str, &crate::AttributeValues)> = p
+            .attributes
+            .iter()
+            .map(|a| (a.name.as_str(), &a.values))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                ("p", &Float(vec![1.5, 2.0])),
+                ("v:0", &Float(vec![1.0, 4.0])),
+                ("v:1", &Float(vec![2.0, 5.0])),
+                ("v:2", &Float(vec![3.0, 6.0])),
+                ("id", &Int(vec![7, 8])),
+            ]
+        );
+        assert!(p.skipped.is_empty(), "{:?}", p.skipped);
+        // Cut inside the vectors: the positions survive, the loss is reported.
+        let cut = &file[..file.find("4 5 6").unwrap()];
+        let p = read(cut.as_bytes(), "a.vtk", true).unwrap();
+        assert_eq!(p.coords.len(), 6);
+        assert!(
+            p.skipped[0].contains("POINT_DATA not read"),
+            "{:?}",
+            p.skipped
+        );
+        assert!(p.skipped[0].contains("line 14"), "{:?}", p.skipped);
+    }
+
+    #[test]
     fn ascii_error_names_the_line_of_the_token() {
         let file = "# vtk DataFile Version 2.0\ntitle\nASCII\nDATASET POLYDATA\nPOINTS 2 float\n1 2 3\n4 x 6\n";
-        let e = read(file.as_bytes(), "a.vtk").unwrap_err();
+        let e = read(file.as_bytes(), "a.vtk", false).unwrap_err();
         assert_eq!(e.location(), Some(Location::Line(7)), "{e}");
     }
 }

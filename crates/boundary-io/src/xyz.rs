@@ -153,6 +153,7 @@ pub(crate) fn read<R: BufRead>(reader: R, name: &str) -> Result<Positions, IoErr
         coords,
         stride,
         padded_2d: false,
+        ..Default::default()
     })
 }
 

@@ -228,13 +228,13 @@ fn declared_count_larger_than_data() {
 #[test]
 fn unknown_extension_names_the_file() {
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("particles.bgeo");
+    let path = dir.path().join("particles.pdb");
     std::fs::write(&path, "x,y\n0,0\n").unwrap();
     let e = read_particles(&path, &ReadOptions::default()).unwrap_err();
     assert!(matches!(e, IoError::UnknownFormat { .. }));
     let message = e.to_string();
     assert!(
-        message.contains("particles.bgeo") && message.starts_with("unknown"),
+        message.contains("particles.pdb") && message.starts_with("unknown"),
         "{message}"
     );
     // Given a format, the extension does not matter.

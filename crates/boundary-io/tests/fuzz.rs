@@ -4,11 +4,30 @@
 
 mod common;
 
-use boundary_io::{write_particles_to, Column, Format};
+use boundary_io::{read_particle_file_from, write_particles_to, Column, Format, ReadOptions};
 use common::{read_bytes, set2, set3};
 use proptest::prelude::*;
 
-const FORMATS: [Format; 4] = [Format::Csv, Format::Xyz, Format::Ply, Format::Vtk];
+const FORMATS: [Format; 7] = [
+    Format::Csv,
+    Format::Xyz,
+    Format::Ply,
+    Format::Vtk,
+    Format::Vtu,
+    Format::Vtp,
+    Format::Bgeo,
+];
+
+/// Files written by VTK itself (see `data/make_vtk_xml.py`): every XML data mode and
+/// compression, and legacy 5.1 files with point data.
+const VTK_XML: [(Format, &[u8]); 6] = [
+    (Format::Vtk, include_bytes!("data/poly_legacy_ascii.vtk")),
+    (Format::Vtk, include_bytes!("data/grid_legacy_binary.vtk")),
+    (Format::Vtu, include_bytes!("data/grid_appended_zlib.vtu")),
+    (Format::Vtu, include_bytes!("data/grid_binary_zlib_be.vtu")),
+    (Format::Vtp, include_bytes!("data/poly_appended_base64.vtp")),
+    (Format::Vtp, include_bytes!("data/poly_ascii.vtp")),
+];
 
 /// Reads with every dimension option; checks that errors are one line naming the source.
 fn read_all_ways(bytes: &[u8], format: Format) {
@@ -26,6 +45,12 @@ fn read_all_ways(bytes: &[u8], format: Format) {
             }
         }
     }
+    // With the attributes: the same positions, or an error.
+    let options = ReadOptions::default();
+    if let Ok(file) = read_particle_file_from(bytes, "fuzz.in", format, &options) {
+        let n = file.set.len();
+        assert!(file.attributes.iter().all(|a| a.column().len() == n));
+    }
 }
 
 /// Valid files to mangle: every format, 2D and 3D, plus binary PLY and VTK headers.
@@ -35,8 +60,11 @@ fn samples() -> Vec<(Format, Vec<u8>)> {
         for set in [set2(), set3()] {
             let mut bytes = Vec::new();
             let labels = vec![1i64; set.len()];
-            write_particles_to(&mut bytes, format, &set, &[("b", Column::Int(&labels))]).unwrap();
-            out.push((format, bytes));
+            // BGEO cannot hold the 1e300 of the 2D set: that one is left out.
+            if write_particles_to(&mut bytes, format, &set, &[("b", Column::Int(&labels))]).is_ok()
+            {
+                out.push((format, bytes));
+            }
         }
     }
     let mut ply = b"ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n".to_vec();
@@ -48,6 +76,9 @@ fn samples() -> Vec<(Format, Vec<u8>)> {
     vtk.extend_from_slice(b"\nPOINTS 2 float\n");
     vtk.extend((0..24u8).map(|k| k.wrapping_mul(41)));
     out.push((Format::Vtk, vtk));
+    for (format, bytes) in VTK_XML {
+        out.push((format, bytes.to_vec()));
+    }
     out.push((Format::Xyz, b"3\nc\nH 0 0 0\nO 1 1 1\nN 2 2 2\n".to_vec()));
     out.push((
         Format::Csv,

@@ -31,7 +31,7 @@ fn sets() -> [(usize, AnyParticleSet); 2] {
 #[test]
 fn every_format_round_trips_positions_exactly_through_files() {
     let dir = tempfile::tempdir().unwrap();
-    for ext in ["csv", "xyz", "txt", "ply", "vtk"] {
+    for ext in ["csv", "xyz", "txt", "ply", "vtk", "vtu", "vtp"] {
         for (d, set) in sets() {
             let path = dir.path().join(format!("p{d}.{ext}"));
             write_particles(&path, None, &set, &columns()).unwrap();
@@ -310,4 +310,73 @@ fn byte_columns_are_uchar_in_ply_and_unsigned_char_in_vtk() {
         write_particles_to(&mut csv, Format::Csv, &set, &cols).unwrap();
         assert!(String::from_utf8(csv).unwrap().contains(",255\n"));
     }
+}
+
+#[test]
+fn attributes_round_trip_through_every_format_that_keeps_them() {
+    use boundary_io::{read_particle_file, AttributeValues};
+    let dir = tempfile::tempdir().unwrap();
+    let flags = [1i64, 0, 1, -7, 3];
+    let density = [1000.0, 999.5, 1e-9, -0.0, 1.0 / 3.0];
+    let red = [0u8, 1, 2, 254, 255];
+    let columns = [
+        ("boundary", Column::Int(&flags)),
+        ("Density", Column::Float(&density)),
+        ("red", Column::Byte(&red)),
+    ];
+    for ext in ["csv", "ply", "vtk", "vtu", "vtp"] {
+        for (d, set) in sets() {
+            let path = dir.path().join(format!("a{d}.{ext}"));
+            write_particles(&path, None, &set, &columns).unwrap();
+            let file = read_particle_file(&path, &ReadOptions::default()).unwrap();
+            assert!(same_bits(&file.set, &set), "{ext} {d}D");
+            assert!(file.skipped.is_empty(), "{ext}: {:?}", file.skipped);
+            let got: Vec<(&str, &AttributeValues)> = file
+                .attributes
+                .iter()
+                .map(|a| (a.name.as_str(), &a.values))
+                .collect();
+            assert_eq!(
+                got,
+                [
+                    ("boundary", &AttributeValues::Int(flags.to_vec())),
+                    ("Density", &AttributeValues::Float(density.to_vec())),
+                    (
+                        "red",
+                        &AttributeValues::Int(red.iter().map(|&b| i64::from(b)).collect())
+                    ),
+                ],
+                "{ext} {d}D"
+            );
+        }
+    }
+}
+
+#[test]
+fn binary_ply_properties_are_kept_and_lists_skipped() {
+    use boundary_io::{read_particle_file_from, AttributeValues};
+    let mut ply = b"ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty uchar red\nproperty list uchar int idx\nproperty double rho\nend_header\n".to_vec();
+    for (x, y, red, rho) in [(1.0f32, 2.0f32, 7u8, 0.5f64), (3.0, 4.0, 9, 1.5)] {
+        ply.extend_from_slice(&x.to_le_bytes());
+        ply.extend_from_slice(&y.to_le_bytes());
+        ply.push(red);
+        ply.push(1);
+        ply.extend_from_slice(&5i32.to_le_bytes());
+        ply.extend_from_slice(&rho.to_le_bytes());
+    }
+    let file = read_particle_file_from(
+        ply.as_slice(),
+        "b.ply",
+        Format::Ply,
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(file.set.coords(1), &[3.0, 4.0]);
+    assert_eq!(file.attributes.len(), 2);
+    assert_eq!(file.attributes[0].values, AttributeValues::Int(vec![7, 9]));
+    assert_eq!(
+        file.attributes[1].values,
+        AttributeValues::Float(vec![0.5, 1.5])
+    );
+    assert!(file.skipped[0].contains("\"idx\""), "{:?}", file.skipped);
 }

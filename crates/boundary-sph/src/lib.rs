@@ -43,4 +43,4 @@ mod sums;
 
 pub use kernel::{Kernel, SphKernel, UnknownKernel, SUPPORT_FACTOR};
 pub use linalg::SymmetricEigen;
-pub use sums::{number_density, summation_density, LocalSums, SphContext};
+pub use sums::{colour_field_normals, number_density, summation_density, LocalSums, SphContext};

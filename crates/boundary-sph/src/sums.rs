@@ -140,6 +140,45 @@ impl<'a, const D: usize> SphContext<'a, D> {
     }
 }
 
+/// Outward unit normals from the colour-field gradient (Müller et al., SCA 2003, Sec. 5):
+/// `n_i = −∇c_i / |∇c_i|` with `∇c_i = Σ_j V_j ∇W_ij`, the gradient of unity of
+/// [`LocalSums`] (it points into the fluid, so its negation points out), Wendland C2 at `h`.
+///
+/// Tolerance: where `|∇c_i| · h < 1e-9` (inside a symmetric neighbourhood, or an isolated
+/// particle) the direction is undefined and the zero vector is returned. Exact duplicates
+/// contribute nothing (their `∇W` is zero at distance 0).
+///
+/// ```
+/// use boundary_core::ParticleSet;
+/// use boundary_sph::colour_field_normals;
+///
+/// // A 5 x 5 lattice: the middle of the left edge points to −x, the centre has no normal.
+/// let rows: Vec<[f64; 2]> = (0..25).map(|k| [(k % 5) as f64, (k / 5) as f64]).collect();
+/// let set = ParticleSet::from_rows(&rows).unwrap();
+/// let n = colour_field_normals(&set, 1.0).unwrap();
+/// assert!((n[10].x + 1.0).abs() < 1e-12 && n[10].y.abs() < 1e-12);
+/// assert_eq!(n[12].norm(), 0.0);
+/// ```
+pub fn colour_field_normals<const D: usize>(
+    set: &ParticleSet<D>,
+    h: f64,
+) -> Result<Vec<Point<D>>, CoreError> {
+    use crate::kernel::Kernel;
+    let ctx = SphContext::new(set, SphKernel::new(Kernel::WendlandC2, h))?;
+    Ok((0..set.len())
+        .into_par_iter()
+        .map(|i| {
+            let g = ctx.local_sums(i).gradient;
+            let norm = g.norm();
+            if norm * h < 1e-9 {
+                Point::<D>::zeros()
+            } else {
+                -g / norm
+            }
+        })
+        .collect())
+}
+
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 mod tests {
