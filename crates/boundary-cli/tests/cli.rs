@@ -342,6 +342,15 @@ fn non_finite_coordinates_name_the_file_the_particle_and_the_line() {
 }
 
 #[test]
+fn a_csv_row_longer_than_its_header_is_an_error_naming_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let wide = write_input(dir.path(), "wide.csv", b"x,y\n0,0\n1,1,7\n");
+    assert_one_line_error(&["detect", &wide, "-r", "1"], "wide.csv");
+    assert_one_line_error(&["detect", &wide, "-r", "1"], "line 3");
+    assert_one_line_error(&["detect", &wide, "-r", "1"], "too many values: 3");
+}
+
+#[test]
 fn a_header_only_csv_is_an_empty_set_not_an_error() {
     let dir = tempfile::tempdir().unwrap();
     for (name, header, dim) in [("e2.csv", "x,y\n", 2), ("e3.csv", "x,y,z\n", 3)] {

@@ -129,7 +129,24 @@ pub(crate) fn read<R: BufRead>(
     let mut coords = Vec::new();
     let mut row = [0.0f64; 3];
     let mut index = 0usize;
+    // Policy: a row may not have more values than the header has columns (or, headerless,
+    // than the first row has values): such a row is misaligned data, not something to
+    // silently cut. One trailing separator is not a value (see `fields`).
+    let width = first_fields.len();
+    let width_source = if headerless {
+        "the first row has"
+    } else {
+        "the header names"
+    };
     let mut parse_row = |line_number: usize, line: &str, coords: &mut Vec<f64>| {
+        let count = fields(line, sep).count();
+        if count > width {
+            return Err(IoError::parse(
+                name,
+                Location::Line(line_number),
+                format!("too many values: {count}, {width_source} {width} columns"),
+            ));
+        }
         let mut seen = 0;
         for (c, field) in fields(line, sep).enumerate().take(needed) {
             seen = c + 1;
@@ -417,6 +434,28 @@ mod tests {
             "{:?}",
             p.skipped
         );
+    }
+
+    #[test]
+    fn rows_longer_than_the_header_are_errors_naming_the_line() {
+        for attributes in [false, true] {
+            let e = read("x,y\n1,2\n3,4,5\n".as_bytes(), "w.csv", None, attributes)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("w.csv") && e.contains("line 3"), "{e}");
+            assert!(
+                e.contains("too many values: 3") && e.contains("header names 2"),
+                "{e}"
+            );
+        }
+        // Headerless: the first row sets the width.
+        let e = read("1,2,3\n4,5,6,7\n".as_bytes(), "h.csv", None, false)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 2") && e.contains("first row has 3"), "{e}");
+        // One trailing separator is not a value; a row as wide as the header is fine.
+        let p = read("x,y,z\n1,2,3,\n4,5,6\n".as_bytes(), "t.csv", None, false).unwrap();
+        assert_eq!(p.coords, vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
     }
 
     #[test]

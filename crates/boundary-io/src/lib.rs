@@ -29,7 +29,9 @@
 //! in DualSPHysics' 2D runs) the file is 2D. A headerless file takes its first 2 or 3 columns as
 //! positions: as many as [`ReadOptions::dim`] says, else 3 if the first row has at least 3
 //! fields, else 2. Blank lines and lines starting with `#` are skipped; a trailing separator is
-//! allowed; with `;` as separator a decimal comma (`0,5`) is accepted.
+//! allowed; with `;` as separator a decimal comma (`0,5`) is accepted. A row with more values
+//! than the header has columns (headerless: than the first row has) is an error naming the
+//! line: it is misaligned data, which cutting it to the header would hide.
 //!
 //! **XYZ.** One particle per line, whitespace-separated numbers: 2 columns are x y, 3 or more
 //! are x y z (further columns ignored). A comment line `# x y [z] …` before the data (what the
