@@ -812,12 +812,7 @@ fn percent(part: usize, whole: usize) -> f64 {
 
 /// `name` or `name (k=v, …)`.
 fn method_label(detector: &dyn BoundaryDetector) -> String {
-    let params = detector.params();
-    if params.0.is_empty() {
-        detector.name().to_owned()
-    } else {
-        format!("{} ({params})", detector.name())
-    }
+    detector.to_string()
 }
 
 fn score(args: ScoreArgs) -> Result<(), String> {

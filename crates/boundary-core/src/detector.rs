@@ -272,6 +272,37 @@ pub trait BoundaryDetector: Send + Sync + fmt::Debug {
     }
 }
 
+/// Writes a detector's label: its name, then its parameters in parentheses when it has any,
+/// e.g. `ia (depth=6)` or `exact`. `Display` of every detector type and of
+/// `dyn BoundaryDetector` prints this (see [`impl_display_as_label!`](crate::impl_display_as_label)).
+pub fn write_label(detector: &dyn BoundaryDetector, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+    let params = detector.params();
+    if params.0.is_empty() {
+        f.write_str(detector.name())
+    } else {
+        write!(f, "{} ({params})", detector.name())
+    }
+}
+
+impl fmt::Display for dyn BoundaryDetector + '_ {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write_label(self, f)
+    }
+}
+
+/// Implements `Display` for a detector type as its label ([`write_label`]): `name (key=value,
+/// …)`. Every detector crate invokes it once for its detector.
+#[macro_export]
+macro_rules! impl_display_as_label {
+    ($detector:ty) => {
+        impl ::std::fmt::Display for $detector {
+            fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
+                $crate::write_label(self, f)
+            }
+        }
+    };
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -289,6 +320,52 @@ mod tests {
             Labels::new(vec![false]).fingerprint()
         );
         assert_eq!(a.fingerprint(), a.clone().fingerprint());
+    }
+
+    /// A detector with one parameter, for the label test.
+    #[derive(Debug)]
+    struct Knob(u32);
+
+    impl BoundaryDetector for Knob {
+        fn name(&self) -> &'static str {
+            "knob"
+        }
+        fn params(&self) -> Params {
+            Params(if self.0 == 0 {
+                Vec::new()
+            } else {
+                vec![ParamInfo {
+                    name: "turns",
+                    value: self.0.to_string(),
+                    default: "1".into(),
+                    description: "",
+                }]
+            })
+        }
+        fn set_param(&mut self, key: &str, _value: &str) -> Result<(), ParamError> {
+            Err(ParamError::unknown("knob", key, &[]))
+        }
+        fn detect_2d(&self, set: &ParticleSet<2>, _r: Radius) -> Result<Detection, DetectError> {
+            Ok(Detection {
+                labels: Labels::new(vec![true; set.len()]),
+                margin: None,
+            })
+        }
+        fn detect_3d(&self, set: &ParticleSet<3>, _r: Radius) -> Result<Detection, DetectError> {
+            Ok(Detection {
+                labels: Labels::new(vec![true; set.len()]),
+                margin: None,
+            })
+        }
+    }
+    crate::impl_display_as_label!(Knob);
+
+    #[test]
+    fn a_detector_displays_as_its_name_and_parameters() {
+        assert_eq!(Knob(3).to_string(), "knob (turns=3)");
+        assert_eq!(Knob(0).to_string(), "knob");
+        let boxed: Box<dyn BoundaryDetector> = Box::new(Knob(2));
+        assert_eq!(boxed.to_string(), "knob (turns=2)");
     }
 
     #[test]

@@ -38,7 +38,7 @@ mod particles;
 mod spacing;
 
 pub use detector::{
-    BoundaryDetector, DetectError, Detection, Labels, ParamError, ParamInfo, Params,
+    write_label, BoundaryDetector, DetectError, Detection, Labels, ParamError, ParamInfo, Params,
 };
 pub use error::CoreError;
 pub use grid::NeighbourGrid;

@@ -166,6 +166,9 @@ impl DiltsDetector {
     }
 }
 
+// `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
+boundary_core::impl_display_as_label!(DiltsDetector);
+
 impl BoundaryDetector for DiltsDetector {
     fn name(&self) -> &'static str {
         "dilts"

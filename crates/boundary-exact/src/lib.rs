@@ -114,6 +114,9 @@ impl ExactDetector {
     }
 }
 
+// `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
+boundary_core::impl_display_as_label!(ExactDetector);
+
 impl BoundaryDetector for ExactDetector {
     fn name(&self) -> &'static str {
         "exact"

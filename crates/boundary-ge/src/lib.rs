@@ -147,6 +147,9 @@ impl GeDetector {
     }
 }
 
+// `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
+boundary_core::impl_display_as_label!(GeDetector);
+
 impl BoundaryDetector for GeDetector {
     fn name(&self) -> &'static str {
         "ge"

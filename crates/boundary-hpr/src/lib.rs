@@ -279,6 +279,9 @@ fn switch(on: bool) -> String {
     if on { "on" } else { "off" }.to_owned()
 }
 
+// `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
+boundary_core::impl_display_as_label!(HprDetector);
+
 impl BoundaryDetector for HprDetector {
     fn name(&self) -> &'static str {
         METHOD

@@ -121,6 +121,9 @@ impl IaDetector {
     }
 }
 
+// `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
+boundary_core::impl_display_as_label!(IaDetector);
+
 impl BoundaryDetector for IaDetector {
     fn name(&self) -> &'static str {
         "ia"

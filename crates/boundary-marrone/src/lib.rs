@@ -166,6 +166,9 @@ fn parse_in(
         .ok_or_else(|| ParamError::invalid(METHOD, key, value, format!("must be {expected}")))
 }
 
+// `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
+boundary_core::impl_display_as_label!(MarroneDetector);
+
 impl BoundaryDetector for MarroneDetector {
     fn name(&self) -> &'static str {
         METHOD

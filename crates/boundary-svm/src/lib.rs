@@ -265,6 +265,9 @@ where
     Ok(labels)
 }
 
+// `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
+boundary_core::impl_display_as_label!(SvmDetector);
+
 impl BoundaryDetector for SvmDetector {
     fn name(&self) -> &'static str {
         METHOD

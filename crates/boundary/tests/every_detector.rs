@@ -591,3 +591,22 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn every_detector_displays_its_name_and_parameters() {
+    for name in methods() {
+        let d = detector(name);
+        let label = d.to_string();
+        assert!(label.starts_with(name), "{label}");
+        for p in d.params().0 {
+            assert!(
+                label.contains(&format!("{}={}", p.name, p.value)),
+                "{label}"
+            );
+        }
+    }
+    if methods().contains(&"ia") {
+        let d = boundary::detector_with_params("ia", &[("depth", "8")]).unwrap();
+        assert_eq!(d.to_string(), "ia (depth=8)");
+    }
+}
