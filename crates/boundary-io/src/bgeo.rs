@@ -193,16 +193,7 @@ pub(crate) fn read<R: BufRead>(
         for axis in 0..3 {
             let value = f64::from(f32::from_be_bytes(word(i, axis)));
             if !value.is_finite() {
-                return Err(IoError::NonFinite {
-                    file: name.to_owned(),
-                    at: Location::Item {
-                        kind: "point",
-                        index: i,
-                    },
-                    index: i,
-                    axis,
-                    value,
-                });
+                return Err(IoError::non_finite_point(name, i, axis, value));
             }
             coords.push(value);
         }

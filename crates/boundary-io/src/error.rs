@@ -149,6 +149,21 @@ impl IoError {
         }
     }
 
+    /// A non-finite coordinate of point `index` of a binary file (located by the point's
+    /// index, as binary files have no lines).
+    pub(crate) fn non_finite_point(file: &str, index: usize, axis: usize, value: f64) -> Self {
+        IoError::NonFinite {
+            file: file.to_owned(),
+            at: Location::Item {
+                kind: "point",
+                index,
+            },
+            index,
+            axis,
+            value,
+        }
+    }
+
     pub(crate) fn dimension(file: &str, message: impl Into<String>) -> Self {
         IoError::Dimension {
             file: file.to_owned(),

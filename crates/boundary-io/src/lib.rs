@@ -381,6 +381,16 @@ pub(crate) struct Positions {
 /// Reads the particles of the file at `path`; the format is `options.format` or the one the
 /// extension names. See the crate docs for the formats and the dimension policy.
 pub fn read_particles(path: &Path, options: &ReadOptions) -> Result<AnyParticleSet, IoError> {
+    let (file, name, format) = open_input(path, options)?;
+    read_particles_from(file, &name, format, options)
+}
+
+/// The open file at `path`, its name for messages, and its format (`options.format`, else the
+/// one the extension names).
+fn open_input(
+    path: &Path,
+    options: &ReadOptions,
+) -> Result<(std::fs::File, String, Format), IoError> {
     let name = path.display().to_string();
     let format = match options.format {
         Some(f) => f,
@@ -389,7 +399,7 @@ pub fn read_particles(path: &Path, options: &ReadOptions) -> Result<AnyParticleS
         }
     };
     let file = std::fs::File::open(path).map_err(|e| IoError::read(&name, e))?;
-    read_particles_from(file, &name, format, options)
+    Ok((file, name, format))
 }
 
 /// Reads particles in `format` from `reader`; `name` names the source in error messages.
@@ -406,14 +416,7 @@ pub fn read_particles_from(
 /// Reads the particles of the file at `path` with their other point attributes (see the crate
 /// docs, "Attributes"); the format is `options.format` or the one the extension names.
 pub fn read_particle_file(path: &Path, options: &ReadOptions) -> Result<ParticleFile, IoError> {
-    let name = path.display().to_string();
-    let format = match options.format {
-        Some(f) => f,
-        None => {
-            Format::from_path(path).ok_or_else(|| IoError::UnknownFormat { file: name.clone() })?
-        }
-    };
-    let file = std::fs::File::open(path).map_err(|e| IoError::read(&name, e))?;
+    let (file, name, format) = open_input(path, options)?;
     read_particle_file_from(file, &name, format, options)
 }
 

@@ -286,16 +286,7 @@ fn read_binary_points(
             _ => unreachable!("chunks are 4 or 8 bytes"),
         };
         if !value.is_finite() {
-            return Err(IoError::NonFinite {
-                file: name.to_owned(),
-                at: Location::Item {
-                    kind: "point",
-                    index: k / 3,
-                },
-                index: k / 3,
-                axis: k % 3,
-                value,
-            });
+            return Err(IoError::non_finite_point(name, k / 3, k % 3, value));
         }
         coords.push(value);
     }
@@ -391,15 +382,7 @@ fn read_values(
             AttributeValues::Int(
                 bytes
                     .chunks_exact(size)
-                    .map(|ch| {
-                        let raw = word(ch);
-                        if signed && bits < 64 {
-                            let shift = 64 - bits;
-                            ((raw << shift) as i64) >> shift
-                        } else {
-                            raw as i64
-                        }
-                    })
+                    .map(|ch| sign_extend(word(ch), bits, signed))
                     .collect(),
             )
         })
@@ -707,6 +690,18 @@ pub(crate) fn write(
         }
     }
     Ok(())
+}
+
+/// An integer of `bits` bits read into the low bits of `raw`, as `i64`: sign-extended when
+/// `signed` (two's complement), else taken as is (unsigned 64-bit values beyond `i64::MAX`
+/// wrap; callers that care check first).
+pub(crate) fn sign_extend(raw: u64, bits: u32, signed: bool) -> i64 {
+    if signed && bits < 64 {
+        let shift = 64 - bits;
+        ((raw << shift) as i64) >> shift
+    } else {
+        raw as i64
+    }
 }
 
 #[cfg(test)]

@@ -202,16 +202,7 @@ pub(crate) fn read<R: BufRead>(
         Values::Int(v) => v.into_iter().map(|x| x as f64).collect(),
     };
     if let Some(k) = coords.iter().position(|v| !v.is_finite()) {
-        return Err(IoError::NonFinite {
-            file: name.to_owned(),
-            at: Location::Item {
-                kind: "point",
-                index: k / 3,
-            },
-            index: k / 3,
-            axis: k % 3,
-            value: coords[k],
-        });
+        return Err(IoError::non_finite_point(name, k / 3, k % 3, coords[k]));
     }
     let mut attributes: Vec<Attribute> = Vec::new();
     let mut skipped = Vec::new();
@@ -676,44 +667,34 @@ fn decode(
 }
 
 fn decode_ascii(text: &str, scalar: Scalar, count: usize) -> Result<Values, String> {
-    let tokens = text.split_ascii_whitespace();
-    let cap = count.min(MAX_PREALLOCATE);
-    let mismatch = |found: usize| format!("{found} values where {count} were declared");
-    if scalar.is_float() {
-        let mut v = Vec::with_capacity(cap);
-        for (k, t) in tokens.enumerate() {
-            if k >= count {
-                return Err(mismatch(
-                    count + 1 + text.split_ascii_whitespace().skip(k + 1).count(),
-                ));
-            }
-            v.push(
-                t.parse::<f64>()
-                    .map_err(|_| format!("invalid number {:?} (value {k})", excerpt(t, 30)))?,
-            );
-        }
-        if v.len() != count {
-            return Err(mismatch(v.len()));
-        }
-        Ok(Values::Float(v))
+    Ok(if scalar.is_float() {
+        Values::Float(parse_tokens(text, count, "number")?)
     } else {
-        let mut v = Vec::with_capacity(cap);
-        for (k, t) in tokens.enumerate() {
-            if k >= count {
-                return Err(mismatch(
-                    count + 1 + text.split_ascii_whitespace().skip(k + 1).count(),
-                ));
-            }
-            v.push(
-                t.parse::<i64>()
-                    .map_err(|_| format!("invalid integer {:?} (value {k})", excerpt(t, 30)))?,
-            );
+        Values::Int(parse_tokens(text, count, "integer")?)
+    })
+}
+
+/// Exactly `count` whitespace-separated values of type `T` (`what` names them in errors).
+fn parse_tokens<T: std::str::FromStr>(
+    text: &str,
+    count: usize,
+    what: &str,
+) -> Result<Vec<T>, String> {
+    let mismatch = |found: usize| format!("{found} values where {count} were declared");
+    let mut v = Vec::with_capacity(count.min(MAX_PREALLOCATE));
+    for (k, t) in text.split_ascii_whitespace().enumerate() {
+        if k >= count {
+            return Err(mismatch(text.split_ascii_whitespace().count()));
         }
-        if v.len() != count {
-            return Err(mismatch(v.len()));
-        }
-        Ok(Values::Int(v))
+        v.push(
+            t.parse::<T>()
+                .map_err(|_| format!("invalid {what} {:?} (value {k})", excerpt(t, 30)))?,
+        );
     }
+    if v.len() != count {
+        return Err(mismatch(v.len()));
+    }
+    Ok(v)
 }
 
 /// Header + data of a binary array (inline or appended), uncompressed or zlib blocks.
@@ -827,16 +808,7 @@ fn decode_binary(
             let signed = matches!(scalar, Scalar::I8 | Scalar::I16 | Scalar::I32 | Scalar::I64);
             Values::Int(
                 chunks
-                    .map(|c| {
-                        let raw = u64::from_le_bytes(word(c));
-                        if signed && bits < 64 {
-                            // Sign-extend from `bits`.
-                            let shift = 64 - bits;
-                            ((raw << shift) as i64) >> shift
-                        } else {
-                            raw as i64
-                        }
-                    })
+                    .map(|c| crate::vtk::sign_extend(u64::from_le_bytes(word(c)), bits, signed))
                     .collect(),
             )
         }
