@@ -10,6 +10,9 @@
 //!   (every detector on every scene) in release mode; ARGS go to the sweep (`--help` lists them).
 //! - `cargo xtask fixtures`: regenerate the scenes in `fixtures/`.
 //! - `cargo xtask prereqs`: only check (and where possible install) the prerequisites.
+//! - `cargo xtask check-deps`: the dependency rules of `docs/ARCHITECTURE.md`, from the
+//!   dependency graph (`cargo tree`): boundary-core has no file-format or CLI dependency, and
+//!   no method crate has an IO dependency (direct or not). Also the first step of `test`.
 //!
 //! xtask depends on the standard library only, so that it builds on a machine that lacks the
 //! prerequisites it installs.
@@ -40,6 +43,7 @@ fn main() -> ExitCode {
         "test-mpi" => prereqs().and_then(|()| test_mpi()),
         "sweep" => prereqs().and_then(|()| sweep(rest)),
         "fixtures" => fixtures(rest),
+        "check-deps" => check_deps(),
         "train-svm" => train_svm(rest),
         "prereqs" => prereqs().map(|()| {
             if let Err(why) = mpi_prereqs() {
@@ -71,7 +75,8 @@ fn usage() -> &'static str {
      fixtures   regenerate the generated scenes in fixtures/\n  \
      train-svm  retrain the shipped svm models (seeded) and score them on held-out scenes:\n             \
 crates/boundary-svm/models/, target/svm/training.md\n  \
-     prereqs    check the system prerequisites (install them when root with apt-get)"
+     prereqs    check the system prerequisites (install them when root with apt-get)\n  \
+     check-deps boundary-core has no format/CLI dependency, method crates no IO dependency"
 }
 
 /// The workspace root (the parent of this crate's directory).
@@ -120,6 +125,7 @@ fn test_workspace(mpi: bool, rest: &[String]) -> Result<(), String> {
     } else {
         &["--exclude", MPI_PACKAGE]
     };
+    check_deps()?;
     cargo(&["fmt", "--all", "--", "--check"])?;
     let mut args = vec!["clippy", "--workspace"];
     args.extend(exclude);
@@ -317,5 +323,200 @@ fn run_system(program: &str, args: &[&str]) -> Result<(), String> {
         Ok(())
     } else {
         Err(format!("`{program} {}` failed ({status})", args.join(" ")))
+    }
+}
+
+/// The method crates (and the toolboxes they share): no file, no output, no IO dependency.
+const METHOD_CRATES: &[&str] = &[
+    "boundary-exact",
+    "boundary-dilts",
+    "boundary-ia",
+    "boundary-ge",
+    "boundary-sph",
+    "boundary-marrone",
+    "boundary-muller",
+    "boundary-hpr",
+    "boundary-svm",
+    "boundary-resample",
+];
+
+/// IO dependencies: our file and CLI crates, file-format readers and writers, compression,
+/// command-line parsing and terminal output, temporary files, plotting. A method crate must
+/// not depend on any of them, directly or through another crate.
+const IO_DEPENDENCIES: &[&str] = &[
+    "boundary-io",
+    "boundary-cli",
+    "boundary-scenes",
+    "boundary-sweep",
+    "boundary-mpi",
+    "vtkio",
+    "ply-rs-bw",
+    "quick-xml",
+    "base64",
+    "flate2",
+    "tobj",
+    "csv",
+    "toml",
+    "clap",
+    "indicatif",
+    "glob",
+    "tempfile",
+    "plotters",
+    "mpi",
+];
+
+/// Besides the IO dependencies, boundary-core knows no serialisation format: it holds the
+/// types every crate shares, and a format belongs to boundary-io (`svm` may read its JSON
+/// model; the core may not).
+const FORMAT_DEPENDENCIES: &[&str] = &["serde", "serde_json"];
+
+/// The rules: each crate with the dependencies it must not have.
+fn dependency_rules() -> Vec<(&'static str, Vec<&'static str>)> {
+    let core: Vec<&str> = IO_DEPENDENCIES
+        .iter()
+        .chain(FORMAT_DEPENDENCIES)
+        .copied()
+        .collect();
+    let mut rules = vec![("boundary-core", core)];
+    for &krate in METHOD_CRATES {
+        rules.push((krate, IO_DEPENDENCIES.to_vec()));
+    }
+    rules
+}
+
+/// The names of the packages in the output of
+/// `cargo tree -p CRATE -e normal --prefix none --format {p}` (one `name vX.Y.Z [(path)] [(*)]`
+/// per line; the first line is the crate itself, which is not its own dependency).
+fn tree_packages(tree: &str) -> Vec<&str> {
+    tree.lines()
+        .skip(1)
+        .filter_map(|line| line.split_whitespace().next())
+        .collect()
+}
+
+/// The rule violations of `krate` whose normal dependency tree (as [`tree_packages`] reads it)
+/// is `tree`: one message per forbidden package found.
+fn forbidden_dependencies(krate: &str, tree: &str, forbidden: &[&str]) -> Vec<String> {
+    let mut found: Vec<&str> = tree_packages(tree)
+        .into_iter()
+        .filter(|name| forbidden.contains(name))
+        .collect();
+    found.sort_unstable();
+    found.dedup();
+    found
+        .into_iter()
+        .map(|dep| {
+            format!("{krate} depends on {dep} (see `cargo tree -p {krate} -e normal -i {dep}`)")
+        })
+        .collect()
+}
+
+/// `cargo xtask check-deps`: every rule of [`dependency_rules`] on the real dependency graph.
+fn check_deps() -> Result<(), String> {
+    let cargo = env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
+    let mut problems = Vec::new();
+    for (krate, forbidden) in dependency_rules() {
+        let output = Command::new(&cargo)
+            .args([
+                "tree", "--quiet", "-p", krate, "-e", "normal", "--prefix", "none",
+            ])
+            .args(["--format", "{p}"])
+            .current_dir(root())
+            .output()
+            .map_err(|e| format!("cannot run {cargo}: {e}"))?;
+        if !output.status.success() {
+            return Err(format!(
+                "`cargo tree -p {krate}` failed: {}",
+                String::from_utf8_lossy(&output.stderr).trim()
+            ));
+        }
+        let tree = String::from_utf8_lossy(&output.stdout);
+        if tree_packages(&tree).is_empty() && !tree.starts_with(krate) {
+            return Err(format!("`cargo tree -p {krate}` printed no tree"));
+        }
+        problems.extend(forbidden_dependencies(krate, &tree, &forbidden));
+    }
+    if problems.is_empty() {
+        eprintln!(
+            "xtask: check-deps: boundary-core and {} method crates hold the dependency rules",
+            METHOD_CRATES.len()
+        );
+        Ok(())
+    } else {
+        Err(format!(
+            "dependency rules broken (docs/ARCHITECTURE.md):\n  {}",
+            problems.join("\n  ")
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What `cargo tree -p boundary-marrone -e normal --prefix none --format {p}` prints,
+    /// trimmed, with an IO dependency added through the toolbox.
+    const MARRONE_WITH_GLOB: &str = "\
+boundary-marrone v0.1.0 (/w/crates/boundary-marrone)
+boundary-core v0.1.0 (/w/crates/boundary-core)
+nalgebra v0.35.0
+rayon v1.12.0
+boundary-sph v0.1.0 (/w/crates/boundary-sph)
+boundary-core v0.1.0 (/w/crates/boundary-core) (*)
+glob v0.3.4
+rayon v1.12.0 (*)
+";
+
+    #[test]
+    fn a_method_crate_with_an_io_dependency_anywhere_in_its_tree_is_reported() {
+        let problems =
+            forbidden_dependencies("boundary-marrone", MARRONE_WITH_GLOB, IO_DEPENDENCIES);
+        assert_eq!(problems.len(), 1, "{problems:?}");
+        assert!(
+            problems[0].starts_with("boundary-marrone depends on glob"),
+            "{problems:?}"
+        );
+        let clean = MARRONE_WITH_GLOB.replace("glob v0.3.4\n", "");
+        assert!(forbidden_dependencies("boundary-marrone", &clean, IO_DEPENDENCIES).is_empty());
+    }
+
+    #[test]
+    fn the_core_may_not_have_a_format_dependency_that_svm_may_have() {
+        let tree = "boundary-core v0.1.0 (/w)\nserde_json v1.0.0\nserde v1.0.0\nryu v1.0.0\n";
+        let rules = dependency_rules();
+        let core = &rules.iter().find(|(k, _)| *k == "boundary-core").unwrap().1;
+        let svm = &rules.iter().find(|(k, _)| *k == "boundary-svm").unwrap().1;
+        assert_eq!(
+            forbidden_dependencies("boundary-core", tree, core),
+            [
+                "boundary-core depends on serde (see `cargo tree -p boundary-core -e normal -i serde`)",
+                "boundary-core depends on serde_json (see `cargo tree -p boundary-core -e normal -i serde_json`)",
+            ]
+        );
+        assert!(forbidden_dependencies("boundary-svm", tree, svm).is_empty());
+    }
+
+    #[test]
+    fn the_crate_itself_and_deduplicated_lines_are_read_right() {
+        // The first line is the crate itself: boundary-io is not its own IO dependency, and a
+        // repeated `(*)` line is one package.
+        let tree = "boundary-io v0.1.0 (/w)\nflate2 v1.1.0\nflate2 v1.1.0 (*)\n";
+        assert_eq!(tree_packages(tree), ["flate2", "flate2"]);
+        assert_eq!(
+            forbidden_dependencies("boundary-io", tree, &["boundary-io"]),
+            Vec::<String>::new()
+        );
+        assert_eq!(forbidden_dependencies("x", tree, &["flate2"]).len(), 1);
+        assert!(tree_packages("").is_empty());
+    }
+
+    #[test]
+    fn every_method_crate_and_the_core_have_a_rule() {
+        let rules = dependency_rules();
+        assert_eq!(rules.len(), METHOD_CRATES.len() + 1);
+        for (krate, forbidden) in &rules {
+            assert!(forbidden.contains(&"boundary-io"), "{krate}");
+            assert!(!forbidden.contains(krate), "{krate}");
+        }
     }
 }

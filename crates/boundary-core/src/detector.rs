@@ -308,7 +308,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn labels_count_and_fingerprint() {
+    fn labels_count_boundaries_and_fingerprints_tell_vectors_apart() {
         let a = Labels::new(vec![true, false, true]);
         assert_eq!(a.boundary_count(), 2);
         assert!(a.is_boundary(0) && !a.is_boundary(1));

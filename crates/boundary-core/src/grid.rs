@@ -6,7 +6,8 @@
 //!
 //! Two layouts, chosen at construction:
 //! - **dense**: an offset table over the full bounding box, used while it has at most
-//!   `max(4n, 4096)` cells, so memory stays `O(n)`;
+//!   `max(4n, 4096)` cells, so memory stays `O(n)`, and fewer than `u32::MAX` cells (its
+//!   cell indices are `u32`: never a silent wrap);
 //! - **hashed**: only occupied cells, in a hash map from cell coordinates to their range, for
 //!   sparse scenes whose bounding box is huge relative to the cell (a particle at `1e6` and
 //!   one at `0` with `r = 0.01`).
@@ -23,6 +24,18 @@ use rustc_hash::FxHashMap;
 /// Largest `extent / cell` ratio accepted: cell coordinates stay exactly representable and
 /// monotone in `f64` and `i64`.
 const MAX_CELLS_PER_AXIS: f64 = (1u64 << 52) as f64;
+
+/// Most cells of a dense table: its cell indices and offsets are `u32` (a particle set holds at
+/// most `u32::MAX` particles, see [`CoreError::TooManyParticles`]), so a table with more cells
+/// would wrap; such a scene takes the hashed layout instead.
+const MAX_DENSE_CELLS: f64 = (u32::MAX - 1) as f64;
+
+/// Whether `n` particles take the dense layout over a bounding box of `total` cells: at most
+/// `max(4n, 4096)` cells (memory `O(n)`) and at most [`MAX_DENSE_CELLS`] (`u32` indices).
+fn dense_fits(n: usize, total: f64) -> bool {
+    let budget = n.saturating_mul(4).max(4096) as f64;
+    total <= budget && total <= MAX_DENSE_CELLS
+}
 
 /// A uniform-grid neighbour index over a [`ParticleSet`]; see the module documentation.
 #[derive(Debug, Clone)]
@@ -78,7 +91,6 @@ impl<const D: usize> NeighbourGrid<D> {
         }
         let n = set.len();
         let positions = set.positions();
-        let budget = (4 * n).max(4096) as f64;
         let total: f64 = dims.iter().map(|&d| d as f64).product();
         let grid = NeighbourGrid {
             cell,
@@ -89,7 +101,7 @@ impl<const D: usize> NeighbourGrid<D> {
                 ranges: FxHashMap::default(),
             },
         };
-        Ok(if total <= budget {
+        Ok(if dense_fits(n, total) {
             grid.fill_dense(positions, dims)
         } else {
             grid.fill_hashed(positions)
@@ -106,6 +118,7 @@ impl<const D: usize> NeighbourGrid<D> {
                 for k in (0..D).rev() {
                     idx = idx * dims[k] + c[k].clamp(0, dims[k] - 1);
                 }
+                // In range: `idx < ncells <= MAX_DENSE_CELLS` (`dense_fits`).
                 idx as u32
             })
             .collect();
@@ -315,13 +328,13 @@ mod tests {
     }
 
     #[test]
-    fn far_offset_coordinates() {
+    fn far_offset_coordinates_match_brute_force() {
         let s = random_set::<3>(3, 300, 0.2, 1e6);
         check_against_brute(&s, 0.04, &[0.02, 0.04]);
     }
 
     #[test]
-    fn radius_from_tiny_to_huge() {
+    fn radii_from_1e_minus_9_to_1e9_match_brute_force() {
         for (k, scale) in [1e-9, 1e-3, 1.0, 1e3, 1e9].into_iter().enumerate() {
             let s = random_set::<3>(10 + k as u64, 200, 10.0 * scale, -5.0 * scale);
             check_against_brute(&s, 2.0 * scale, &[scale, 2.0 * scale]);
@@ -352,7 +365,7 @@ mod tests {
     }
 
     #[test]
-    fn duplicates_and_query_points_off_the_set() {
+    fn duplicates_and_off_set_query_points_find_exactly_the_particles_in_range() {
         let s = ParticleSet::<2>::from_rows(&[[0.5, 0.5], [0.5, 0.5], [0.9, 0.5]]).unwrap();
         let g = NeighbourGrid::new(&s, 0.5).unwrap();
         assert_eq!(grid_query(&g, &s.positions()[0], 0.1), vec![0, 1]);
@@ -377,7 +390,7 @@ mod tests {
     }
 
     #[test]
-    fn empty_set_and_invalid_cell() {
+    fn an_empty_set_finds_nothing_and_a_bad_cell_is_an_error() {
         let s = ParticleSet::<3>::new(Vec::new()).unwrap();
         let g = NeighbourGrid::new(&s, 1.0).unwrap();
         assert!(grid_query(&g, &Point::<3>::zeros(), 1.0).is_empty());
@@ -392,6 +405,34 @@ mod tests {
             NeighbourGrid::new(&s, 1e-9),
             Err(CoreError::GridTooFine { .. })
         ));
+    }
+
+    #[test]
+    fn dense_layout_never_exceeds_u32_cell_indices() {
+        // Without allocating: the choice alone, at and around the limit. Below 2^30 particles
+        // the 4n budget binds; above it the u32 index space does.
+        assert!(dense_fits(0, 4096.0));
+        assert!(!dense_fits(0, 4097.0));
+        assert!(dense_fits(1000, 4000.0));
+        assert!(!dense_fits(1000, 4097.0));
+        let n = u32::MAX as usize; // the largest set a ParticleSet holds
+        assert!(dense_fits(n, MAX_DENSE_CELLS));
+        assert!(!dense_fits(n, MAX_DENSE_CELLS + 1.0));
+        assert!(!dense_fits(n, u32::MAX as f64 + 1.0));
+        assert!(!dense_fits(usize::MAX, 1e19));
+        assert!(!dense_fits(n, f64::INFINITY));
+    }
+
+    #[test]
+    fn two_far_particles_with_a_tiny_cell_take_the_hashed_layout_and_are_found() {
+        // 1e12 cells along x: far beyond u32 and the dense budget, so the grid is hashed,
+        // and both particles are still found at their exact positions.
+        let s = ParticleSet::<2>::from_rows(&[[0.0, 0.0], [1.0, 0.5]]).unwrap();
+        let g = NeighbourGrid::new(&s, 1e-12).unwrap();
+        assert!(g.is_hashed());
+        assert_eq!(grid_query(&g, &Point::<2>::new(1.0, 0.5), 0.0), vec![1]);
+        assert_eq!(grid_query(&g, &Point::<2>::new(0.0, 0.0), 1e-13), vec![0]);
+        assert_eq!(grid_query(&g, &Point::<2>::new(0.5, 0.25), 0.6), vec![0, 1]);
     }
 
     proptest::proptest! {

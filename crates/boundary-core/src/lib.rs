@@ -1,3 +1,4 @@
+#![deny(clippy::print_stdout, clippy::print_stderr, clippy::disallowed_methods)] // no output, no files: see clippy.toml
 //! Core types for boundary-particle detection.
 //!
 //! A particle `i` at `p_i` with resolution `r` is **interior** iff its sphere `S_i` (radius `r`)

@@ -1,3 +1,4 @@
+#![deny(clippy::print_stdout, clippy::print_stderr, clippy::disallowed_methods)] // no output, no files: see clippy.toml
 //! Reference r-boundary detection by explicit covering: the method of Dilts (2000) in 2D and of
 //! Haque & Dilts (2007) in 3D, the slow "ground truth" against which the JCP paper (Table 3)
 //! and the thesis (Table 8) compare their timings.

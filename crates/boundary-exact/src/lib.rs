@@ -1,3 +1,4 @@
+#![deny(clippy::print_stdout, clippy::print_stderr, clippy::disallowed_methods)] // no output, no files: see clippy.toml
 //! Exact r-boundary detection by restricted Voronoi cells: the reference labels of the project.
 //!
 //! # Definition

@@ -1,3 +1,4 @@
+#![deny(clippy::print_stdout, clippy::print_stderr, clippy::disallowed_methods)] // no output, no files: see clippy.toml
 //! Boundary detection with geometric enclosures ("slabs"): the second method of Sandim, Paiva
 //! & Figueiredo, *Simple and reliable boundary detection for meshfree particle methods using
 //! interval analysis*, J. Comput. Phys. 2020, Sec. 3.2 and Algorithm 3. Method name `ge`, one

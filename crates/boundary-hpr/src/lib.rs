@@ -1,3 +1,4 @@
+#![deny(clippy::print_stdout, clippy::print_stderr, clippy::disallowed_methods)] // no output, no files: see clippy.toml
 //! Boundary particles by visibility: the hidden point removal (HPR) operator of Katz, Tal &
 //! Basri (2007) with exponential flipping, applied locally from viewpoints placed on a grid,
 //! after M. Sandim, *On the boundary detection for particle-based methods*, PhD thesis, USP

@@ -1,3 +1,4 @@
+#![deny(clippy::print_stdout, clippy::print_stderr, clippy::disallowed_methods)] // no output, no files: see clippy.toml
 //! Boundary detection with interval arithmetic on a quadtree (2D) or octree (3D): the first
 //! method of Sandim, Paiva & Figueiredo, *Simple and reliable boundary detection for meshfree
 //! particle methods using interval analysis*, J. Comput. Phys. 2020, Sec. 3.1, Algorithms 1–3

@@ -891,7 +891,7 @@ mod tests {
     }
 
     #[test]
-    fn column_checks() {
+    fn bad_output_columns_are_errors_saying_why() {
         let set = ParticleSet::from_rows(&[[0.0, 0.0]]).unwrap().to_any();
         for (name, needle) in [
             ("a b", "printable"),

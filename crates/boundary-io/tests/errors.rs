@@ -50,7 +50,7 @@ fn csv_bad_number_names_line_and_column() {
 }
 
 #[test]
-fn csv_too_few_columns() {
+fn csv_rows_with_too_few_columns_are_errors_naming_the_line() {
     let e = error(
         b"x,y,z\n0,0,0\n\n1,2\n",
         "few.csv",
@@ -191,7 +191,7 @@ fn truncated_binary_ply_names_the_vertex() {
 }
 
 #[test]
-fn declared_count_larger_than_data() {
+fn declared_counts_larger_than_the_data_are_errors_not_allocations() {
     // PLY ascii: 5 vertices declared, 2 present.
     let ply = b"ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nend_header\n0 0\n1 1\n";
     error(ply, "c.ply", Format::Ply, None, &["end of file"]);
@@ -259,7 +259,7 @@ fn unknown_extension_names_the_file() {
 }
 
 #[test]
-fn dimension_errors() {
+fn impossible_dimension_requests_are_dimension_errors() {
     let e = error(
         b"x,y,z\n0,1,2\n1,2,3\n",
         "free.csv",
@@ -292,7 +292,7 @@ fn dimension_errors() {
 }
 
 #[test]
-fn malformed_headers() {
+fn malformed_headers_are_errors_naming_what_is_wrong() {
     error(b"", "e.csv", Format::Csv, None, &["empty file"]);
     error(
         b"\n# only comments\n",

@@ -18,12 +18,24 @@ fn every_shared_csv_reads_with_its_dimension_and_count() {
     let mut checked = 0;
     for (folder, dim) in [("particles2d", 2), ("particles3d", 3)] {
         let dir = common::data_dir().join(folder);
-        let entries = std::fs::read_dir(&dir).unwrap_or_else(|e| {
-            panic!(
-                "cannot read {} ({e}); set BOUNDARY_DATA_DIR to the shared data folder",
+        // The policy of `boundary_scenes::SharedData` (which this crate cannot depend on: the
+        // scenes crate depends on it): a missing folder fails unless
+        // BOUNDARY_ALLOW_MISSING_DATA=1, and then the skip is printed.
+        let entries = match std::fs::read_dir(&dir) {
+            Ok(entries) => entries,
+            Err(e) if std::env::var_os("BOUNDARY_ALLOW_MISSING_DATA").is_some_and(|v| v == "1") => {
+                eprintln!(
+                    "skipped {} (BOUNDARY_ALLOW_MISSING_DATA=1): {e}",
+                    dir.display()
+                );
+                return;
+            }
+            Err(e) => panic!(
+                "cannot read {} ({e}); set BOUNDARY_DATA_DIR to the shared data folder, or \
+                 BOUNDARY_ALLOW_MISSING_DATA=1 to skip the tests that need it",
                 dir.display()
-            )
-        });
+            ),
+        };
         for entry in entries {
             let path = entry.unwrap().path();
             if path.extension().and_then(|e| e.to_str()) != Some("csv") {

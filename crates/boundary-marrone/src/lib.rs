@@ -1,3 +1,4 @@
+#![deny(clippy::print_stdout, clippy::print_stderr, clippy::disallowed_methods)] // no output, no files: see clippy.toml
 //! Free-surface detection of Marrone, Colagrossi, Le Touzé & Graziani, *Fast free-surface
 //! detection and level-set function definition in SPH solvers*, J. Comput. Phys. 229 (2010)
 //! 3652–3663: an SPH baseline of the JCP 2020 comparison (Tables 1–2, "Marrone et al."), method
@@ -125,18 +126,21 @@ const KEYS: [&str; 5] = [
 ];
 
 /// The Marrone et al. (2010) detector (`marrone`). See the crate documentation.
+///
+/// The parameters are private and always valid: [`MarroneDetector::new`] and the setters
+/// check them with the rules (and messages) of `set_param`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MarroneDetector {
-    /// (M2) `λ <= lambda_surface`: free surface.
-    pub lambda_surface: f64,
-    /// (M2) `λ > lambda_interior`: interior.
-    pub lambda_interior: f64,
+    /// (M2) `λ <= lambda_surface`: free surface; finite, `>= 0`.
+    lambda_surface: f64,
+    /// (M2) `λ > lambda_interior`: interior; finite, `>= 0`.
+    lambda_interior: f64,
     /// (M4) half-angle of the scan cone, degrees, in `(0, 90)`.
-    pub cone_angle_deg: f64,
+    cone_angle_deg: f64,
     /// Kernel shape (support `2h`).
-    pub kernel: Kernel,
-    /// `h / r`, positive.
-    pub h_over_r: f64,
+    kernel: Kernel,
+    /// `h / r`, in `(0, 100]`.
+    h_over_r: f64,
 }
 
 impl Default for MarroneDetector {
@@ -151,19 +155,134 @@ impl Default for MarroneDetector {
     }
 }
 
-/// Parses a finite float within `range` for parameter `key`.
-fn parse_in(
-    key: &str,
-    value: &str,
-    ok: impl Fn(f64) -> bool,
-    expected: &str,
-) -> Result<f64, ParamError> {
-    value
-        .trim()
-        .parse::<f64>()
-        .ok()
-        .filter(|v| v.is_finite() && ok(*v))
-        .ok_or_else(|| ParamError::invalid(METHOD, key, value, format!("must be {expected}")))
+/// A numeric parameter's rule: its key, the test, and what the message says it must be.
+struct Rule {
+    key: &'static str,
+    ok: fn(f64) -> bool,
+    expected: &'static str,
+}
+
+const LAMBDA_SURFACE: Rule = Rule {
+    key: "lambda_surface",
+    ok: |v| v >= 0.0,
+    expected: "a number >= 0",
+};
+const LAMBDA_INTERIOR: Rule = Rule {
+    key: "lambda_interior",
+    ok: |v| v >= 0.0,
+    expected: "a number >= 0",
+};
+const CONE_ANGLE: Rule = Rule {
+    key: "cone_angle",
+    ok: |v| v > 0.0 && v < 90.0,
+    expected: "an angle in degrees in (0, 90)",
+};
+const H_OVER_R: Rule = Rule {
+    key: "h_over_r",
+    ok: |v| v > 0.0 && v <= 100.0,
+    expected: "in (0, 100]",
+};
+
+impl Rule {
+    /// `v` if finite and allowed, else the error `set_param` gives for the text `shown`.
+    fn check(&self, v: f64, shown: &str) -> Result<f64, ParamError> {
+        if v.is_finite() && (self.ok)(v) {
+            Ok(v)
+        } else {
+            Err(self.error(shown))
+        }
+    }
+
+    /// Parses and checks the text `value`.
+    fn parse(&self, value: &str) -> Result<f64, ParamError> {
+        let v = value.trim().parse::<f64>().map_err(|_| self.error(value))?;
+        self.check(v, value)
+    }
+
+    fn error(&self, shown: &str) -> ParamError {
+        ParamError::invalid(
+            METHOD,
+            self.key,
+            shown,
+            format!("must be {}", self.expected),
+        )
+    }
+}
+
+impl MarroneDetector {
+    /// The detector with the given parameters, each checked as `set_param` checks it
+    /// (`lambda_surface`, `lambda_interior` finite and `>= 0`, `cone_angle_deg` in `(0, 90)`,
+    /// `h_over_r` in `(0, 100]`).
+    pub fn new(
+        lambda_surface: f64,
+        lambda_interior: f64,
+        cone_angle_deg: f64,
+        kernel: Kernel,
+        h_over_r: f64,
+    ) -> Result<Self, ParamError> {
+        let check = |rule: &Rule, v: f64| rule.check(v, &v.to_string());
+        Ok(MarroneDetector {
+            lambda_surface: check(&LAMBDA_SURFACE, lambda_surface)?,
+            lambda_interior: check(&LAMBDA_INTERIOR, lambda_interior)?,
+            cone_angle_deg: check(&CONE_ANGLE, cone_angle_deg)?,
+            kernel,
+            h_over_r: check(&H_OVER_R, h_over_r)?,
+        })
+    }
+
+    /// (M2) `λ <= lambda_surface`: free surface.
+    pub fn lambda_surface(&self) -> f64 {
+        self.lambda_surface
+    }
+
+    /// (M2) `λ > lambda_interior`: interior.
+    pub fn lambda_interior(&self) -> f64 {
+        self.lambda_interior
+    }
+
+    /// (M4) half-angle of the scan cone, degrees.
+    pub fn cone_angle_deg(&self) -> f64 {
+        self.cone_angle_deg
+    }
+
+    /// The kernel shape.
+    pub fn kernel(&self) -> Kernel {
+        self.kernel
+    }
+
+    /// `h / r`.
+    pub fn h_over_r(&self) -> f64 {
+        self.h_over_r
+    }
+
+    /// Sets `lambda_surface` (finite, `>= 0`); on error the detector is unchanged.
+    pub fn set_lambda_surface(&mut self, v: f64) -> Result<(), ParamError> {
+        self.lambda_surface = LAMBDA_SURFACE.check(v, &v.to_string())?;
+        Ok(())
+    }
+
+    /// Sets `lambda_interior` (finite, `>= 0`); on error the detector is unchanged.
+    pub fn set_lambda_interior(&mut self, v: f64) -> Result<(), ParamError> {
+        self.lambda_interior = LAMBDA_INTERIOR.check(v, &v.to_string())?;
+        Ok(())
+    }
+
+    /// Sets the cone half-angle in degrees (in `(0, 90)`); on error the detector is unchanged.
+    pub fn set_cone_angle_deg(&mut self, v: f64) -> Result<(), ParamError> {
+        self.cone_angle_deg = CONE_ANGLE.check(v, &v.to_string())?;
+        Ok(())
+    }
+
+    /// Sets the kernel shape.
+    pub fn set_kernel(&mut self, kernel: Kernel) {
+        self.kernel = kernel;
+    }
+
+    /// Sets `h / r` (in `(0, 100]`); on error the detector is unchanged.
+    pub fn set_h_over_r(&mut self, v: f64) -> Result<(), ParamError> {
+        self.h_over_r = H_OVER_R.check(v, &v.to_string())?;
+        Ok(())
+    }
 }
 
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
@@ -214,28 +333,15 @@ impl BoundaryDetector for MarroneDetector {
 
     fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
         match key {
-            "lambda_surface" => {
-                self.lambda_surface = parse_in(key, value, |v| v >= 0.0, "a number >= 0")?;
-            }
-            "lambda_interior" => {
-                self.lambda_interior = parse_in(key, value, |v| v >= 0.0, "a number >= 0")?;
-            }
-            "cone_angle" => {
-                self.cone_angle_deg = parse_in(
-                    key,
-                    value,
-                    |v| v > 0.0 && v < 90.0,
-                    "an angle in degrees in (0, 90)",
-                )?;
-            }
+            "lambda_surface" => self.lambda_surface = LAMBDA_SURFACE.parse(value)?,
+            "lambda_interior" => self.lambda_interior = LAMBDA_INTERIOR.parse(value)?,
+            "cone_angle" => self.cone_angle_deg = CONE_ANGLE.parse(value)?,
             "kernel" => {
                 self.kernel = value.parse().map_err(|e: boundary_sph::UnknownKernel| {
                     ParamError::invalid(METHOD, key, value, e.to_string())
                 })?;
             }
-            "h_over_r" => {
-                self.h_over_r = parse_in(key, value, |v| v > 0.0 && v <= 100.0, "in (0, 100]")?;
-            }
+            "h_over_r" => self.h_over_r = H_OVER_R.parse(value)?,
             _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
         }
         Ok(())
@@ -324,14 +430,19 @@ impl MarroneDetector {
         if lambda > self.lambda_interior {
             return false;
         }
-        let nu = -eigen.solve(&sums.gradient);
+        let nu = -eigen.solve(&sums.gradient_h);
         let norm = nu.norm();
         if !(norm > 0.0 && norm.is_finite()) {
             return false;
         }
-        let region = ScanRegion::new(nu / norm, h, theta);
+        // The scan in units of h (h = 1), like the sums: the same for a scene and its scaled
+        // copy.
+        let region = ScanRegion::new(nu / norm, 1.0, theta);
+        let inv_h = 1.0 / h;
         let mut shielded = false;
-        ctx.for_each_neighbour(i, |_, xji, d| {
+        ctx.for_each_neighbour(i, |_, xji, _| {
+            let xji = xji * inv_h;
+            let d = xji.norm();
             if !shielded && d > 0.0 && region.contains(&xji, d) {
                 shielded = true;
             }
@@ -355,8 +466,8 @@ mod tests {
         d.set_param("kernel", "cubic").unwrap();
         d.set_param("lambda_surface", "0.1").unwrap();
         d.set_param("h_over_r", "1.3").unwrap();
-        assert_eq!(d.kernel, Kernel::CubicSpline);
-        assert_eq!(d.lambda_surface, 0.1);
+        assert_eq!(d.kernel(), Kernel::CubicSpline);
+        assert_eq!(d.lambda_surface(), 0.1);
         for (key, bad) in [
             ("lambda_surface", "-0.1"),
             ("lambda_interior", "nan"),
@@ -371,6 +482,65 @@ mod tests {
         }
         let err = d.set_param("depth", "3").unwrap_err();
         assert!(err.to_string().contains("lambda_surface"), "{err}");
-        assert_eq!(d.h_over_r, 1.3);
+        assert_eq!(d.h_over_r(), 1.3);
+    }
+
+    #[test]
+    fn constructor_and_setters_reject_what_set_param_rejects_with_its_messages() {
+        let ok = MarroneDetector::new(0.2, 0.75, 45.0, Kernel::WendlandC2, 1.0).unwrap();
+        assert_eq!(ok, MarroneDetector::default());
+        for (key, bad) in [
+            ("lambda_surface", -0.1),
+            ("lambda_interior", f64::NAN),
+            ("cone_angle", 90.0),
+            ("cone_angle", 0.0),
+            ("h_over_r", 0.0),
+            ("h_over_r", f64::INFINITY),
+        ] {
+            let mut d = MarroneDetector::default();
+            let typed = match key {
+                "lambda_surface" => d.set_lambda_surface(bad),
+                "lambda_interior" => d.set_lambda_interior(bad),
+                "cone_angle" => d.set_cone_angle_deg(bad),
+                _ => d.set_h_over_r(bad),
+            }
+            .unwrap_err();
+            assert_eq!(
+                d,
+                MarroneDetector::default(),
+                "a failed setter changes nothing"
+            );
+            let text = d.set_param(key, &bad.to_string()).unwrap_err();
+            assert_eq!(typed.to_string(), text.to_string());
+            let built = MarroneDetector::new(
+                if key == "lambda_surface" { bad } else { 0.2 },
+                if key == "lambda_interior" { bad } else { 0.75 },
+                if key == "cone_angle" { bad } else { 45.0 },
+                Kernel::CubicSpline,
+                if key == "h_over_r" { bad } else { 1.0 },
+            )
+            .unwrap_err();
+            assert_eq!(built.to_string(), text.to_string());
+        }
+        let mut d = MarroneDetector::default();
+        d.set_lambda_surface(0.1).unwrap();
+        d.set_lambda_interior(0.9).unwrap();
+        d.set_cone_angle_deg(30.0).unwrap();
+        d.set_kernel(Kernel::CubicSpline);
+        d.set_h_over_r(2.0).unwrap();
+        assert_eq!(
+            d,
+            MarroneDetector::new(0.1, 0.9, 30.0, Kernel::CubicSpline, 2.0).unwrap()
+        );
+        assert_eq!(
+            (
+                d.lambda_surface(),
+                d.lambda_interior(),
+                d.cone_angle_deg(),
+                d.kernel(),
+                d.h_over_r()
+            ),
+            (0.1, 0.9, 30.0, Kernel::CubicSpline, 2.0)
+        );
     }
 }

@@ -98,7 +98,7 @@ mod tests {
     }
 
     #[test]
-    fn region_in_3d() {
+    fn the_3d_region_is_the_open_cone_near_and_the_open_ball_far() {
         let n = Point::<3>::new(0.0, 0.0, 1.0);
         let r = ScanRegion::new(n, 1.0, FRAC_PI_4);
         let at = |x: f64, y: f64, z: f64| {

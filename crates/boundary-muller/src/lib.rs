@@ -1,3 +1,4 @@
+#![deny(clippy::print_stdout, clippy::print_stderr, clippy::disallowed_methods)] // no output, no files: see clippy.toml
 //! Boundary particles from the SPH colour field of Müller, Charypar & Gross, *Particle-based
 //! fluid simulation for interactive applications*, Proc. ACM SIGGRAPH/Eurographics Symposium
 //! on Computer Animation (SCA) 2003, 154–159, Sec. 4.4 (surface tension): an SPH baseline of
@@ -28,17 +29,23 @@
 //! kind).
 //!
 //! # The default threshold
-//! Müller et al. give no value for the threshold (it depends on their units and kernel). Our
-//! default, [`DEFAULT_THRESHOLD`] = 0.4, was chosen by measuring M = Rec·(1 − FPR) against
-//! `exact` at `h = r` with Wendland C2 for thresholds 0.025–0.6 (steps of 0.025) on the
-//! scenes of `fixtures/scenes.toml`: it maximises the mean M over the 28 scenes that are
-//! fluid data (the generated flows and the shared SPH/FLIP frames; the six hard cases, with
-//! exact ties, duplicates, a far offset and 2–3 particles, left out). The optimum is flat:
-//! every threshold in 0.325–0.45 is within 0.02 of it (mean M 0.75–0.77), but single scenes
-//! are not: M ranges over 0.16–1.0 at the default, and the best threshold of a fluid scene
-//! ranges from 0.2 to above 0.6 (`boundary-sweep` also runs 0.1, 0.2, 0.3, 0.5 and 0.6; the table
-//! is in the sweep report). A low threshold labels a thick layer (Rec up, FPR up); a high one
-//! misses the surface particles with neighbours on several sides (Rec down).
+//! Müller et al. (SCA 2003, Sec. 4.4) evaluate the surface force only where `|n|` exceeds "a
+//! threshold parameter `l`" and give no value for it (it would be in their units, with their
+//! poly6 kernel). Our default, [`DEFAULT_THRESHOLD`] = 0.375, is tuned on scenes **disjoint
+//! from the ones the sweep reports**: the test `tests/threshold.rs` generates 26 seeded *tuning
+//! scenes* (20 in 2D, 6 in 3D; unions of discs/balls and a flat pool with bubbles cut out and
+//! droplets, on lattices of spacing 1 with jitter ±0.05 or ±0.2, at r = 1, 1.5, 2, 3, 4
+//! spacings in 2D and 1, 1.5, 2 in 3D; none is in `fixtures/scenes.toml`), measures
+//! M = Rec·(1 − FPR) against `exact` at `h = r` with Wendland C2 for thresholds 0.025–1 (steps
+//! of 0.025), and fails unless the default is the one with the largest mean M
+//! (`cargo test -p boundary-muller --test threshold -- --nocapture` prints the table). The
+//! optimum is flat: mean M is 0.876 at 0.375, 0.875 at 0.4 (the value first chosen on the
+//! reported scenes), 0.869 at 0.35 and 0.868 at 0.425. Single scenes are not: the best
+//! threshold of a tuning scene grows with `r/Δx`, from 0.2 at `r = Δx` to 0.675 at `r = 4Δx`,
+//! so data with a known `r/Δx` far from 1.5 deserves its own threshold (`boundary-sweep` also
+//! runs 0.1, 0.2, 0.3, 0.5 and 0.6; the table is in the sweep report). A low threshold labels
+//! a thick layer (Rec up, FPR up); a high one misses the surface particles with neighbours on
+//! several sides (Rec down).
 //!
 //! # Parameters (`--set key=value`)
 //! | key | default | meaning |
@@ -66,12 +73,13 @@
 //! - A single particle, a coincident pair or a pair exactly `2r` apart: interior (every one a
 //!   false negative). Lines and collinear 3D sets: only particles at or near the ends are
 //!   boundary; planes and coplanar 3D sets: their rims, not their middles.
-//! - Perfect square lattices at `r ≤ 0.8a` (the tie radius included): no particle reaches the
-//!   threshold, so every boundary particle is missed; at the 3D tie radius it
-//!   misses 150 of 218.
-//! - Jittered lattices: false positives and negatives both (2D: +104 to +121, −15 to −27 of
-//!   75–88), a few false negatives at offsets 1e6 and 1e9 and at every scale (the counts do
-//!   not change with scale). Near-duplicates 1e-12 apart: 18 false positives.
+//! - Perfect square lattices at the tie radius `a/√2`: no particle reaches the threshold, so
+//!   every boundary particle is missed; at `r = 0.8a` only the 4 corners are found (40 of 44
+//!   missed); at the 3D tie radius it misses 150 of 218.
+//! - Jittered lattices: false positives and negatives both (2D: +117 to +138, −11 to −24 of
+//!   75–88), a few false positives and negatives at offsets 1e6 and 1e9 and at every scale
+//!   (the counts do not change with scale: the sums are computed in units of `h`).
+//!   Near-duplicates 1e-12 apart: 18 false positives.
 //!
 //! Empty input: empty labels.
 //!
@@ -104,7 +112,7 @@ use rayon::prelude::*;
 
 /// Default dimensionless threshold on `|∇c|·h` (see the crate documentation for how it was
 /// chosen).
-pub const DEFAULT_THRESHOLD: f64 = 0.4;
+pub const DEFAULT_THRESHOLD: f64 = 0.375;
 /// Default smoothing length in units of `r`.
 pub const DEFAULT_H_OVER_R: f64 = 1.0;
 
@@ -112,14 +120,17 @@ const METHOD: &str = "muller";
 const KEYS: [&str; 3] = ["threshold", "kernel", "h_over_r"];
 
 /// The colour-field detector of Müller et al. (2003) (`muller`). See the crate documentation.
+///
+/// The parameters are private and always valid: [`MullerDetector::new`] and the setters check
+/// them with the rules (and messages) of `set_param`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MullerDetector {
     /// Boundary iff `|∇c|·h > threshold`; finite, `>= 0`.
-    pub threshold: f64,
+    threshold: f64,
     /// Kernel shape (support `2h`).
-    pub kernel: Kernel,
-    /// `h / r`, positive.
-    pub h_over_r: f64,
+    kernel: Kernel,
+    /// `h / r`, in `(0, 100]`.
+    h_over_r: f64,
 }
 
 impl Default for MullerDetector {
@@ -132,13 +143,68 @@ impl Default for MullerDetector {
     }
 }
 
+/// `threshold`: finite, `>= 0`.
+fn check_threshold(v: f64, shown: &str) -> Result<f64, ParamError> {
+    check_in("threshold", v, shown, |v| v >= 0.0, "a number >= 0")
+}
+
+/// `h_over_r`: in `(0, 100]`.
+fn check_h_over_r(v: f64, shown: &str) -> Result<f64, ParamError> {
+    check_in(
+        "h_over_r",
+        v,
+        shown,
+        |v| v > 0.0 && v <= 100.0,
+        "in (0, 100]",
+    )
+}
+
 impl MullerDetector {
-    /// The detector with the given threshold, other parameters at their defaults.
-    pub fn with_threshold(threshold: f64) -> Self {
-        MullerDetector {
-            threshold,
-            ..Default::default()
-        }
+    /// The detector with the given parameters, each checked as `set_param` checks it
+    /// (`threshold` finite and `>= 0`, `h_over_r` in `(0, 100]`).
+    pub fn new(threshold: f64, kernel: Kernel, h_over_r: f64) -> Result<Self, ParamError> {
+        Ok(MullerDetector {
+            threshold: check_threshold(threshold, &threshold.to_string())?,
+            kernel,
+            h_over_r: check_h_over_r(h_over_r, &h_over_r.to_string())?,
+        })
+    }
+
+    /// The detector with the given threshold (checked), other parameters at their defaults.
+    pub fn with_threshold(threshold: f64) -> Result<Self, ParamError> {
+        Self::new(threshold, Kernel::WendlandC2, DEFAULT_H_OVER_R)
+    }
+
+    /// Boundary iff `|∇c|·h` exceeds it.
+    pub fn threshold(&self) -> f64 {
+        self.threshold
+    }
+
+    /// The kernel shape.
+    pub fn kernel(&self) -> Kernel {
+        self.kernel
+    }
+
+    /// `h / r`.
+    pub fn h_over_r(&self) -> f64 {
+        self.h_over_r
+    }
+
+    /// Sets the threshold (finite, `>= 0`); on error the detector is unchanged.
+    pub fn set_threshold(&mut self, threshold: f64) -> Result<(), ParamError> {
+        self.threshold = check_threshold(threshold, &threshold.to_string())?;
+        Ok(())
+    }
+
+    /// Sets the kernel shape.
+    pub fn set_kernel(&mut self, kernel: Kernel) {
+        self.kernel = kernel;
+    }
+
+    /// Sets `h / r` (in `(0, 100]`); on error the detector is unchanged.
+    pub fn set_h_over_r(&mut self, h_over_r: f64) -> Result<(), ParamError> {
+        self.h_over_r = check_h_over_r(h_over_r, &h_over_r.to_string())?;
+        Ok(())
     }
 
     /// The dimensionless colour-field gradient magnitude `|∇c_i|·h` of every particle, in
@@ -161,7 +227,7 @@ impl MullerDetector {
         let ctx = SphContext::new(set, SphKernel::new(self.kernel, h))?;
         Ok((0..count)
             .into_par_iter()
-            .map(|i| ctx.local_sums(i).gradient.norm() * h)
+            .map(|i| ctx.local_sums(i).gradient_h.norm())
             .collect())
     }
 
@@ -184,18 +250,32 @@ impl MullerDetector {
     }
 }
 
-fn parse_in(
+/// `v` if finite and `ok`, else the error `set_param` gives for the text `shown`.
+fn check_in(
     key: &str,
-    value: &str,
+    v: f64,
+    shown: &str,
     ok: impl Fn(f64) -> bool,
     expected: &str,
 ) -> Result<f64, ParamError> {
+    if v.is_finite() && ok(v) {
+        Ok(v)
+    } else {
+        Err(ParamError::invalid(
+            METHOD,
+            key,
+            shown,
+            format!("must be {expected}"),
+        ))
+    }
+}
+
+/// Parses `value` as a number (an unparsable one gets the same message as a bad number).
+fn parse_number(key: &str, value: &str, expected: &str) -> Result<f64, ParamError> {
     value
         .trim()
         .parse::<f64>()
-        .ok()
-        .filter(|v| v.is_finite() && ok(*v))
-        .ok_or_else(|| ParamError::invalid(METHOD, key, value, format!("must be {expected}")))
+        .map_err(|_| ParamError::invalid(METHOD, key, value, format!("must be {expected}")))
 }
 
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
@@ -233,7 +313,8 @@ impl BoundaryDetector for MullerDetector {
     fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
         match key {
             "threshold" => {
-                self.threshold = parse_in(key, value, |v| v >= 0.0, "a number >= 0")?;
+                self.threshold =
+                    check_threshold(parse_number(key, value, "a number >= 0")?, value)?;
             }
             "kernel" => {
                 self.kernel = value.parse().map_err(|e: boundary_sph::UnknownKernel| {
@@ -241,7 +322,7 @@ impl BoundaryDetector for MullerDetector {
                 })?;
             }
             "h_over_r" => {
-                self.h_over_r = parse_in(key, value, |v| v > 0.0 && v <= 100.0, "in (0, 100]")?;
+                self.h_over_r = check_h_over_r(parse_number(key, value, "in (0, 100]")?, value)?;
             }
             _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
         }
@@ -291,11 +372,10 @@ mod tests {
         );
         d.set_param("threshold", "0.45").unwrap();
         d.set_param("kernel", "cubic").unwrap();
-        assert_eq!(d, {
-            let mut e = MullerDetector::with_threshold(0.45);
-            e.kernel = Kernel::CubicSpline;
-            e
-        });
+        assert_eq!(
+            d,
+            MullerDetector::new(0.45, Kernel::CubicSpline, 1.0).unwrap()
+        );
         for (key, bad) in [
             ("threshold", "-1"),
             ("threshold", "nan"),
@@ -306,6 +386,45 @@ mod tests {
             assert!(err.to_string().contains(bad), "{err}");
         }
         assert!(d.set_param("lambda", "1").is_err());
-        assert_eq!(d.threshold, 0.45);
+        assert_eq!(d.threshold(), 0.45);
+    }
+
+    #[test]
+    fn constructor_and_setters_reject_what_set_param_rejects_with_its_messages() {
+        for bad in [-1.0, f64::NAN, f64::INFINITY] {
+            let err = MullerDetector::with_threshold(bad).unwrap_err();
+            let via_text = MullerDetector::default()
+                .set_param("threshold", &bad.to_string())
+                .unwrap_err();
+            assert_eq!(err.to_string(), via_text.to_string());
+            assert!(MullerDetector::new(0.4, Kernel::WendlandC2, bad).is_err());
+        }
+        for bad in [0.0, -1.0, 100.5, f64::NAN] {
+            assert!(
+                MullerDetector::new(0.4, Kernel::WendlandC2, bad).is_err(),
+                "{bad}"
+            );
+        }
+        let mut d = MullerDetector::default();
+        assert!(d.set_threshold(f64::NAN).is_err());
+        assert!(d.set_h_over_r(0.0).is_err());
+        assert_eq!(
+            d,
+            MullerDetector::default(),
+            "a failed setter changes nothing"
+        );
+        d.set_threshold(0.3).unwrap();
+        d.set_h_over_r(100.0).unwrap();
+        d.set_kernel(Kernel::CubicSpline);
+        assert_eq!(
+            (d.threshold(), d.kernel(), d.h_over_r()),
+            (0.3, Kernel::CubicSpline, 100.0)
+        );
+        // The text path keeps its messages, naming the value as given.
+        let err = d.set_param("threshold", " nan").unwrap_err().to_string();
+        assert!(
+            err.contains("nan") && err.contains("must be a number >= 0"),
+            "{err}"
+        );
     }
 }

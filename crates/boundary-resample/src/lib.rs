@@ -1,3 +1,4 @@
+#![deny(clippy::print_stdout, clippy::print_stderr, clippy::disallowed_methods)] // no output, no files: see clippy.toml
 //! Feature classification and resampling of boundary particles (Sandim, Oe, Cedrim, Pagliosa &
 //! Paiva, Computers & Graphics 2019; thesis Sec. 2.6).
 //!

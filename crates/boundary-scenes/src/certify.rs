@@ -1,7 +1,7 @@
 //! What a certified detector (no false negative against the exact labels) is checked on, and
 //! the check itself, shared by the tests of every certified method (`ia`, `ge`, …).
 
-use crate::{all_scenes, cubic_lattice, shared_set, square_lattice, SHARED_SCENES};
+use crate::{all_scenes, cubic_lattice, square_lattice, SharedData, SHARED_SCENES};
 use boundary_core::{AnyParticleSet, Labels, ParticleSet};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
@@ -121,10 +121,10 @@ fn ulps(x: f64, k: i64) -> f64 {
 }
 
 /// Every case a certified method must pass: the generated fixture scenes, the shared scenes
-/// and the volumetric samples of the shared meshes (those whose files are present) and the
-/// hard cases. Also returns the names of the shared
-/// scenes that were skipped because the data directory lacks them.
-pub fn certification_cases() -> (Vec<Case>, Vec<String>) {
+/// and the volumetric samples of the shared meshes (read through `data`, so a missing data
+/// folder is an error unless `data` allows it) and the hard cases. Also returns the files that
+/// were skipped (only when `data` allows missing data).
+pub fn certification_cases(data: &SharedData) -> Result<(Vec<Case>, Vec<String>), String> {
     let mut cases: Vec<Case> = all_scenes()
         .into_iter()
         .map(|s| Case {
@@ -136,31 +136,31 @@ pub fn certification_cases() -> (Vec<Case>, Vec<String>) {
     let mut skipped = Vec::new();
     for &(_, dim, file, r, _, _, _) in SHARED_SCENES {
         let set = if dim == 2 {
-            shared_set::<2>(file).map(AnyParticleSet::from)
+            data.set::<2>(file)?.map(AnyParticleSet::from)
         } else {
-            shared_set::<3>(file).map(AnyParticleSet::from)
+            data.set::<3>(file)?.map(AnyParticleSet::from)
         };
         match set {
-            Ok(set) => cases.push(Case {
+            Some(set) => cases.push(Case {
                 name: file.to_owned(),
                 set,
                 radius: r,
             }),
-            Err(_) => skipped.push(file.to_owned()),
+            None => skipped.push(file.to_owned()),
         }
     }
     for &(name, file, radius, params) in crate::mesh::MESH_SCENES {
-        match crate::mesh::sample_obj(&crate::data_dir().join(file), params) {
-            Ok(set) => cases.push(Case {
+        match data.mesh(file, params)? {
+            Some(set) => cases.push(Case {
                 name: name.to_owned(),
                 set: set.into(),
                 radius,
             }),
-            Err(_) => skipped.push(file.to_owned()),
+            None => skipped.push(file.to_owned()),
         }
     }
     cases.extend(hard_cases());
-    (cases, skipped)
+    Ok((cases, skipped))
 }
 
 /// Checks the labels of a certified method at increasing depths (`by_depth[k]` at depth
@@ -207,17 +207,22 @@ pub fn check_depths(truth: &Labels, by_depth: &[Labels]) -> Result<Vec<usize>, S
 
 /// Checks a certified method on every [`certification_cases`] case with [`check_depths`]:
 /// `truth(case)` gives the exact labels, `at_depth(case, d)` the method's labels at depth `d`
-/// (`1..=max_depth`). Returns a line per case (`name r=…: FP by depth […]`, and the shared scenes
-/// that were absent), or the failing cases with their messages.
+/// (`1..=max_depth`). The shared data is read with [`SharedData::from_env`]: a missing data
+/// folder is a failure unless `BOUNDARY_ALLOW_MISSING_DATA=1`. Returns a line per case
+/// (`name r=…: FP by depth […]`, and the shared scenes that were skipped), or the failing
+/// cases with their messages.
 pub fn certify_every_case(
     truth: impl Fn(&Case) -> Labels,
     at_depth: impl Fn(&Case, u32) -> Labels,
     max_depth: u32,
 ) -> Result<Vec<String>, Vec<String>> {
-    let (cases, skipped) = certification_cases();
+    let (cases, skipped) = certification_cases(&SharedData::from_env()).map_err(|e| vec![e])?;
     let mut report = Vec::new();
     if !skipped.is_empty() {
-        report.push(format!("shared scenes not found (skipped): {skipped:?}"));
+        report.push(format!(
+            "shared scenes skipped ({}=1): {skipped:?}",
+            crate::ALLOW_MISSING_DATA_VAR
+        ));
     }
     let mut failures = Vec::new();
     for case in &cases {
@@ -258,6 +263,22 @@ mod tests {
             Labels::new(vec![true, true, false]),
         ];
         assert!(check_depths(&truth, &lost).unwrap_err().contains("depth 2"));
+    }
+
+    #[test]
+    fn certification_cases_fail_on_a_missing_data_folder_unless_allowed() {
+        let dir = std::env::temp_dir().join("boundary-certify-no-such-data-folder");
+        let err = certification_cases(&SharedData::new(&dir, false)).unwrap_err();
+        assert!(
+            err.contains("boundary-certify-no-such-data-folder"),
+            "{err}"
+        );
+        let (cases, skipped) = certification_cases(&SharedData::new(&dir, true)).unwrap();
+        assert_eq!(
+            skipped.len(),
+            SHARED_SCENES.len() + crate::mesh::MESH_SCENES.len()
+        );
+        assert_eq!(cases.len(), all_scenes().len() + hard_cases().len());
     }
 
     #[test]

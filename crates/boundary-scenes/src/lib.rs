@@ -19,15 +19,16 @@ pub mod certify;
 mod generate;
 mod manifest;
 pub mod mesh;
+mod shared;
 
 pub use generate::{
     all_scenes, enright, fill, jittered_lattice_ball, jittered_lattice_disc, rk4, single_vortex,
     Scene,
 };
 pub use manifest::{Manifest, Origin, SceneEntry, SceneError, SHARED_SCENES};
+pub use shared::{SharedData, ALLOW_MISSING_DATA_VAR};
 
-use boundary_core::{ParticleSet, Point};
-use boundary_io::{read_particles, ReadOptions};
+use boundary_core::ParticleSet;
 use std::path::{Path, PathBuf};
 
 /// Environment variable naming the directory of the public particle data.
@@ -57,16 +58,10 @@ fn workspace_root() -> PathBuf {
 }
 
 /// Reads `file` (relative to [`data_dir`], as in [`SHARED_SCENES`]) as a `D`-dimensional set.
+/// Any failure (missing folder or file) is an error; tests that should honour
+/// `BOUNDARY_ALLOW_MISSING_DATA` use [`SharedData`] instead.
 pub fn shared_set<const D: usize>(file: &str) -> Result<ParticleSet<D>, String> {
-    let options = ReadOptions {
-        dim: Some(D),
-        ..Default::default()
-    };
-    let set = read_particles(&data_dir().join(file), &options).map_err(|e| e.to_string())?;
-    let points = (0..set.len())
-        .map(|i| Point::<D>::from_fn(|a, _| set.coords(i)[a]))
-        .collect();
-    ParticleSet::new(points).map_err(|e| format!("{file}: {e}"))
+    shared::read_set::<D>(&data_dir().join(file))
 }
 
 /// An `n × n` square lattice of spacing `a`, x fastest.

@@ -228,14 +228,12 @@ mod tests {
 
     #[test]
     fn the_data_meshes_are_closed_and_sampled_inside() {
+        let data = crate::SharedData::from_env();
         for &(name, file, _, params) in MESH_SCENES {
-            let path = crate::data_dir().join(file);
-            if !path.is_file() {
-                eprintln!("{name}: {} not found, skipped", path.display());
+            let Some(set) = data.mesh(file, params).unwrap() else {
                 continue;
-            }
-            let mesh = read_obj(&path).unwrap();
-            let set = sample_obj(&path, params).unwrap();
+            };
+            let mesh = read_obj(&data.dir().join(file)).unwrap();
             // A closed mesh fills a good part of its box; an open or inverted one would leave
             // nothing inside.
             let aabb = mesh.local_aabb();

@@ -8,6 +8,7 @@ use boundary_exact::ExactDetector;
 use boundary_io::{read_particles, ReadOptions};
 use boundary_scenes::{
     all_scenes, enright, fixtures_dir, jittered_lattice_ball, rk4, single_vortex, Manifest, Origin,
+    SharedData,
 };
 
 /// Central-difference divergence of a field at `p`.
@@ -110,22 +111,19 @@ fn fixtures_on_disk_are_what_the_generators_make() {
 
 #[test]
 fn shared_entries_name_existing_files_with_the_stated_counts() {
-    let data = boundary_scenes::data_dir();
+    let data = SharedData::from_env();
     let manifest = Manifest::load(&fixtures_dir().join("scenes.toml")).unwrap();
     for entry in manifest.scene.iter().filter(|s| s.origin == Origin::Shared) {
-        let path = entry.path(&fixtures_dir(), &data);
-        let options = ReadOptions {
-            dim: Some(entry.dim),
-            ..Default::default()
+        let Some(set) = data.scene(entry, &fixtures_dir()).unwrap() else {
+            continue;
         };
-        let set = read_particles(&path, &options).unwrap();
         assert_eq!(set.len(), entry.n, "{}", entry.name);
     }
 }
 
 #[test]
 fn mesh_entries_sample_to_the_stated_counts() {
-    let data = boundary_scenes::data_dir();
+    let data = SharedData::from_env();
     let manifest = Manifest::load(&fixtures_dir().join("scenes.toml")).unwrap();
     let meshes: Vec<_> = manifest
         .scene
@@ -134,11 +132,9 @@ fn mesh_entries_sample_to_the_stated_counts() {
         .collect();
     assert_eq!(meshes.len(), boundary_scenes::mesh::MESH_SCENES.len());
     for entry in meshes {
-        if !entry.path(&fixtures_dir(), &data).is_file() {
-            eprintln!("{}: mesh not found, skipped", entry.name);
+        let Some(set) = data.scene(entry, &fixtures_dir()).unwrap() else {
             continue;
-        }
-        let set = entry.load(&fixtures_dir(), &data).unwrap();
+        };
         assert_eq!((set.dim(), set.len()), (3, entry.n), "{}", entry.name);
     }
 }

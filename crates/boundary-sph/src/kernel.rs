@@ -94,6 +94,31 @@ impl Kernel {
         }
     }
 
+    /// The radial weight of the gradient, `−f'(q)/q >= 0`, finite at `q = 0` (both shapes have
+    /// `f'(q) = O(q)`): `∇_i W_ij = σ_D h^-(D+2) · (−f'(q)/q) · (x_j − x_i)`. Zero for `q >= 2`.
+    pub fn gradient_weight(self, q: f64) -> f64 {
+        match self {
+            Kernel::WendlandC2 => {
+                if q >= 2.0 {
+                    0.0
+                } else {
+                    let t = 1.0 - 0.5 * q;
+                    5.0 * t * t * t
+                }
+            }
+            Kernel::CubicSpline => {
+                if q >= 2.0 {
+                    0.0
+                } else if q >= 1.0 {
+                    let t = 2.0 - q;
+                    0.75 * t * t / q
+                } else {
+                    3.0 - 2.25 * q
+                }
+            }
+        }
+    }
+
     /// The dimensionless normalisation `σ_D` (the kernel is `σ_D h^-D f(q)`).
     pub fn sigma<const D: usize>(self) -> f64 {
         const { assert!(D == 2 || D == 3, "SPH kernels are defined in 2D and 3D") };
@@ -140,11 +165,21 @@ impl FromStr for Kernel {
 
 /// A kernel at a fixed smoothing length `h` in `D` dimensions, with its constants
 /// precomputed: `W(r) = norm · f(r/h)`, `∇_i W_ij = norm/h · f'(q) · (x_i − x_j)/r`.
+///
+/// **Units.** [`value`](Self::value), [`derivative`](Self::derivative) and
+/// [`gradient`](Self::gradient) are in physical units, with the factor `h^-D`: it overflows or
+/// underflows for extreme `h` (`h^-3` is not finite below `h ≈ 1e-103`). The *reduced*
+/// forms [`reduced_value`](Self::reduced_value) (`W·h^D`) and
+/// [`reduced_gradient_weight`](Self::reduced_gradient_weight) take `q = r/h` and carry no
+/// power of `h`; [`SphContext`](crate::SphContext) computes every sum with them, in units of
+/// `h`, so its dimensionless results do not depend on the scale of the scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SphKernel<const D: usize> {
     kernel: Kernel,
     h: f64,
     inv_h: f64,
+    /// `σ_D`.
+    sigma: f64,
     /// `σ_D h^-D`.
     norm: f64,
 }
@@ -158,8 +193,22 @@ impl<const D: usize> SphKernel<D> {
             kernel,
             h,
             inv_h: 1.0 / h,
+            sigma: kernel.sigma::<D>(),
             norm: kernel.sigma::<D>() * h.powi(-(D as i32)),
         }
+    }
+
+    /// `W·h^D = σ_D f(q)` at `q = r/h`: the kernel in units of `h` (finite for every `h`).
+    #[inline]
+    pub fn reduced_value(&self, q: f64) -> f64 {
+        self.sigma * self.kernel.shape(q)
+    }
+
+    /// `σ_D · (−f'(q)/q)` at `q = r/h`, so that `∇_i W_ij · h^(D+1) = w · (x_j − x_i)/h`: the
+    /// gradient's radial weight in units of `h` (finite for every `h`, also at `q = 0`).
+    #[inline]
+    pub fn reduced_gradient_weight(&self, q: f64) -> f64 {
+        self.sigma * self.kernel.gradient_weight(q)
     }
 
     /// The kernel shape.
@@ -272,6 +321,46 @@ mod tests {
             assert!((fd - g[a]).abs() < 1e-8, "axis {a}: {fd} vs {}", g[a]);
         }
         assert_eq!(w.gradient(&Point::<2>::zeros()), Point::<2>::zeros());
+    }
+
+    #[test]
+    fn reduced_forms_match_the_physical_kernel_and_carry_no_power_of_h() {
+        for k in Kernel::ALL {
+            for h in [0.5, 1.0, 3.0] {
+                let w = SphKernel::<3>::new(k, h);
+                for i in 0..=40 {
+                    let r = i as f64 * 0.05 * h;
+                    let q = r / h;
+                    let value = w.reduced_value(q) * h.powi(-3);
+                    assert!(
+                        (value - w.value(r)).abs() <= 1e-14 * w.value(0.0),
+                        "{k} {r}"
+                    );
+                    if r > 0.0 {
+                        // −W'(r)/r = h^-(D+2) · reduced weight.
+                        let weight = w.reduced_gradient_weight(q) * h.powi(-5);
+                        let expected = -w.derivative(r) / r;
+                        assert!(
+                            (weight - expected).abs() <= 1e-12 * (1.0 + expected.abs()),
+                            "{k} h={h} r={r}: {weight} vs {expected}"
+                        );
+                    }
+                }
+            }
+            // The weight at q = 0 is the limit of −f'(q)/q.
+            let q = 1e-7;
+            assert!((k.gradient_weight(0.0) + k.shape_derivative(q) / q).abs() < 1e-5);
+            assert_eq!(k.gradient_weight(2.0), 0.0);
+            // No power of h: the same numbers at h = 1e-200 and 1e200.
+            let tiny = SphKernel::<3>::new(k, 1e-200);
+            let huge = SphKernel::<3>::new(k, 1e200);
+            assert_eq!(tiny.reduced_value(0.7), huge.reduced_value(0.7));
+            assert_eq!(
+                tiny.reduced_gradient_weight(0.7),
+                huge.reduced_gradient_weight(0.7)
+            );
+            assert!(tiny.reduced_value(0.7) > 0.0 && tiny.reduced_value(0.7).is_finite());
+        }
     }
 
     #[test]

@@ -1,3 +1,4 @@
+#![deny(clippy::print_stdout, clippy::print_stderr, clippy::disallowed_methods)] // no output, no files: see clippy.toml
 //! The small SPH toolbox shared by the SPH-based boundary detectors (`marrone`, `muller`, and
 //! the SVM features): smoothing kernels, summation-density volumes and the kernel sums of one
 //! particle.
@@ -16,6 +17,14 @@
 //!   `B_i = Σ_j V_j (x_j − x_i) ⊗ ∇W_ij`. Inside a uniform particle distribution they are
 //!   close to 1, 0 and the identity (tested on lattices); near a free surface the Shepard sum
 //!   drops, the gradient grows and `B_i` loses rank along the normal.
+//! - **Units of `h`.** Every sum of [`SphContext`] is computed with distances divided by `h`
+//!   and the kernel without its `h^-D` ([`SphKernel::reduced_value`],
+//!   [`SphKernel::reduced_gradient_weight`]), so the dimensionless results (Shepard sum,
+//!   [`LocalSums::gradient_h`] `= ∇c·h`, `B_i`, [`SphContext::reduced_volumes`]) are the same
+//!   for a scene and its copy scaled by any `s` with `h` scaled alike (tested from 1e-150 to
+//!   1e150; beyond that the neighbour grid's squared distances leave `f64`). The physical
+//!   values (`SphKernel::value`, [`SphContext::volumes`], [`LocalSums::gradient`]) carry
+//!   `h^-D` and are not finite for extreme `h`; the detectors use the reduced ones.
 //! - **Linear algebra** ([`SymmetricEigen`]): eigen-decomposition of the `D × D` symmetric
 //!   matrices, for the smallest eigenvalue of `B_i` and solves with it.
 //!

@@ -131,7 +131,7 @@ mod tests {
     }
 
     #[test]
-    fn known_spectra() {
+    fn known_spectra_and_solves_are_recovered() {
         let m = SMatrix::<f64, 2, 2>::new(2.0, 1.0, 1.0, 2.0);
         let e = SymmetricEigen::new(&m);
         assert!((e.values[0] - 1.0).abs() < 1e-15 && (e.values[1] - 3.0).abs() < 1e-15);

@@ -7,18 +7,37 @@ use rayon::prelude::*;
 
 /// The number density `n_i = Σ_j W_ij` of every particle (`j` over all particles within the
 /// support, `i` itself and its duplicates included), in input order. With a uniform mass `m`
-/// the summation density is `ρ_i = m n_i`; `n_i >= W(0) > 0`.
+/// the summation density is `ρ_i = m n_i`; `n_i >= W(0) > 0`. In physical units (a factor
+/// `h^-D`: not finite for extreme `h`; [`SphContext`] works in units of `h`).
 pub fn number_density<const D: usize>(
     positions: &[Point<D>],
     grid: &NeighbourGrid<D>,
     kernel: &SphKernel<D>,
 ) -> Vec<f64> {
+    let scale = kernel.h().powi(-(D as i32));
+    reduced_number_density(positions, grid, kernel)
+        .into_iter()
+        .map(|n| n * scale)
+        .collect()
+}
+
+/// `n_i · h^D = Σ_j σ_D f(|x_j − x_i|/h)`: the number density in units of `h` (no power of
+/// `h`, finite for every `h`). Distances are divided by `h` before their norm is taken.
+fn reduced_number_density<const D: usize>(
+    positions: &[Point<D>],
+    grid: &NeighbourGrid<D>,
+    kernel: &SphKernel<D>,
+) -> Vec<f64> {
     let support = kernel.support();
+    let inv_h = 1.0 / kernel.h();
     positions
         .par_iter()
         .map(|p| {
             let mut sum = 0.0;
-            grid.for_each_within(p, support, |_, d2| sum += kernel.value(d2.sqrt()));
+            grid.for_each_within(p, support, |j, _| {
+                let q = ((positions[j] - p) * inv_h).norm();
+                sum += kernel.reduced_value(q);
+            });
             sum
         })
         .collect()
@@ -44,8 +63,13 @@ pub struct LocalSums<const D: usize> {
     /// Müller et al.'s colour field `c_i`; close to 1 inside the fluid.
     pub shepard: f64,
     /// `Σ_j V_j ∇W_ij`: the SPH gradient of the constant 1, the colour-field gradient `∇c_i`;
-    /// close to 0 inside, pointing into the fluid near its surface.
+    /// close to 0 inside, pointing into the fluid near its surface. Physical units (1/length):
+    /// `gradient_h / h`.
     pub gradient: Point<D>,
+    /// `∇c_i · h`: the same gradient in units of `1/h`, dimensionless and computed without any
+    /// power of `h`, so it is the same for a scene and its scaled copy (at every scale whose
+    /// squared distances are finite). The detectors use this one.
+    pub gradient_h: Point<D>,
     /// The renormalisation matrix `B_i = Σ_j V_j (x_j − x_i) ⊗ ∇W_ij` (Randles & Libersky
     /// 1996; Marrone et al. 2010 write its inverse `L_i`): symmetric, positive semi-definite,
     /// close to the identity inside the fluid.
@@ -56,11 +80,20 @@ pub struct LocalSums<const D: usize> {
 
 /// Positions, the neighbour grid (cells of one support radius), the kernel and the particle
 /// volumes of a set: everything the SPH kernel sums need, built once per detection.
+///
+/// Every sum is computed in units of `h` (distances divided by `h` first, the kernel without
+/// its `h^-D`, volumes as `V/h^D`), so the dimensionless results (Shepard sum, `∇c·h`, the
+/// renormalisation matrix) are the same for a scene and its scaled copy, for every `h` whose
+/// squared support radius is a normal `f64` (about `1e-150 <= h <= 1e150`; the neighbour
+/// grid compares squared distances).
 #[derive(Debug)]
 pub struct SphContext<'a, const D: usize> {
     positions: &'a [Point<D>],
     grid: NeighbourGrid<D>,
     kernel: SphKernel<D>,
+    /// `V_i / h^D`.
+    reduced_volumes: Vec<f64>,
+    /// `V_i` (physical; may be 0 or infinite for extreme `h`).
     volumes: Vec<f64>,
 }
 
@@ -71,14 +104,17 @@ impl<'a, const D: usize> SphContext<'a, D> {
     pub fn new(set: &'a ParticleSet<D>, kernel: SphKernel<D>) -> Result<Self, CoreError> {
         let positions = set.positions();
         let grid = NeighbourGrid::new(set, kernel.support())?;
-        let volumes = number_density(positions, &grid, &kernel)
+        let reduced_volumes: Vec<f64> = reduced_number_density(positions, &grid, &kernel)
             .into_iter()
             .map(|n| 1.0 / n)
             .collect();
+        let h_d = kernel.h().powi(D as i32);
+        let volumes = reduced_volumes.iter().map(|v| v * h_d).collect();
         Ok(SphContext {
             positions,
             grid,
             kernel,
+            reduced_volumes,
             volumes,
         })
     }
@@ -98,9 +134,16 @@ impl<'a, const D: usize> SphContext<'a, D> {
         &self.kernel
     }
 
-    /// The volumes `V_i = m/ρ_i`, in input order.
+    /// The volumes `V_i = m/ρ_i`, in input order (physical units: not finite for extreme
+    /// `h`; see [`Self::reduced_volumes`]).
     pub fn volumes(&self) -> &[f64] {
         &self.volumes
+    }
+
+    /// The volumes in units of `h`, `V_i / h^D = 1 / Σ_j σ_D f(q_ij)`, in input order: finite
+    /// and positive for every `h`.
+    pub fn reduced_volumes(&self) -> &[f64] {
+        &self.reduced_volumes
     }
 
     /// Calls `f(j, x_j − x_i, |x_j − x_i|)` for every particle `j != i` within the support of
@@ -116,26 +159,37 @@ impl<'a, const D: usize> SphContext<'a, D> {
             });
     }
 
-    /// The kernel sums of particle `i`; see [`LocalSums`].
+    /// The kernel sums of particle `i`; see [`LocalSums`]. Computed in units of `h`:
+    /// `V_j ∇W_ij · h = (V_j/h^D) · σ_D (−f'(q)/q) · (x_j − x_i)/h`.
     pub fn local_sums(&self, i: usize) -> LocalSums<D> {
+        let kernel = &self.kernel;
+        let inv_h = 1.0 / kernel.h();
+        let p = self.positions[i];
         let mut sums = LocalSums {
-            shepard: self.volumes[i] * self.kernel.value(0.0),
+            shepard: self.reduced_volumes[i] * kernel.reduced_value(0.0),
             gradient: Point::<D>::zeros(),
+            gradient_h: Point::<D>::zeros(),
             renormalisation: SMatrix::<f64, D, D>::zeros(),
             neighbours: 0,
         };
-        self.for_each_neighbour(i, |j, xji, r| {
-            let v = self.volumes[j];
+        self.grid.for_each_within(&p, kernel.support(), |j, _| {
+            if j == i {
+                return;
+            }
+            let v = self.reduced_volumes[j];
+            // x_j − x_i in units of h.
+            let xji = (self.positions[j] - p) * inv_h;
+            let q = xji.norm();
             sums.neighbours += 1;
-            sums.shepard += v * self.kernel.value(r);
-            if r > 0.0 {
+            sums.shepard += v * kernel.reduced_value(q);
+            if q > 0.0 {
                 // ∇_i W_ij = W'(r) (x_i − x_j)/r = w (x_j − x_i) with w = −W'(r)/r >= 0.
-                let w = -self.kernel.derivative(r) / r;
-                let g = xji * (v * w);
-                sums.gradient += g;
+                let g = xji * (v * kernel.reduced_gradient_weight(q));
+                sums.gradient_h += g;
                 sums.renormalisation += xji * g.transpose();
             }
         });
+        sums.gradient = sums.gradient_h * inv_h;
         sums
     }
 }
@@ -168,9 +222,9 @@ pub fn colour_field_normals<const D: usize>(
     Ok((0..set.len())
         .into_par_iter()
         .map(|i| {
-            let g = ctx.local_sums(i).gradient;
+            let g = ctx.local_sums(i).gradient_h;
             let norm = g.norm();
-            if norm * h < 1e-9 {
+            if norm < 1e-9 {
                 Point::<D>::zeros()
             } else {
                 -g / norm
@@ -186,7 +240,7 @@ mod tests {
     use crate::kernel::Kernel;
 
     #[test]
-    fn isolated_particle_and_duplicates() {
+    fn isolated_particles_and_duplicates_get_the_stated_volumes_and_sums() {
         let set =
             ParticleSet::from_rows(&[[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [9.0, 9.0, 9.0]]).unwrap();
         let kernel = SphKernel::<3>::new(Kernel::WendlandC2, 1.0);

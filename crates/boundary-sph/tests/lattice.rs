@@ -69,7 +69,7 @@ fn check_interior<const D: usize>(set: &ParticleSet<D>, centre: usize, a: f64) {
 }
 
 #[test]
-fn interior_of_a_square_lattice() {
+fn square_lattice_interior_has_unit_shepard_zero_gradient_and_identity_b() {
     // Large enough that every neighbour's own neighbourhood is complete at h = 2a.
     let n = 21;
     let a = 0.1;
@@ -78,7 +78,7 @@ fn interior_of_a_square_lattice() {
 }
 
 #[test]
-fn interior_of_a_cubic_lattice() {
+fn cubic_lattice_interior_has_unit_shepard_zero_gradient_and_identity_b() {
     let n = 17;
     let a = 2.0;
     let set = ParticleSet::from_rows(&cubic_lattice(n, a)).unwrap();

@@ -60,7 +60,7 @@ impl MethodConfig {
 
 /// Parameter grids swept besides the defaults: depth 1..8 for the interval methods (the JCP
 /// paper's Fig. 7 / thesis Fig. 27), a gamma grid for the visibility method, thresholds
-/// around the default 0.4 for the colour field of `muller` (how sensitive M is to it), and the
+/// around the default 0.375 for the colour field of `muller` (how sensitive M is to it), and the
 /// `svm` cascades `refine=exact|ge`.
 pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
     let mut out = Vec::new();

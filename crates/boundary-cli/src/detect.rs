@@ -1,0 +1,544 @@
+//! `boundary detect`: label the particles of one file, or of every frame a pattern matches.
+
+use crate::common::{
+    auto_warning, method_label, output_format, parse_format, percent, pool, radius, read_options,
+    resolve_radius, run_timed, InputArgs, MethodArgs, RadiusArg,
+};
+use crate::error::CliError;
+use crate::output::{errln, outln};
+use boundary::{detector_with_params, AnyParticleSet, BoundaryDetector};
+use boundary_io::{read_particle_file, write_particles, Column, Format, ReadOptions};
+use clap::Args;
+use serde_json::json;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Args)]
+pub(crate) struct DetectArgs {
+    #[command(flatten)]
+    input: InputArgs,
+    #[command(flatten)]
+    method: MethodArgs,
+    /// Write the particles with a `boundary` column (0/1), format by extension
+    /// (.csv, .xyz, .ply, .vtk).
+    #[arg(long, short)]
+    output: Option<PathBuf>,
+    /// Also write the method's per-particle margin (if it has one) as a `margin` column.
+    #[arg(long)]
+    margin: bool,
+    /// Also write outward unit normals of the boundary particles as `normal:0`, `normal:1`
+    /// [, `normal:2`] (one vector array `normal` in .vtu/.vtp): the colour-field gradient with
+    /// the Wendland C2 kernel at h = r; zero for interior particles.
+    #[arg(long)]
+    normals: bool,
+    /// Process every frame INPUT (a file or glob pattern) matches, in natural order, writing
+    /// one output per frame into DIR, named after its input.
+    #[arg(long, value_name = "DIR", conflicts_with = "output")]
+    output_dir: Option<PathBuf>,
+    /// Format of the files written to --output-dir (default: each input's format).
+    #[arg(long, value_parser = parse_format, value_name = "FMT", requires = "output_dir")]
+    output_format: Option<Format>,
+    /// With several frames: write one CSV line per frame (frame, input, output, n, dim, radius,
+    /// boundary, seconds, error) to this file.
+    #[arg(long, value_name = "FILE.csv")]
+    summary: Option<PathBuf>,
+}
+
+/// What one frame gave.
+#[derive(Debug)]
+struct FrameOutcome {
+    n: usize,
+    dim: usize,
+    radius: f64,
+    estimated: bool,
+    boundary: usize,
+    seconds: f64,
+    /// Attributes of the input not written back, with the reason.
+    skipped: Vec<String>,
+}
+
+/// What every frame of a `detect` run shares.
+struct FrameJob<'a> {
+    detector: &'a dyn BoundaryDetector,
+    options: ReadOptions,
+    margin: bool,
+    normals: bool,
+    pool: &'a rayon::ThreadPool,
+}
+
+impl FrameJob<'_> {
+    /// Reads `input`, detects, and writes `output` (when given) with `boundary`, the optional
+    /// `margin` and normals, and every attribute of the input it keeps.
+    fn run(
+        &self,
+        input: &Path,
+        radius_arg: RadiusArg,
+        output: Option<(&Path, Format)>,
+    ) -> Result<FrameOutcome, CliError> {
+        let with_attributes = output.is_some();
+        let file = if with_attributes {
+            read_particle_file(input, &self.options)?
+        } else {
+            boundary_io::ParticleFile {
+                set: boundary_io::read_particles(input, &self.options)?,
+                attributes: Vec::new(),
+                skipped: Vec::new(),
+            }
+        };
+        let set = &file.set;
+        let (r_value, estimated) = resolve_radius(radius_arg, set, input)?;
+        let r = radius(r_value)?;
+        let (detection, seconds) = run_timed(self.pool, self.detector, set, r)?;
+        if let Some((path, format)) = output {
+            let flags: Vec<i64> = detection
+                .labels
+                .as_slice()
+                .iter()
+                .map(|&b| i64::from(b))
+                .collect();
+            let normals: Vec<Vec<f64>> = if self.normals {
+                self.pool
+                    .install(|| normal_components(set, r_value, detection.labels.as_slice()))?
+            } else {
+                Vec::new()
+            };
+            const NORMAL_NAMES: [&str; 3] = ["normal:0", "normal:1", "normal:2"];
+            let mut columns = vec![("boundary", Column::Int(&flags))];
+            if self.margin {
+                match &detection.margin {
+                    Some(margin) => columns.push(("margin", Column::Float(margin))),
+                    None => return Err(CliError::NoMargin(self.detector.name())),
+                }
+            }
+            for (name, values) in NORMAL_NAMES.iter().zip(&normals) {
+                columns.push((name, Column::Float(values)));
+            }
+            // The input's own columns of these names are replaced, not repeated.
+            let mut ours: Vec<&str> = vec!["boundary", "margin"];
+            if self.normals {
+                ours.extend(NORMAL_NAMES);
+            }
+            columns.extend(file.columns(&ours));
+            write_particles(path, Some(format), set, &columns)?;
+        }
+        Ok(FrameOutcome {
+            n: set.len(),
+            dim: set.dim(),
+            radius: r_value,
+            estimated,
+            boundary: detection.labels.boundary_count(),
+            seconds,
+            skipped: file.skipped,
+        })
+    }
+}
+
+/// Outward unit normals of the boundary particles from the colour-field gradient (h = r), one
+/// vector per axis; zero for interior particles and where the gradient vanishes.
+fn normal_components(
+    set: &AnyParticleSet,
+    r: f64,
+    boundary: &[bool],
+) -> Result<Vec<Vec<f64>>, CliError> {
+    fn split<const D: usize>(normals: Vec<boundary::Point<D>>, boundary: &[bool]) -> Vec<Vec<f64>> {
+        (0..D)
+            .map(|k| {
+                normals
+                    .iter()
+                    .zip(boundary)
+                    .map(|(n, &b)| if b { n[k] } else { 0.0 })
+                    .collect()
+            })
+            .collect()
+    }
+    match set {
+        AnyParticleSet::D2(s) => {
+            boundary_sph::colour_field_normals(s, r).map(|n| split(n, boundary))
+        }
+        AnyParticleSet::D3(s) => {
+            boundary_sph::colour_field_normals(s, r).map(|n| split(n, boundary))
+        }
+    }
+    .map_err(CliError::from)
+}
+
+/// Whether `text` holds a glob metacharacter.
+fn is_pattern(text: &str) -> bool {
+    text.contains(['*', '?', '['])
+}
+
+pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
+    let detector = detector_with_params(&args.method.method, &args.method.params)?;
+    let pattern = args.input.input.to_string_lossy().into_owned();
+    // A single file with --output-dir or --summary is a sequence of one frame.
+    if args.output_dir.is_some() || args.summary.is_some() || is_pattern(&pattern) {
+        return detect_frames(&args, detector.as_ref());
+    }
+    if (args.margin || args.normals) && args.output.is_none() {
+        return Err(CliError::Usage(
+            "--margin and --normals need --output or --output-dir",
+        ));
+    }
+    let output_format = args.output.as_deref().map(output_format).transpose()?;
+    let pool = pool(args.input.threads)?;
+    let job = FrameJob {
+        detector: detector.as_ref(),
+        options: read_options(&args.input),
+        margin: args.margin,
+        normals: args.normals,
+        pool: &pool,
+    };
+    let output = args.output.as_deref().zip(output_format);
+    let outcome = job.run(&args.input.input, args.input.radius, output)?;
+    if outcome.estimated {
+        errln!("{}", auto_warning(outcome.radius, &args.input.input));
+    }
+    for skipped in &outcome.skipped {
+        errln!(
+            "warning: {}: not written back: {skipped}",
+            args.input.input.display()
+        );
+    }
+    if args.input.json {
+        let object = json!({
+            "method": detector.name(),
+            "params": detector.params().to_string(),
+            "input": args.input.input.display().to_string(),
+            "n": outcome.n,
+            "dim": outcome.dim,
+            "radius": outcome.radius,
+            "radius_estimated": outcome.estimated,
+            "boundary": outcome.boundary,
+            "seconds": outcome.seconds,
+            "threads": pool.current_num_threads(),
+        });
+        outln!("{object}")?;
+    } else {
+        errln!(
+            "{}: {} of {} particles boundary ({:.1}%), {}D, r = {}, {} in {:.3} s on {} thread{}{}",
+            args.input.input.display(),
+            outcome.boundary,
+            outcome.n,
+            percent(outcome.boundary, outcome.n),
+            outcome.dim,
+            outcome.radius,
+            method_label(detector.as_ref()),
+            outcome.seconds,
+            pool.current_num_threads(),
+            if pool.current_num_threads() == 1 {
+                ""
+            } else {
+                "s"
+            },
+            match &args.output {
+                Some(p) => format!(", written to {}", p.display()),
+                None => String::new(),
+            }
+        );
+    }
+    Ok(())
+}
+
+/// Compares file names so that `frame_2` comes before `frame_10`: runs of ASCII digits compare
+/// by value (then by length, so `07` follows `7`), everything else byte by byte. Hand-written:
+/// a dozen lines, where the natural-sort crates are unmaintained or pull in Unicode tables.
+fn natural_cmp(a: &str, b: &str) -> std::cmp::Ordering {
+    use std::cmp::Ordering;
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        if a[i].is_ascii_digit() && b[j].is_ascii_digit() {
+            let run =
+                |s: &[u8], k: usize| k + s[k..].iter().take_while(|c| c.is_ascii_digit()).count();
+            let (ei, ej) = (run(a, i), run(b, j));
+            let trim = |s: &[u8]| {
+                let z = s.iter().take_while(|&&c| c == b'0').count();
+                s[z..].to_vec()
+            };
+            let (da, db) = (trim(&a[i..ei]), trim(&b[j..ej]));
+            let order = da
+                .len()
+                .cmp(&db.len())
+                .then_with(|| da.cmp(&db))
+                .then_with(|| (ei - i).cmp(&(ej - j)));
+            if order != Ordering::Equal {
+                return order;
+            }
+            (i, j) = (ei, ej);
+        } else {
+            if a[i] != b[j] {
+                return a[i].cmp(&b[j]);
+            }
+            i += 1;
+            j += 1;
+        }
+    }
+    (a.len() - i).cmp(&(b.len() - j))
+}
+
+/// The frames `pattern` matches (files only), in natural order of their paths.
+fn frames(pattern: &str) -> Result<Vec<PathBuf>, CliError> {
+    let paths = glob::glob(pattern).map_err(|e| CliError::Pattern {
+        pattern: pattern.to_owned(),
+        reason: e.to_string(),
+    })?;
+    let mut files: Vec<PathBuf> = paths
+        .filter_map(Result::ok)
+        .filter(|p| p.is_file())
+        .collect();
+    if files.is_empty() {
+        return Err(CliError::NoMatch(pattern.to_owned()));
+    }
+    files.sort_by(|a, b| natural_cmp(&a.to_string_lossy(), &b.to_string_lossy()));
+    Ok(files)
+}
+
+/// `detect` over a sequence of frames: one output per frame in `--output-dir`, a line (or CSV
+/// row) per frame; a frame that fails is reported and skipped.
+fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(), CliError> {
+    if args.output.is_some() {
+        return Err(CliError::Usage(
+            "several frames need --output-dir, not --output",
+        ));
+    }
+    if (args.margin || args.normals) && args.output_dir.is_none() {
+        return Err(CliError::Usage(
+            "--margin and --normals need --output or --output-dir",
+        ));
+    }
+    let pattern = args.input.input.to_string_lossy().into_owned();
+    let paths = frames(&pattern)?;
+    let options = read_options(&args.input);
+    // Output path and format of each frame (`Err(frame)` for the frames whose format is
+    // unknown).
+    let mut outputs: Vec<Result<Option<(PathBuf, Format)>, PathBuf>> = Vec::new();
+    if let Some(dir) = &args.output_dir {
+        std::fs::create_dir_all(dir).map_err(|source| CliError::CreateDir {
+            path: dir.clone(),
+            source,
+        })?;
+        let mut taken = std::collections::HashMap::new();
+        for path in &paths {
+            let format = args
+                .output_format
+                .or(args.input.format)
+                .or_else(|| Format::from_path(path));
+            // `fluid_1.bgeo.gz` is named `fluid_1`, like `fluid_1.vtk`.
+            let stem = path.file_stem().unwrap_or_default().to_string_lossy();
+            let stem = match Format::from_path(path) {
+                Some(Format::Bgeo) => Path::new(stem.as_ref())
+                    .file_stem()
+                    .map_or(stem.to_string(), |s| s.to_string_lossy().into_owned()),
+                _ => stem.to_string(),
+            };
+            outputs.push(match format {
+                None => Err(path.clone()),
+                Some(f) => {
+                    let out = dir.join(format!("{stem}.{}", f.name()));
+                    if let Some(other) = taken.insert(out.clone(), path.clone()) {
+                        return Err(CliError::OutputClash {
+                            first: other,
+                            second: path.clone(),
+                            output: out,
+                        });
+                    }
+                    Ok(Some((out, f)))
+                }
+            });
+        }
+    } else {
+        outputs.resize_with(paths.len(), || Ok(None));
+    }
+    // `--radius auto`: estimated once, on the first frame that reads, and used for all, so that
+    // the counts of the frames are comparable.
+    let radius_arg = match args.input.radius {
+        RadiusArg::Value(v) => RadiusArg::Value(v),
+        RadiusArg::Auto => {
+            let mut estimate = None;
+            for path in &paths {
+                if let Ok(set) = boundary_io::read_particles(path, &options) {
+                    if let Ok((r, _)) = resolve_radius(RadiusArg::Auto, &set, path) {
+                        errln!("{} (used for every frame)", auto_warning(r, path));
+                        estimate = Some(r);
+                        break;
+                    }
+                }
+            }
+            RadiusArg::Value(estimate.ok_or(CliError::NoFrameForAutoRadius)?)
+        }
+    };
+    let pool = pool(args.input.threads)?;
+    let job = FrameJob {
+        detector,
+        options,
+        margin: args.margin,
+        normals: args.normals,
+        pool: &pool,
+    };
+    let bar = if args.input.json {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(paths.len() as u64)
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} frames, {elapsed} (eta {eta})",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let total = paths.len();
+    let results: Vec<Result<FrameOutcome, CliError>> = pool.install(|| {
+        use rayon::prelude::*;
+        paths
+            .par_iter()
+            .zip(&outputs)
+            .enumerate()
+            .map(|(k, (path, output))| {
+                let result = match output {
+                    Ok(out) => job.run(
+                        path,
+                        radius_arg,
+                        out.as_ref().map(|(p, f)| (p.as_path(), *f)),
+                    ),
+                    Err(frame) => Err(CliError::UnknownFrameFormat(frame.clone())),
+                };
+                if !args.input.json {
+                    let line = match &result {
+                        Ok(o) => format!(
+                            "frame {}/{total} {}: {} of {} particles boundary ({:.1}%), {:.3} s",
+                            k + 1,
+                            path.display(),
+                            o.boundary,
+                            o.n,
+                            percent(o.boundary, o.n),
+                            o.seconds
+                        ),
+                        Err(e) => format!("frame {}/{total}: skipped: {e}", k + 1),
+                    };
+                    bar.suspend(|| errln!("{line}"));
+                }
+                bar.inc(1);
+                result
+            })
+            .collect()
+    });
+    bar.finish_and_clear();
+    let failed = results.iter().filter(|r| r.is_err()).count();
+    if let Some(summary) = &args.summary {
+        write_summary(summary, &paths, &outputs, &results)?;
+    }
+    if args.input.json {
+        let frames: Vec<_> = paths
+            .iter()
+            .zip(&outputs)
+            .zip(&results)
+            .map(|((path, out), result)| {
+                let output = out
+                    .as_ref()
+                    .ok()
+                    .and_then(|o| o.as_ref())
+                    .map(|(p, _)| p.display().to_string());
+                match result {
+                    Ok(o) => json!({
+                        "input": path.display().to_string(), "output": output, "n": o.n,
+                        "dim": o.dim, "radius": o.radius, "boundary": o.boundary,
+                        "seconds": o.seconds,
+                    }),
+                    Err(e) => json!({
+                        "input": path.display().to_string(), "output": output,
+                        "error": e.to_string(),
+                    }),
+                }
+            })
+            .collect();
+        let object = json!({
+            "method": detector.name(),
+            "params": detector.params().to_string(),
+            "input": pattern,
+            "radius": match radius_arg { RadiusArg::Value(v) => v, RadiusArg::Auto => f64::NAN },
+            "radius_estimated": matches!(args.input.radius, RadiusArg::Auto),
+            "frames": frames,
+            "failed": failed,
+            "threads": pool.current_num_threads(),
+        });
+        outln!("{object}")?;
+    } else {
+        errln!(
+            "{} of {total} frames done with {}{}",
+            total - failed,
+            method_label(detector),
+            match &args.output_dir {
+                Some(dir) => format!(", written to {}", dir.display()),
+                None => String::new(),
+            }
+        );
+    }
+    if failed == total {
+        return Err(CliError::AllFramesFailed(total));
+    }
+    if failed > 0 {
+        errln!("warning: {failed} of {total} frames failed and were skipped");
+    }
+    Ok(())
+}
+
+/// Quotes a CSV field when it needs it.
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_owned()
+    }
+}
+
+/// One CSV row per frame: the boundary count per frame, for plotting.
+fn write_summary(
+    path: &Path,
+    inputs: &[PathBuf],
+    outputs: &[Result<Option<(PathBuf, Format)>, PathBuf>],
+    results: &[Result<FrameOutcome, CliError>],
+) -> Result<(), CliError> {
+    use std::fmt::Write as _;
+    let mut text = String::from("frame,input,output,n,dim,radius,boundary,seconds,error\n");
+    for (k, ((input, output), result)) in inputs.iter().zip(outputs).zip(results).enumerate() {
+        let output = match output {
+            Ok(Some((p, _))) => p.display().to_string(),
+            _ => String::new(),
+        };
+        let input = csv_field(&input.display().to_string());
+        let output = csv_field(&output);
+        let _ = match result {
+            Ok(o) => writeln!(
+                text,
+                "{k},{input},{output},{},{},{},{},{:.6},",
+                o.n, o.dim, o.radius, o.boundary, o.seconds
+            ),
+            Err(e) => writeln!(
+                text,
+                "{k},{input},{output},,,,,,{}",
+                csv_field(&e.to_string())
+            ),
+        };
+    }
+    std::fs::write(path, text).map_err(|source| CliError::Write {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::natural_cmp;
+    use std::cmp::Ordering::{Equal, Greater, Less};
+
+    #[test]
+    fn natural_order_compares_digit_runs_by_value() {
+        assert_eq!(natural_cmp("fluid_2.vtk", "fluid_10.vtk"), Less);
+        assert_eq!(natural_cmp("fluid_10.vtk", "fluid_9.vtk"), Greater);
+        assert_eq!(natural_cmp("f_007", "f_7"), Greater);
+        assert_eq!(natural_cmp("f_7", "f_7"), Equal);
+        assert_eq!(natural_cmp("a1b2", "a1b10"), Less);
+        assert_eq!(natural_cmp("run2/f_1", "run10/f_0"), Less);
+        assert_eq!(natural_cmp("f", "f_1"), Less);
+        assert_eq!(natural_cmp("b", "a99"), Greater);
+    }
+}

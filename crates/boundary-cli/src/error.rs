@@ -1,0 +1,116 @@
+//! The CLI's error type: every failure of a subcommand, with the message `main` prints after
+//! `error: `. The messages are the CLI's interface (tests match them): keep them stable.
+
+use std::path::PathBuf;
+use thiserror::Error;
+
+/// Why a subcommand failed.
+#[derive(Debug, Error)]
+pub enum CliError {
+    /// Reading or writing a particle file (the message names the file and the line or element).
+    #[error(transparent)]
+    Io(#[from] boundary_io::IoError),
+    /// An unknown method or parameter, or a bad parameter value.
+    #[error(transparent)]
+    Registry(#[from] boundary::RegistryError),
+    /// A detector failed on the input.
+    #[error(transparent)]
+    Detect(#[from] boundary::DetectError),
+    /// Invalid core values (radius, label counts, grid limits).
+    #[error(transparent)]
+    Core(#[from] boundary::CoreError),
+    /// Resampling could not run.
+    #[error(transparent)]
+    Resample(#[from] boundary_resample::ResampleError),
+    /// The rayon pool could not be built.
+    #[error("cannot start worker threads: {0}")]
+    Threads(#[from] rayon::ThreadPoolBuildError),
+    /// Options that do not go together, or a value they need is missing.
+    #[error("{0}")]
+    Usage(&'static str),
+    /// `--radius auto` on a set with fewer than two distinct positions.
+    #[error("{}: --radius auto needs at least two distinct particle positions", .0.display())]
+    AutoRadiusTooFew(PathBuf),
+    /// An output file whose extension names no format.
+    #[error(
+        "{}: unknown output format (use .csv, .xyz, .ply, .vtk, .vtu, .vtp, .bgeo or .bgeo.gz)",
+        .0.display()
+    )]
+    UnknownOutputFormat(PathBuf),
+    /// A frame whose format neither its extension nor an option names.
+    #[error("{}: unknown format (name it with --format / --output-format)", .0.display())]
+    UnknownFrameFormat(PathBuf),
+    /// `--margin` with a method that has none.
+    #[error("method '{0}' reports no margin (drop --margin)")]
+    NoMargin(&'static str),
+    /// A glob pattern that does not parse.
+    #[error("invalid pattern {pattern:?}: {reason}")]
+    Pattern {
+        /// The pattern as given.
+        pattern: String,
+        /// The glob crate's message.
+        reason: String,
+    },
+    /// A pattern that matches no file.
+    #[error("no file matches {0:?}")]
+    NoMatch(String),
+    /// Two frames that would be written to the same output file.
+    #[error("{} and {} would both be written to {}", .first.display(), .second.display(), .output.display())]
+    OutputClash {
+        /// The first frame.
+        first: PathBuf,
+        /// The second frame.
+        second: PathBuf,
+        /// Their common output.
+        output: PathBuf,
+    },
+    /// A directory that cannot be created.
+    #[error("cannot create {}: {source}", .path.display())]
+    CreateDir {
+        /// The directory.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// A file (other than a particle file) that cannot be written.
+    #[error("cannot write {}: {source}", .path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// `--radius auto` over frames none of which could be read.
+    #[error("--radius auto: no frame could be read to estimate r")]
+    NoFrameForAutoRadius,
+    /// Every frame of a sequence failed.
+    #[error("all {0} frames failed")]
+    AllFramesFailed(usize),
+    /// A truth file whose label count differs from the particle count.
+    #[error("{}: {found} truth labels for {n} particles", .path.display())]
+    TruthCount {
+        /// The truth file.
+        path: PathBuf,
+        /// Labels in it.
+        found: usize,
+        /// Particles in the input.
+        n: usize,
+    },
+    /// A truth label that is not 0 or 1.
+    #[error("{}: particle {index}: boundary must be 0 or 1, got {value}", .path.display())]
+    TruthValue {
+        /// The truth file.
+        path: PathBuf,
+        /// The particle.
+        index: usize,
+        /// Its value.
+        value: f64,
+    },
+    /// Standard output was closed by its reader (`boundary methods | head`): not a failure,
+    /// `main` exits quietly.
+    #[error("standard output closed")]
+    BrokenPipe,
+    /// Writing to standard output failed otherwise.
+    #[error("cannot write to standard output: {0}")]
+    Stdout(std::io::Error),
+}

@@ -1,0 +1,236 @@
+//! The CLI's error messages that `cli.rs` does not already pin, one per `CliError` variant
+//! reachable from the command line, and the closed-pipe behaviour of every subcommand: a
+//! reader that goes away (`boundary methods | head`) ends the command quietly, status 0.
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+const BIN: &str = env!("CARGO_BIN_EXE_boundary");
+
+fn boundary(args: &[&str]) -> Output {
+    Command::new(BIN).args(args).output().unwrap()
+}
+
+/// The one-line error of a failed run (status 1).
+fn failure(args: &[&str]) -> String {
+    let out = boundary(args);
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+    stderr
+}
+
+/// A 5 x 5 square lattice of spacing 1 as CSV.
+fn lattice(dir: &Path, name: &str) -> PathBuf {
+    let mut text = String::from("x,y\n");
+    for k in 0..25 {
+        text.push_str(&format!("{},{}\n", k % 5, k / 5));
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn s(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+#[test]
+fn option_combinations_that_do_not_go_together_say_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = lattice(dir.path(), "a.csv");
+    let err = failure(&["detect", s(&input), "-r", "1", "--margin"]);
+    assert!(
+        err.starts_with("error: --margin and --normals need --output or --output-dir"),
+        "{err}"
+    );
+    let pattern = dir.path().join("*.csv");
+    let out = dir.path().join("o.csv");
+    let err = failure(&["detect", s(&pattern), "-r", "1", "-o", s(&out)]);
+    assert!(
+        err.starts_with("error: several frames need --output-dir, not --output"),
+        "{err}"
+    );
+    let err = failure(&[
+        "detect",
+        s(&pattern),
+        "-r",
+        "1",
+        "--normals",
+        "--summary",
+        s(&out),
+    ]);
+    assert!(err.contains("need --output or --output-dir"), "{err}");
+}
+
+#[test]
+fn a_method_without_a_margin_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = lattice(dir.path(), "a.csv");
+    let out = dir.path().join("o.csv");
+    let err = failure(&[
+        "detect",
+        s(&input),
+        "-r",
+        "1",
+        "-m",
+        "marrone",
+        "--margin",
+        "-o",
+        s(&out),
+    ]);
+    assert!(
+        err.contains("method 'marrone' reports no margin (drop --margin)"),
+        "{err}"
+    );
+}
+
+#[test]
+fn frame_sequence_errors_name_the_pattern_the_frames_or_the_directory() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let err = failure(&["detect", &format!("{}/[", d.display()), "-r", "1"]);
+    assert!(err.contains("error: invalid pattern"), "{err}");
+    // Two frames with the same stem would overwrite each other.
+    lattice(d, "a.csv");
+    std::fs::copy(d.join("a.csv"), d.join("a.xyz")).unwrap();
+    let out = d.join("out");
+    let err = failure(&[
+        "detect",
+        &format!("{}/a.*", d.display()),
+        "-r",
+        "1",
+        "--output-dir",
+        s(&out),
+        "--output-format",
+        "csv",
+    ]);
+    assert!(err.contains("would both be written to"), "{err}");
+    // An output directory below a file cannot be created.
+    let below_a_file = d.join("a.csv").join("sub");
+    let err = failure(&[
+        "detect",
+        s(&d.join("a.csv")),
+        "-r",
+        "1",
+        "--output-dir",
+        s(&below_a_file),
+    ]);
+    assert!(err.contains("error: cannot create"), "{err}");
+    // A summary that is a directory cannot be written.
+    let err = failure(&["detect", s(&d.join("a.csv")), "-r", "1", "--summary", s(d)]);
+    assert!(err.contains("error: cannot write"), "{err}");
+    // A frame whose format nothing names is skipped with its reason.
+    let other = tempfile::tempdir().unwrap();
+    std::fs::copy(d.join("a.csv"), other.path().join("frame.zzz")).unwrap();
+    let err = failure(&[
+        "detect",
+        &format!("{}/*.zzz", other.path().display()),
+        "-r",
+        "1",
+        "--output-dir",
+        s(&out),
+    ]);
+    assert!(
+        err.contains("unknown format (name it with --format / --output-format)"),
+        "{err}"
+    );
+    assert!(err.contains("error: all 1 frames failed"), "{err}");
+    // --radius auto with no readable frame.
+    std::fs::write(other.path().join("bad.csv"), "x,y\n0,nope\n").unwrap();
+    let err = failure(&[
+        "detect",
+        &format!("{}/*.csv", other.path().display()),
+        "-r",
+        "auto",
+    ]);
+    assert!(
+        err.contains("error: --radius auto: no frame could be read to estimate r"),
+        "{err}"
+    );
+}
+
+#[test]
+fn truth_files_with_the_wrong_count_or_values_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = lattice(dir.path(), "a.csv");
+    let truth = dir.path().join("truth.csv");
+    std::fs::write(&truth, "boundary\n1\n0\n").unwrap();
+    let err = failure(&[
+        "score",
+        s(&input),
+        "-r",
+        "1",
+        "-m",
+        "dilts",
+        "--truth",
+        s(&truth),
+    ]);
+    assert!(
+        err.contains("truth.csv: 2 truth labels for 25 particles"),
+        "{err}"
+    );
+    let mut text = String::from("boundary\n");
+    for k in 0..25 {
+        text.push_str(if k == 7 { "2\n" } else { "1\n" });
+    }
+    std::fs::write(&truth, text).unwrap();
+    let err = failure(&[
+        "score",
+        s(&input),
+        "-r",
+        "1",
+        "-m",
+        "dilts",
+        "--truth",
+        s(&truth),
+    ]);
+    assert!(
+        err.contains("truth.csv: particle 7: boundary must be 0 or 1, got 2"),
+        "{err}"
+    );
+}
+
+/// Runs the binary with stdout (or stderr) the write end of a pipe whose read end is already
+/// closed: every write to it fails with EPIPE.
+fn with_closed_pipe(args: &[&str], close_stderr: bool) -> Output {
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let mut command = Command::new(BIN);
+    command.args(args).stdin(Stdio::null());
+    if close_stderr {
+        command.stderr(Stdio::from(writer)).stdout(Stdio::piped());
+    } else {
+        command.stdout(Stdio::from(writer)).stderr(Stdio::piped());
+    }
+    command.spawn().unwrap().wait_with_output().unwrap()
+}
+
+#[test]
+fn every_subcommand_exits_quietly_when_its_reader_closes_the_pipe() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = lattice(dir.path(), "a.csv");
+    let out = dir.path().join("o.csv");
+    let pattern = format!("{}/*.csv", dir.path().display());
+    let runs: [&[&str]; 8] = [
+        &["methods"],
+        &["methods", "--json"],
+        &["score", s(&input), "-r", "1", "-m", "dilts"],
+        &["score", s(&input), "-r", "1", "-m", "dilts", "--json"],
+        &["detect", s(&input), "-r", "1", "--json"],
+        &["detect", &pattern, "-r", "1", "--json"],
+        &["resample", s(&input), "-r", "1", "-o", s(&out), "--json"],
+        &["detect", s(&input), "-r", "1"],
+    ];
+    for args in runs {
+        let result = with_closed_pipe(args, false);
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert_eq!(result.status.code(), Some(0), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert!(!stderr.contains("Broken pipe"), "{args:?}: {stderr}");
+        // A closed stderr is no failure either (the human summaries go there).
+        let result = with_closed_pipe(args, true);
+        assert_eq!(result.status.code(), Some(0), "{args:?} with stderr closed");
+    }
+}
