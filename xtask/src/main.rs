@@ -1,15 +1,15 @@
 //! Project tasks, run as `cargo xtask <task>` (alias in `.cargo/config.toml`).
 //!
-//! - `cargo xtask test`: check the system prerequisites, then `cargo fmt --check`,
+//! - `cargo xtask test`: `cargo fmt --check`,
 //!   `cargo clippy --workspace --all-targets -D warnings` and `cargo test --workspace`. The
 //!   workspace includes the MPI driver `crates/boundary-mpi` (outside `default-members`), whose
 //!   tests compare `mpirun -np 2` and `-np 4` with the single-process labels; without Open MPI
 //!   it is excluded, with a note saying so. What CI runs (`.ci/run`).
 //! - `cargo xtask test-mpi`: only the MPI driver's part of `test`.
-//! - `cargo xtask sweep [ARGS…]`: check the prerequisites, then run the comparison sweep
+//! - `cargo xtask sweep [ARGS…]`: run the comparison sweep
 //!   (every detector on every scene) in release mode; ARGS go to the sweep (`--help` lists them).
 //! - `cargo xtask fixtures`: regenerate the scenes in `fixtures/`.
-//! - `cargo xtask prereqs`: only check (and where possible install) the prerequisites.
+//! - `cargo xtask prereqs`: only check (and where possible install) the MPI prerequisites.
 //! - `cargo xtask check-deps`: the dependency rules of `docs/ARCHITECTURE.md`, from the
 //!   dependency graph (`cargo tree`): boundary-core has no file-format or CLI dependency, and
 //!   no method crate has an IO dependency (direct or not). Also the first step of `test`.
@@ -18,15 +18,13 @@
 //! prerequisites it installs.
 //!
 //! # Prerequisites
-//! The `qhull` crate (HPR detector) runs bindgen at build time, which needs libclang (Debian:
-//! `libclang-dev`). When it is missing, xtask installs it with `apt-get` if it runs as root
-//! with apt-get available (CI, containers), and otherwise stops with the exact command to run.
-//!
-//! The MPI driver needs Open MPI (Debian: `libopenmpi-dev openmpi-bin`: `mpicc` for the `mpi`
-//! crate's build, `mpirun` for its tests). `cargo xtask test` installs it the same way when it
-//! can; when it cannot, or when `BOUNDARY_MPI=skip` is set, it says that the MPI checks were
-//! skipped and why, prints the command that installs it, and still succeeds: the rest of the
-//! workspace never needs MPI.
+//! The default members need nothing beyond a Rust toolchain (no system library, no bindgen).
+//! The MPI driver needs Open MPI and libclang (Debian: `libopenmpi-dev openmpi-bin
+//! libclang-dev`: `mpicc` and libclang for the `mpi` crate's build, which runs bindgen,
+//! `mpirun` for its tests). `cargo xtask test` installs them with `apt-get` when it runs as
+//! root (CI, containers); when it cannot, or when `BOUNDARY_MPI=skip` is set, it says that
+//! the MPI checks were skipped and why, prints the command that installs them, and still
+//! succeeds: the rest of the workspace never needs MPI nor libclang.
 
 use std::env;
 use std::path::{Path, PathBuf};
@@ -39,17 +37,18 @@ fn main() -> ExitCode {
         None => ("help", &[][..]),
     };
     let result = match task {
-        "test" => prereqs().and_then(|()| test(rest)),
-        "test-mpi" => prereqs().and_then(|()| test_mpi()),
-        "sweep" => prereqs().and_then(|()| sweep(rest)),
+        "test" => test(rest),
+        "test-mpi" => test_mpi(),
+        "sweep" => sweep(rest),
         "fixtures" => fixtures(rest),
         "check-deps" => check_deps(),
         "train-svm" => train_svm(rest),
-        "prereqs" => prereqs().map(|()| {
+        "prereqs" => {
             if let Err(why) = mpi_prereqs() {
                 eprintln!("xtask: MPI driver not buildable here: {why}");
             }
-        }),
+            Ok(())
+        }
         "help" | "--help" | "-h" => {
             println!("{}", usage());
             Ok(())
@@ -68,14 +67,14 @@ fn main() -> ExitCode {
 fn usage() -> &'static str {
     "usage: cargo xtask <task>\n\
      tasks:\n  \
-     test       prerequisites, rustfmt --check, clippy -D warnings, the whole test suite; the\n             \
+     test       rustfmt --check, clippy -D warnings, the whole test suite; the\n             \
      MPI driver included when Open MPI is installed or installable (CI)\n  \
      test-mpi   only the MPI driver's part of `test`\n  \
-     sweep      prerequisites, then every detector on every scene: target/sweep/report.md\n  \
+     sweep      every detector on every scene: target/sweep/report.md\n  \
      fixtures   regenerate the generated scenes in fixtures/\n  \
      train-svm  retrain the shipped svm models (seeded) and score them on held-out scenes:\n             \
 crates/boundary-svm/models/, target/svm/training.md\n  \
-     prereqs    check the system prerequisites (install them when root with apt-get)\n  \
+     prereqs    check the MPI prerequisites (install them when root with apt-get)\n  \
      check-deps boundary-core has no format/CLI dependency, method crates no IO dependency"
 }
 
@@ -165,19 +164,21 @@ fn mpi_prereqs() -> Result<(), String> {
     if env::var("BOUNDARY_MPI").is_ok_and(|v| v == "skip") {
         return Err("BOUNDARY_MPI=skip is set".to_owned());
     }
-    let found = || has_program("mpicc") && has_program("mpirun");
+    // The `mpi` crate's build runs bindgen, which needs libclang.
+    let found = || has_program("mpicc") && has_program("mpirun") && libclang_found();
     if found() {
         return Ok(());
     }
-    let packages = ["libopenmpi-dev", "openmpi-bin"];
+    let packages = ["libopenmpi-dev", "openmpi-bin", "libclang-dev"];
     let install = format!("sudo apt-get install -y {}", packages.join(" "));
     if !(is_root() && has_program("apt-get")) {
         return Err(format!(
-            "Open MPI not found (mpicc, mpirun) and not root with apt-get to install it; \
-             install it with:\n    {install}"
+            "Open MPI (mpicc, mpirun) or libclang (bindgen, for the mpi crate) not found and \
+             not root with apt-get to install them; \
+             install them with:\n    {install}"
         ));
     }
-    eprintln!("xtask: Open MPI not found (needed by {MPI_PACKAGE}); installing it");
+    eprintln!("xtask: Open MPI or libclang not found (needed by {MPI_PACKAGE}); installing them");
     run_system("apt-get", &["update", "-qq"])?;
     let mut args = vec!["install", "-y", "-qq"];
     args.extend(packages);
@@ -228,32 +229,6 @@ fn train_svm(rest: &[String]) -> Result<(), String> {
     ];
     args.extend(rest.iter().map(String::as_str));
     cargo(&args)
-}
-
-/// Checks the system prerequisites and installs what is missing where that needs no question.
-fn prereqs() -> Result<(), String> {
-    if libclang_found() {
-        return Ok(());
-    }
-    let install = "apt-get install -y libclang-dev";
-    if is_root() && has_program("apt-get") {
-        eprintln!("xtask: libclang not found (needed by the qhull crate); installing libclang-dev");
-        run_system("apt-get", &["update", "-qq"])?;
-        run_system("apt-get", &["install", "-y", "-qq", "libclang-dev"])?;
-        if libclang_found() {
-            return Ok(());
-        }
-        return Err(
-            "libclang-dev installed but libclang still not found; set LIBCLANG_PATH \
-                    to the directory holding libclang.so"
-                .to_owned(),
-        );
-    }
-    Err(format!(
-        "libclang not found (the qhull crate needs it to build). Install it with:\n    \
-         sudo {install}\n(or set LIBCLANG_PATH to the directory holding libclang.so), then run \
-         the command again"
-    ))
 }
 
 /// Whether libclang is where bindgen (clang-sys) looks for it.

@@ -14,6 +14,19 @@ use rustc_hash::{FxHashMap, FxHashSet};
 /// (Sec. 2.3.1). A particle at distance `< 0.95 r` (open ball) rejects `V_i`.
 pub const CAVITY_BALL_FACTOR: f64 = 0.95;
 
+/// A particle within `CELL_TOLERANCE · r` of a cell (of side `2r`) makes it full: a particle on
+/// or next to a shared face fills both cells, so that round-off of a lattice lying on the
+/// cell faces does not empty a cell (see the crate documentation, "Noise").
+pub const CELL_TOLERANCE: f64 = 1e-4;
+
+/// The neighbourhood of Eq. 2.3 (`δ_i`) is the closed ball of radius `2r·(1 + 1e-4)`: lattice
+/// neighbours exactly `2r` away stay in it under round-off.
+pub const NEIGHBOUR_TOLERANCE: f64 = 1e-4;
+
+/// A `δ_i` shorter than `1e-4 · r` has no direction (the neighbourhood is symmetric up to
+/// round-off): no cavity viewpoint for that particle.
+pub const DIRECTION_TOLERANCE: f64 = 1e-4;
+
 /// Where a viewpoint came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ViewpointKind {
@@ -68,8 +81,9 @@ fn for_each_adjacent<const D: usize>(c: &[i64; D], mut f: impl FnMut([i64; D])) 
 ///   particle", is tested only at the candidates `V_i` of Eq. 2.3, one per particle of `C`,
 ///   as Alg. 1 does;
 /// - `δ_i = p_i − mean(p_j)` over the particles `j ≠ i` within `2r` of `p_i` (closed ball;
-///   including `i` itself would only rescale `δ_i`, which is normalised). A particle with no
-///   such neighbour or with `δ_i = 0` has `V_i = p_i`, which the emptiness test rejects;
+///   including `i` itself would only rescale `δ_i`, which is normalised; the ball is widened
+///   by [`NEIGHBOUR_TOLERANCE`]). A particle with no such neighbour or with
+///   `|δ_i| <= `[`DIRECTION_TOLERANCE`]` · r` gets no candidate;
 /// - `V_i` is kept when no particle lies at distance `< 0.95 r` from it, even if `V_i` falls
 ///   outside `C` (Fig. 5 shows cavity viewpoints at the cavity's edge; the thesis only asks
 ///   for the emptiness of the ball).
@@ -80,9 +94,33 @@ pub fn place_viewpoints<const D: usize>(
     cavity: bool,
 ) -> Vec<Viewpoint<D>> {
     let cell = 2.0 * r;
+    let eps = CELL_TOLERANCE * r;
     let mut full: FxHashMap<[i64; D], Vec<u32>> = FxHashMap::default();
+    let mut near: Vec<[i64; D]> = Vec::with_capacity(1 << D);
     for (i, p) in set.positions().iter().enumerate() {
-        full.entry(cell_of(p, cell)).or_default().push(i as u32);
+        // The cell of p, and the cells whose closure lies within eps of p (p within eps of
+        // a face, edge or corner): all of them are full.
+        let c = cell_of(p, cell);
+        near.clear();
+        near.push(c);
+        for k in 0..D {
+            let offset = p[k] - c[k] as f64 * cell;
+            let step = if offset <= eps {
+                -1
+            } else if cell - offset <= eps {
+                1
+            } else {
+                continue;
+            };
+            for m in 0..near.len() {
+                let mut n = near[m];
+                n[k] += step;
+                near.push(n);
+            }
+        }
+        for n in &near {
+            full.entry(*n).or_default().push(i as u32);
+        }
     }
     let mut empty_adjacent: FxHashSet<[i64; D]> = FxHashSet::default();
     let mut cavity_cells: Vec<[i64; D]> = Vec::new();
@@ -113,6 +151,7 @@ pub fn place_viewpoints<const D: usize>(
             .flat_map(|c| full[c].iter().copied())
             .collect();
         members.sort_unstable();
+        members.dedup();
         let positions = set.positions();
         let found: Vec<Point<D>> = {
             use rayon::prelude::*;
@@ -139,7 +178,7 @@ pub fn cavity_viewpoint<const D: usize>(
     let p = positions[i];
     let mut sum = Point::<D>::zeros();
     let mut count = 0usize;
-    grid.for_each_within(&p, 2.0 * r, |j, _| {
+    grid.for_each_within(&p, 2.0 * r * (1.0 + NEIGHBOUR_TOLERANCE), |j, _| {
         if j != i {
             sum += positions[j];
             count += 1;
@@ -150,7 +189,7 @@ pub fn cavity_viewpoint<const D: usize>(
     }
     let delta = p - sum / count as f64;
     let norm = delta.norm();
-    if norm == 0.0 || !norm.is_finite() {
+    if norm <= DIRECTION_TOLERANCE * r || !norm.is_finite() {
         return None;
     }
     let v = p + delta * (r / norm);

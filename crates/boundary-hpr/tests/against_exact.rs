@@ -1,5 +1,6 @@
 //! `hpr` against `exact`: on jittered lattice discs and balls the rim is found and the deep
-//! interior is interior; M stays above an honest floor on the thesis author's vortex frames;
+//! interior is interior; on the thesis author's vortex frames Rec is 1 and M at least the
+//! author's code; lattice round-off changes no label;
 //! cavity viewpoints find an inner bubble that empty-cell viewpoints miss; degenerate input
 //! (perfect lattices, a line, a plane, duplicates, 0–3 particles) never aborts; labels do not
 //! depend on the threads or on a domain decomposition with the method's halo.
@@ -11,7 +12,7 @@ use boundary_core::{
     AnyParticleSet, BoundaryDetector, Confusion, Labels, ParticleSet, Point, Radius,
 };
 use boundary_exact::ExactDetector;
-use boundary_hpr::HprDetector;
+use boundary_hpr::{HprDetector, DEFAULT_GAMMA};
 use boundary_scenes::{
     cubic_lattice, fixtures_dir, jittered_lattice_ball, jittered_lattice_disc, shared_set,
     square_lattice, Manifest, SHARED_SCENES,
@@ -70,17 +71,33 @@ fn lattice_balls_rim_and_core() {
     check_ball(&ball, radius, 1.2, 0.95);
 }
 
-/// The thesis author's own 2D frames at the thesis' r: M against `exact` above a floor
-/// (JCP 2020 Table 1 reports M = 0.92-0.98 for this method on its 2D scenes).
+/// The thesis author's own 2D frames at the author's r = 0.022105 (shared data): at default
+/// parameters `hpr` finds every boundary particle (Rec = 1) with M at least that of the
+/// author's reference code (`boundary.py` of marcos-sandim/boundary-detection, which scores
+/// M = 1.0, 0.9582 and 0.9223 on frames 1, 50 and 100; issue 23). A missing data folder is a
+/// failure unless `BOUNDARY_ALLOW_MISSING_DATA=1`.
 #[test]
-fn sandim_vortex_frames_score_in_the_published_band() {
+fn sandim_vortex_frames_reach_the_authors_code_with_full_recall() {
     let d = HprDetector::default();
+    let goals = [
+        ("sandim_vortex_001", 1.0),
+        ("sandim_vortex_050", 0.9582),
+        ("sandim_vortex_100", 0.9223),
+    ];
+    let mut checked = 0;
     for &(name, dim, file, r, n, _, _) in SHARED_SCENES {
-        if !name.starts_with("sandim_vortex") {
+        let Some(&(_, goal)) = goals.iter().find(|(g, _)| *g == name) else {
             continue;
-        }
+        };
         assert_eq!(dim, 2);
-        let set = shared_set::<2>(file).unwrap().to_any();
+        let set = match shared_set::<2>(file) {
+            Ok(s) => s.to_any(),
+            Err(e) if std::env::var("BOUNDARY_ALLOW_MISSING_DATA").is_ok_and(|v| v == "1") => {
+                eprintln!("SKIPPED {name}: {e} (BOUNDARY_ALLOW_MISSING_DATA=1)");
+                continue;
+            }
+            Err(e) => panic!("{name}: {e} (set BOUNDARY_ALLOW_MISSING_DATA=1 to skip)"),
+        };
         assert_eq!(set.len(), n);
         let c = confusion(&labels(&d, &set, r), &labels_exact(&set, r));
         eprintln!(
@@ -89,7 +106,72 @@ fn sandim_vortex_frames_score_in_the_published_band() {
             c.fpr(),
             c.m()
         );
-        assert!(c.m() >= 0.85, "{name}: {c:?}");
+        assert_eq!(c.recall(), 1.0, "{name}: {c:?}");
+        assert!(c.m() >= goal, "{name}: M {} < {goal}: {c:?}", c.m());
+        checked += 1;
+    }
+    assert!(
+        checked == goals.len()
+            || std::env::var("BOUNDARY_ALLOW_MISSING_DATA").is_ok_and(|v| v == "1"),
+        "only {checked} of the author's frames are in SHARED_SCENES"
+    );
+}
+
+/// A lattice disc (2D) or ball (3D) of spacing 1 and the same lattice with every coordinate
+/// moved by a pseudo-random round-off of at most `4e-6` spacings: `hpr` gives the same labels
+/// (issue 20: before, on 50k-particle lattices, it changed 44 (2D) and 615 (3D) labels at
+/// r = 1, through ties at cell faces, at `2r` and `4r`, and on hull facets).
+#[test]
+fn lattice_round_off_does_not_change_the_labels() {
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut noise = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 8e-6
+    };
+    let mut disc = Vec::new();
+    let mut disc_noisy = Vec::new();
+    for i in -40i32..=40 {
+        for j in -40i32..=40 {
+            if i * i + j * j <= 40 * 40 {
+                disc.push([i as f64, j as f64]);
+                disc_noisy.push([i as f64 + noise(), j as f64 + noise()]);
+            }
+        }
+    }
+    let mut ball = Vec::new();
+    let mut ball_noisy = Vec::new();
+    for i in -11i32..=11 {
+        for j in -11i32..=11 {
+            for k in -11i32..=11 {
+                if i * i + j * j + k * k <= 121 {
+                    ball.push([i as f64, j as f64, k as f64]);
+                    ball_noisy.push([i as f64 + noise(), j as f64 + noise(), k as f64 + noise()]);
+                }
+            }
+        }
+    }
+    let d = HprDetector::default();
+    let sets = [
+        (
+            ParticleSet::from_rows(&disc).unwrap().to_any(),
+            ParticleSet::from_rows(&disc_noisy).unwrap().to_any(),
+        ),
+        (
+            ParticleSet::from_rows(&ball).unwrap().to_any(),
+            ParticleSet::from_rows(&ball_noisy).unwrap().to_any(),
+        ),
+    ];
+    for (clean, noisy) in &sets {
+        for r in [0.75, 1.0, 1.5] {
+            let a = labels(&d, clean, r);
+            let b = labels(&d, noisy, r);
+            let changed = (0..a.len())
+                .filter(|&i| a.is_boundary(i) != b.is_boundary(i))
+                .count();
+            assert_eq!(changed, 0, "{} particles, r = {r}", clean.len());
+        }
     }
 }
 
@@ -109,14 +191,7 @@ fn bubble_counts(
         .filter(|&i| truth.is_boundary(i) && (s3.positions()[i] - centre).norm() < reach)
         .collect();
     let on = labels(&HprDetector::default(), set, r);
-    let off = labels(
-        &HprDetector {
-            cavity: false,
-            ..Default::default()
-        },
-        set,
-        r,
-    );
+    let off = labels(&HprDetector::new(DEFAULT_GAMMA, false).unwrap(), set, r);
     let found = |l: &Labels| bubble.iter().filter(|&&i| l.is_boundary(i)).count();
     let (c_on, c_off) = (confusion(&on, &truth), confusion(&off, &truth));
     eprintln!(
