@@ -4,7 +4,7 @@ with three methods, print their scores against the exact labels, and plot the la
     pip install ./crates/boundary-py         # once (maturin builds the Rust extension)
     python examples/python/quickstart.py     # [--data DIR] [--plot quickstart.png] [--no-plot]
 
-Reads the DualSPHysics 2D dam break of the public data (`../shared/data`, or
+Reads frame 100 of the vortex of Sandim et al. from the public data (`../shared/data`, or
 `$BOUNDARY_DATA_DIR`). The plot needs matplotlib (`pip install matplotlib`); without it the
 script says so and skips the plot. `cargo xtask test` runs this script.
 """
@@ -33,8 +33,8 @@ def main() -> None:
     args = parser.parse_args()
 
     # A frame and its particle resolution r (fixtures/scenes.toml).
-    frame = args.data / "particles2d" / "dualsphysics_dambreak2d_dp0.02_fluid_4416.csv"
-    r = 0.0283
+    frame = args.data / "particles2d" / "sandim_vortex_spin_frame_100_1698.csv"
+    r = 0.022105
     points, attributes = boundary.read(frame)
     print(f"{frame.name}: {len(points)} particles, {points.shape[1]}D, r = {r}")
 

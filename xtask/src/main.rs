@@ -126,13 +126,7 @@ fn mpi_usable() -> bool {
 /// fmt, clippy and the tests of the whole workspace; the MPI driver only when `mpi`, the
 /// Python package only when `python` (its build script needs a Python interpreter).
 fn test_workspace(mpi: bool, python: bool, rest: &[String]) -> Result<(), String> {
-    let mut exclude: Vec<&str> = Vec::new();
-    if !mpi {
-        exclude.extend(["--exclude", MPI_PACKAGE]);
-    }
-    if !python {
-        exclude.extend(["--exclude", PY_PACKAGE]);
-    }
+    let exclude = workspace_exclusions(mpi, python);
     cargo(&["fmt", "--all", "--", "--check"])?;
     let mut args = vec!["clippy", "--workspace"];
     args.extend(&exclude);
@@ -148,7 +142,7 @@ fn test(rest: &[String]) -> Result<(), String> {
     let mpi = mpi_usable();
     let python = python_usable();
     test_workspace(mpi, python.is_some(), rest)?;
-    let cli = bindings_build()?;
+    let cli = bindings_build(&workspace_exclusions(mpi, python.is_some()))?;
     c_examples(&cli)?;
     match python {
         Some(python) => python_package(&python, &cli),
@@ -349,7 +343,11 @@ const PY_VENV: &str = "target/py-venv";
 /// The bindings' part of `test` alone (`cargo xtask test-bindings`).
 fn test_bindings() -> Result<(), String> {
     let python = python_usable();
-    let cli = bindings_build()?;
+    // The test run's package selection, without installing anything.
+    let mpi = !env::var("BOUNDARY_MPI").is_ok_and(|v| v == "skip")
+        && has_program("mpicc")
+        && has_program("mpirun");
+    let cli = bindings_build(&workspace_exclusions(mpi, python.is_some()))?;
     c_examples(&cli)?;
     match python {
         Some(python) => python_package(&python, &cli),
@@ -357,18 +355,27 @@ fn test_bindings() -> Result<(), String> {
     }
 }
 
-/// Builds the CLI (the reference labels) and the C API library with the test profile, which
-/// `cargo test` has just compiled their dependencies with; returns the CLI's path.
-fn bindings_build() -> Result<PathBuf, String> {
-    cargo(&[
-        "build",
-        "--profile",
-        "test",
-        "-p",
-        "boundary-cli",
-        "-p",
-        "boundary-capi",
-    ])?;
+/// The `--exclude` arguments of the workspace commands: the MPI driver unless `mpi`, the
+/// Python package unless `python`.
+fn workspace_exclusions(mpi: bool, python: bool) -> Vec<&'static str> {
+    let mut exclude = Vec::new();
+    if !mpi {
+        exclude.extend(["--exclude", MPI_PACKAGE]);
+    }
+    if !python {
+        exclude.extend(["--exclude", PY_PACKAGE]);
+    }
+    exclude
+}
+
+/// Puts the CLI (the reference labels) and the C API's libraries into `target/debug`; returns
+/// the CLI's path. The same packages, targets (those `cargo test` builds) and profile as the
+/// test run, so that cargo finds its units fresh: only the C API's cdylib/staticlib are new.
+fn bindings_build(exclude: &[&str]) -> Result<PathBuf, String> {
+    let mut args = vec!["build", "--profile", "test", "--workspace"];
+    args.extend(exclude);
+    args.extend(["--lib", "--bins", "--tests", "--examples"]);
+    cargo(&args)?;
     Ok(root().join("target/debug/boundary"))
 }
 
