@@ -271,7 +271,20 @@ fn points_array<'py>(py: Python<'py>, set: &AnyParticleSet) -> PyResult<Bound<'p
     Ok(PyArray1::from_vec(py, flat).reshape([n, dim])?.into_any())
 }
 
-/// Labels boundary particles.
+/// Labels every particle: True on the boundary, False inside.
+///
+/// Particle i is interior iff its sphere of radius r is covered by the balls of radius r of
+/// the other particles within 2r (Sandim, Paiva & Figueiredo, J. Comput. Phys. 2020).
+///
+/// points: (n, 2) or (n, 3) array-like of reals (a C-contiguous float64 array is read in
+///     place); r: the particle resolution (> 0); method: a name from methods() (default
+///     "exact", the reference labels); threads: worker threads (default: all cores);
+///     margin: also return the method's per-particle margin (None if it has none);
+///     **params: the method's parameters, as `--set KEY=VALUE` (depth=4, gamma=1.3, ...).
+///
+/// Returns a bool array of length n, or (labels, margin) with margin=True. Raises ValueError
+/// on bad input (shape, NaN, r <= 0, unknown method or parameter); Ctrl-C raises
+/// KeyboardInterrupt (the detection finishes in the background and is discarded).
 #[pyfunction]
 #[pyo3(signature = (points, r, method = "exact", threads = None, margin = false, **params))]
 fn detect<'py>(
@@ -371,7 +384,11 @@ fn truth_labels(truth: &Bound<'_, PyAny>, n: usize) -> PyResult<Vec<bool>> {
         .collect()
 }
 
-/// Scores a method against the exact labels or given truth.
+/// Scores `method` against the truth: a dict with TP, TN, FP, FN, Rec, FPR, M.
+///
+/// Boundary is the positive class: Rec = TP/(TP+FN), FPR = FP/(FP+TN), M = Rec*(1-FPR)
+/// (J. Comput. Phys. 2020, Sec. 4). truth: one bool (or 0/1) per particle; default: the
+/// labels of "exact". Other arguments as detect().
 #[pyfunction]
 #[pyo3(signature = (points, r, method, truth = None, threads = None, **params))]
 fn score<'py>(
@@ -423,7 +440,8 @@ fn score<'py>(
     Ok(dict)
 }
 
-/// Every compiled-in method with its parameters and defaults (`boundary methods --json`).
+/// Every method: a list of dicts with name, summary (with the paper), certified and params
+/// (name, default, description each); the data of `boundary methods --json`.
 #[pyfunction]
 fn methods(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
     let list = PyList::empty(py);
@@ -453,7 +471,12 @@ fn format_arg(format: Option<&str>) -> PyResult<Option<Format>> {
         .transpose()
 }
 
-/// Reads a particle file: `(points, attributes)`.
+/// Reads a particle file: (points, attributes).
+///
+/// CSV (header x,y[,z]), XYZ, PLY, legacy VTK, VTK XML .vtu/.vtp, Houdini .bgeo[.gz], by
+/// extension or `format`. points: (n, dim) float64; attributes: every other per-particle
+/// attribute (a vector as name:0, name:1, ...) as an int64 or float64 array. dim=2 drops the
+/// constant axis of a 3D file. Unreadable attributes give a UserWarning.
 #[pyfunction]
 #[pyo3(signature = (path, dim = None, format = None))]
 fn read<'py>(
@@ -541,7 +564,9 @@ fn owned_column(name: &str, values: &Bound<'_, PyAny>) -> PyResult<OwnedColumn> 
     }
 }
 
-/// Writes a particle file.
+/// Writes points with an optional `boundary` column (0/1) and one column per keyword
+/// attribute (integer arrays stay integers, others are written as reals), in the format of
+/// the extension or `format`.
 #[pyfunction]
 #[pyo3(signature = (path, points, boundary = None, format = None, **attributes))]
 fn write(
@@ -585,7 +610,13 @@ type ResampledArrays<'py> = (
     Bound<'py, PyArray1<i64>>,
 );
 
-/// Feature classification and resampling (thesis Sec. 2.6).
+/// Classifies boundary particles by feature and resamples thin features (Sandim 2020
+/// thesis Sec. 2.6, Eq. 2.4-2.5; Computers & Graphics 2019).
+///
+/// Boundary particles come from `method` (with **params) or from `labels`. k, alpha, shift:
+/// K and alpha of Eq. 2.5 and the shift in units of r. Returns (points, feature, source):
+/// the new set, each new particle's feature code (FEATURES: -1 interior, 0 droplet,
+/// 1 ligament, 2 sheet, 3 regular) and the input index it comes from.
 #[pyfunction]
 #[pyo3(signature = (points, r, method = "exact", k = 4, alpha = 0.2, shift = 0.5, labels = None, threads = None, **params))]
 #[allow(clippy::too_many_arguments)] // the Python signature: keyword arguments with defaults
@@ -648,7 +679,14 @@ fn resample<'py>(
     ))
 }
 
-/// The Python module `boundary`.
+/// Boundary particles of meshfree particle sets (SPH, PBF, FLIP/APIC, MPS).
+///
+/// Particle i at p_i with resolution r is interior iff its sphere of radius r is covered by
+/// the closed balls of radius r of the other particles within 2r; otherwise boundary (Sandim,
+/// Paiva & Figueiredo, J. Comput. Phys. 2020). Methods: exact, dilts (Dilts 2000; Haque &
+/// Dilts 2007), ia and ge (JCP 2020 Sec. 3), marrone (Marrone et al. 2010), muller (Mueller
+/// et al. 2003), hpr and svm (Sandim 2020 thesis, ch. 2 and 3). See detect(), score(),
+/// methods(), read(), write(), resample().
 #[pymodule]
 #[pyo3(name = "boundary")]
 fn boundary_py(m: &Bound<'_, PyModule>) -> PyResult<()> {
