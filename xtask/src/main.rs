@@ -139,6 +139,7 @@ fn test_workspace(mpi: bool, python: bool, rest: &[String]) -> Result<(), String
 }
 
 fn test(rest: &[String]) -> Result<(), String> {
+    python_extension_env();
     let mpi = mpi_usable();
     let python = python_usable();
     test_workspace(mpi, python.is_some(), rest)?;
@@ -342,6 +343,7 @@ const PY_VENV: &str = "target/py-venv";
 
 /// The bindings' part of `test` alone (`cargo xtask test-bindings`).
 fn test_bindings() -> Result<(), String> {
+    python_extension_env();
     let python = python_usable();
     // The test run's package selection, without installing anything.
     let mpi = !env::var("BOUNDARY_MPI").is_ok_and(|v| v == "skip")
@@ -353,6 +355,14 @@ fn test_bindings() -> Result<(), String> {
         Some(python) => python_package(&python, &cli),
         None => Ok(()),
     }
+}
+
+/// Builds `boundary-py` as an extension module in every cargo command of this process (as
+/// maturin does): its cdylib then leaves the Python symbols to the interpreter instead of
+/// linking libpython, which a machine may lack (Debian ships it in python3-dev). The same
+/// value for clippy, test and the build keeps pyo3's build script from rerunning.
+fn python_extension_env() {
+    env::set_var("PYO3_BUILD_EXTENSION_MODULE", "1");
 }
 
 /// The `--exclude` arguments of the workspace commands: the MPI driver unless `mpi`, the
