@@ -6,6 +6,14 @@
 //!   tests compare `mpirun -np 2` and `-np 4` with the single-process labels; without Open MPI
 //!   it is excluded, with a note saying so. What CI runs (`.ci/run`).
 //! - `cargo xtask test-mpi`: only the MPI driver's part of `test`.
+//! - `cargo xtask test-bindings`: only the bindings' part of `test`: the C and C++ examples of
+//!   `examples/c/` (built with the system `cc`/`c++` against `crates/boundary-capi`, run on the
+//!   public data, their labels compared with the CLI's), then the Python package
+//!   `crates/boundary-py`: its wheel built by maturin into a virtual environment
+//!   (`target/py-venv`; numpy, pytest and maturin installed there with pip when missing), its
+//!   pytest suite and `examples/python/quickstart.py`. Without a C compiler, or without a
+//!   Python >= 3.9 with venv and pip (or with `BOUNDARY_PYTHON=skip`), that part is skipped
+//!   with a note saying why, as for MPI.
 //! - `cargo xtask sweep [ARGS…]`: run the comparison sweep
 //!   (every detector on every scene) in release mode; ARGS go to the sweep (`--help` lists them).
 //! - `cargo xtask fixtures`: regenerate the scenes in `fixtures/`.
@@ -39,6 +47,7 @@ fn main() -> ExitCode {
     let result = match task {
         "test" => test(rest),
         "test-mpi" => test_mpi(),
+        "test-bindings" => test_bindings(),
         "sweep" => sweep(rest),
         "fixtures" => fixtures(rest),
         "check-deps" => check_deps(),
@@ -70,6 +79,7 @@ fn usage() -> &'static str {
      test       rustfmt --check, clippy -D warnings, the whole test suite; the\n             \
      MPI driver included when Open MPI is installed or installable (CI)\n  \
      test-mpi   only the MPI driver's part of `test`\n  \
+     test-bindings  only the C examples and the Python package's part of `test`\n  \
      sweep      every detector on every scene: target/sweep/report.md\n  \
      fixtures   regenerate the generated scenes in fixtures/\n  \
      train-svm  retrain the shipped svm models (seeded) and score them on held-out scenes:\n             \
@@ -117,28 +127,33 @@ fn mpi_usable() -> bool {
     }
 }
 
-/// fmt, clippy and the tests of the whole workspace; the MPI driver only when `mpi`.
-fn test_workspace(mpi: bool, rest: &[String]) -> Result<(), String> {
-    let exclude: &[&str] = if mpi {
-        &[]
-    } else {
-        &["--exclude", MPI_PACKAGE]
-    };
+/// fmt, clippy and the tests of the whole workspace; the MPI driver only when `mpi`, the
+/// Python package only when `python` (its build script needs a Python interpreter).
+fn test_workspace(mpi: bool, python: bool, rest: &[String]) -> Result<(), String> {
+    let exclude = workspace_exclusions(mpi, python);
     check_deps()?;
     cargo(&["fmt", "--all", "--", "--check"])?;
     let mut args = vec!["clippy", "--workspace"];
-    args.extend(exclude);
+    args.extend(&exclude);
     args.extend(["--all-targets", "--", "-D", "warnings"]);
     cargo(&args)?;
     let mut args = vec!["test", "--workspace"];
-    args.extend(exclude);
+    args.extend(&exclude);
     args.extend(rest.iter().map(String::as_str));
     cargo(&args)
 }
 
 fn test(rest: &[String]) -> Result<(), String> {
+    python_extension_env();
     let mpi = mpi_usable();
-    test_workspace(mpi, rest)
+    let python = python_usable();
+    test_workspace(mpi, python.is_some(), rest)?;
+    let cli = bindings_build(&workspace_exclusions(mpi, python.is_some()))?;
+    c_examples(&cli)?;
+    match python {
+        Some(python) => python_package(&python, &cli),
+        None => Ok(()),
+    }
 }
 
 /// clippy and the tests of the MPI driver alone (`cargo xtask test-mpi`).
@@ -423,6 +438,318 @@ fn check_deps() -> Result<(), String> {
             problems.join("\n  ")
         ))
     }
+}
+
+/// The Python package's crate: a workspace member outside `default-members`.
+const PY_PACKAGE: &str = "boundary-py";
+
+/// Where `cargo xtask test` keeps the Python virtual environment, wheels and outputs.
+const PY_VENV: &str = "target/py-venv";
+
+/// The bindings' part of `test` alone (`cargo xtask test-bindings`).
+fn test_bindings() -> Result<(), String> {
+    python_extension_env();
+    let python = python_usable();
+    // The test run's package selection, without installing anything.
+    let mpi = !env::var("BOUNDARY_MPI").is_ok_and(|v| v == "skip")
+        && has_program("mpicc")
+        && has_program("mpirun");
+    let cli = bindings_build(&workspace_exclusions(mpi, python.is_some()))?;
+    c_examples(&cli)?;
+    match python {
+        Some(python) => python_package(&python, &cli),
+        None => Ok(()),
+    }
+}
+
+/// Builds `boundary-py` as an extension module in every cargo command of this process (as
+/// maturin does): its cdylib then leaves the Python symbols to the interpreter instead of
+/// linking libpython, which a machine may lack (Debian ships it in python3-dev). The same
+/// value for clippy, test and the build keeps pyo3's build script from rerunning.
+fn python_extension_env() {
+    env::set_var("PYO3_BUILD_EXTENSION_MODULE", "1");
+}
+
+/// The `--exclude` arguments of the workspace commands: the MPI driver unless `mpi`, the
+/// Python package unless `python`.
+fn workspace_exclusions(mpi: bool, python: bool) -> Vec<&'static str> {
+    let mut exclude = Vec::new();
+    if !mpi {
+        exclude.extend(["--exclude", MPI_PACKAGE]);
+    }
+    if !python {
+        exclude.extend(["--exclude", PY_PACKAGE]);
+    }
+    exclude
+}
+
+/// Puts the CLI (the reference labels) and the C API's libraries into `target/debug`; returns
+/// the CLI's path. The same packages, targets (those `cargo test` builds) and profile as the
+/// test run, so that cargo finds its units fresh: only the C API's cdylib/staticlib are new.
+fn bindings_build(exclude: &[&str]) -> Result<PathBuf, String> {
+    let mut args = vec!["build", "--profile", "test", "--workspace"];
+    args.extend(exclude);
+    args.extend(["--lib", "--bins", "--tests", "--examples"]);
+    cargo(&args)?;
+    Ok(root().join("target/debug/boundary"))
+}
+
+/// A Python >= 3.9 interpreter to build the package with, or `None` with a note saying why
+/// the Python checks are skipped.
+fn python_usable() -> Option<String> {
+    let skip = |why: &str| {
+        eprintln!(
+            "xtask: NOTE: Python checks SKIPPED ({PY_PACKAGE}: clippy, wheel, pytest, \
+             examples/python): {why}"
+        );
+        None
+    };
+    if env::var("BOUNDARY_PYTHON").is_ok_and(|v| v == "skip") {
+        return skip("BOUNDARY_PYTHON=skip is set");
+    }
+    let python = env::var("PYO3_PYTHON").unwrap_or_else(|_| "python3".to_owned());
+    let version = Command::new(&python)
+        .args([
+            "-c",
+            "import sys; assert sys.version_info >= (3, 9), sys.version; import venv, ensurepip",
+        ])
+        .output();
+    match version {
+        Ok(out) if out.status.success() => Some(python),
+        Ok(out) => skip(&format!(
+            "{python} is older than 3.9 or lacks venv/ensurepip (Debian: apt-get install \
+             python3-venv): {}",
+            String::from_utf8_lossy(&out.stderr).trim()
+        )),
+        Err(e) => skip(&format!(
+            "no Python interpreter ({python}: {e}); install Python >= 3.9 with venv"
+        )),
+    }
+}
+
+/// Runs `program args` in the workspace root with extra environment `envs`, echoing it.
+fn run_in_root(program: &Path, args: &[&str], envs: &[(&str, &Path)]) -> Result<(), String> {
+    eprintln!("xtask: {} {}", program.display(), args.join(" "));
+    let mut command = Command::new(program);
+    command.args(args).current_dir(root());
+    for (key, value) in envs {
+        command.env(key, value);
+    }
+    let status = command
+        .status()
+        .map_err(|e| format!("cannot run {}: {e}", program.display()))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!(
+            "`{} {}` failed ({status})",
+            program.display(),
+            args.join(" ")
+        ))
+    }
+}
+
+/// The C and C++ examples of `examples/c/`, built against the C API's static library with the
+/// system compilers and run on public scenes: each compares its labels with the CLI's.
+fn c_examples(cli: &Path) -> Result<(), String> {
+    let (Some(cc), Some(cxx)) = (
+        compiler(&["cc", "gcc", "clang"]),
+        compiler(&["c++", "g++", "clang++"]),
+    ) else {
+        eprintln!(
+            "xtask: NOTE: C/C++ examples SKIPPED: no C and C++ compiler (cc, c++) on PATH \
+             (Debian: apt-get install build-essential)"
+        );
+        return Ok(());
+    };
+    let root = root();
+    let out = root.join("target/capi-examples");
+    std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
+    let library = root.join("target/debug/libboundary_capi.a");
+    let include = root.join("crates/boundary-capi/include");
+    let link = ["-lpthread", "-ldl", "-lm"];
+    let c_exe = out.join("detect_c");
+    let cxx_exe = out.join("detect_cpp");
+    let builds: [(&str, &str, &str, &Path); 2] = [
+        (&cc, "-std=c99", "examples/c/detect.c", &c_exe),
+        (&cxx, "-std=c++17", "examples/c/detect.cpp", &cxx_exe),
+    ];
+    for (compiler, std, source, exe) in builds {
+        let include_flag = format!("-I{}", include.display());
+        let mut args = vec![
+            std,
+            "-O2",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            source,
+            include_flag.as_str(),
+        ];
+        let library = library.to_string_lossy();
+        let exe_text = exe.to_string_lossy();
+        args.push(&library);
+        args.extend(link);
+        args.extend(["-o", &exe_text]);
+        run_in_root(Path::new(compiler), &args, &[])?;
+    }
+    let data = data_dir();
+    // (example, scene file, r, method, params): 2D and 3D, a parameter, a method with margin
+    // and one without.
+    let cases: [(&Path, &str, &str, &str, &str); 4] = [
+        (
+            &c_exe,
+            "particles2d/sandim_vortex_spin_frame_050_1698.csv",
+            "0.022105",
+            "exact",
+            "",
+        ),
+        (
+            &c_exe,
+            "particles3d/dualsphysics_dambreak3d_dp0.02_fluid.csv",
+            "0.0346",
+            "ge",
+            "depth=3",
+        ),
+        (
+            &cxx_exe,
+            "particles3d/dualsphysics_dambreak3d_dp0.02_fluid.csv",
+            "0.0346",
+            "exact",
+            "",
+        ),
+        (
+            &cxx_exe,
+            "particles2d/dualsphysics_dambreak2d_dp0.02_fluid_4416.csv",
+            "0.0283",
+            "muller",
+            "threshold=0.3",
+        ),
+    ];
+    for (k, (exe, file, r, method, params)) in cases.iter().enumerate() {
+        let labels = out.join(format!("labels{k}.csv"));
+        let input = data.join(file);
+        let (input, labels_text) = (input.to_string_lossy(), labels.to_string_lossy());
+        let mut args = vec!["detect", &input, "--radius", r, "--method", method];
+        if !params.is_empty() {
+            args.extend(["--set", params]);
+        }
+        args.extend(["--output", &labels_text]);
+        run_in_root(cli, &args, &[])?;
+        run_in_root(exe, &[&labels_text, r, method, params], &[])?;
+    }
+    Ok(())
+}
+
+/// The first of `names` found on PATH.
+fn compiler(names: &[&str]) -> Option<String> {
+    names
+        .iter()
+        .find(|n| has_program(n))
+        .map(|n| (*n).to_owned())
+}
+
+/// The public data directory (`BOUNDARY_DATA_DIR`, else `../shared/data`).
+fn data_dir() -> PathBuf {
+    env::var_os("BOUNDARY_DATA_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root().join("../shared/data"))
+}
+
+/// Builds the Python package's wheel (maturin, profile `wheel`: the test profile's
+/// optimisation without debug info, in the workspace's target dir) in
+/// the virtual environment `target/py-venv`, installs it there and runs its pytest suite and
+/// `examples/python/quickstart.py`. A missing venv or pip skips it with a note.
+fn python_package(python: &str, cli: &Path) -> Result<(), String> {
+    let root = root();
+    let venv = root.join(PY_VENV);
+    let venv_python = venv.join("bin/python");
+    if !venv_python.is_file() {
+        let created = Command::new(python)
+            .args(["-m", "venv"])
+            .arg(&venv)
+            .status()
+            .is_ok_and(|s| s.success());
+        if !created {
+            eprintln!(
+                "xtask: NOTE: Python checks SKIPPED: `{python} -m venv {PY_VENV}` failed \
+                 (Debian: apt-get install python3-venv)"
+            );
+            return Ok(());
+        }
+    }
+    let missing: Vec<&str> = ["numpy", "pytest", "maturin"]
+        .into_iter()
+        .filter(|module| {
+            !Command::new(&venv_python)
+                .args(["-c", &format!("import {module}")])
+                .status()
+                .is_ok_and(|s| s.success())
+        })
+        .collect();
+    if !missing.is_empty() {
+        let mut args = vec!["-m", "pip", "install", "--quiet"];
+        args.extend(&missing);
+        if let Err(why) = run_in_root(&venv_python, &args, &[]) {
+            eprintln!(
+                "xtask: NOTE: Python checks SKIPPED: cannot install {} into {PY_VENV} with \
+                 pip: {why}",
+                missing.join(", ")
+            );
+            return Ok(());
+        }
+    }
+    let wheels = root.join("target/py-wheels");
+    // Only this build's wheel in the directory, so that the one installed is this one.
+    let _ = std::fs::remove_dir_all(&wheels);
+    let wheels_text = wheels.to_string_lossy();
+    let python_text = venv_python.to_string_lossy();
+    run_in_root(
+        &venv.join("bin/maturin"),
+        &[
+            "build",
+            "--profile",
+            "wheel",
+            "--manifest-path",
+            "crates/boundary-py/Cargo.toml",
+            "--interpreter",
+            &python_text,
+            "--out",
+            &wheels_text,
+        ],
+        &[],
+    )?;
+    let wheel = std::fs::read_dir(&wheels)
+        .map_err(|e| format!("cannot list {}: {e}", wheels.display()))?
+        .flatten()
+        .map(|e| e.path())
+        .find(|p| p.extension().is_some_and(|e| e == "whl"))
+        .ok_or_else(|| format!("maturin wrote no wheel into {}", wheels.display()))?;
+    let wheel_text = wheel.to_string_lossy();
+    run_in_root(
+        &venv_python,
+        &[
+            "-m",
+            "pip",
+            "install",
+            "--quiet",
+            "--force-reinstall",
+            "--no-deps",
+            &wheel_text,
+        ],
+        &[],
+    )?;
+    run_in_root(
+        &venv_python,
+        &["-m", "pytest", "-q", "crates/boundary-py/tests"],
+        &[("BOUNDARY_CLI", cli)],
+    )?;
+    let plot = root.join("target/py-quickstart.png");
+    let plot_text = plot.to_string_lossy();
+    run_in_root(
+        &venv_python,
+        &["examples/python/quickstart.py", "--plot", &plot_text],
+        &[],
+    )
 }
 
 #[cfg(test)]

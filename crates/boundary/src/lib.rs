@@ -176,6 +176,16 @@ pub fn parse_param(text: &str) -> Result<(String, String), String> {
     }
 }
 
+/// Splits a comma-separated parameter list `key=value,key=value` (the syntax of the C API's
+/// `params` string; each item as [`parse_param`], i.e. as one `--set`). Empty items are
+/// skipped, so `""` is no parameter. A value cannot contain a comma.
+pub fn parse_param_list(text: &str) -> Result<Vec<(String, String)>, String> {
+    text.split(',')
+        .filter(|item| !item.trim().is_empty())
+        .map(parse_param)
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -211,6 +221,23 @@ mod tests {
             panic!("exact has no gamma");
         };
         assert!(err.to_string().contains("gamma"), "{err}");
+    }
+
+    #[test]
+    fn parse_param_list_splits_at_commas_and_skips_empty_items() {
+        assert_eq!(parse_param_list(""), Ok(vec![]));
+        assert_eq!(parse_param_list(" , "), Ok(vec![]));
+        assert_eq!(
+            parse_param_list("gamma=1.5, cavity=off,"),
+            Ok(vec![
+                ("gamma".into(), "1.5".into()),
+                ("cavity".into(), "off".into())
+            ])
+        );
+        let Err(err) = parse_param_list("depth=4,oops") else {
+            panic!("'oops' has no '='");
+        };
+        assert!(err.contains("'oops'"), "{err}");
     }
 
     #[test]

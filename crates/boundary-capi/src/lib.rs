@@ -1,0 +1,545 @@
+//! C API of `boundary`: boundary particles of meshfree particle sets, for C and C++ solvers
+//! that call it in situ, every time step.
+//!
+//! The header is `include/boundary.h` (generated from this file by cbindgen; the test
+//! `tests/header.rs` fails when the committed header differs). Link `libboundary_capi.so` or
+//! `libboundary_capi.a` (with `-lpthread -ldl -lm`).
+//!
+//! ```c
+//! #include "boundary.h"
+//! uint8_t labels[N];
+//! char err[256];
+//! if (boundary_detect(xyz, N, 3, 0.05, "ge", "depth=4", labels, err, sizeof err) != BOUNDARY_OK)
+//!     fprintf(stderr, "boundary: %s\n", err);
+//! ```
+//!
+//! For a simulation loop, create a `boundary_detector` once (method and parameters parsed
+//! once) and call `boundary_detector_detect` every step; free it with
+//! `boundary_detector_free`.
+//!
+//! # Contract
+//! - `xyz` holds `n * dim` doubles, particle after particle (`x0 y0 [z0] x1 y1 ...`), `dim` 2
+//!   or 3; it may be NULL only when `n == 0`. Labels are written to `out_labels[0..n]` (1
+//!   boundary, 0 interior) only on success; nothing is written on error.
+//! - Every function returns `BOUNDARY_OK` (0) or one of the `BOUNDARY_ERR_*` codes, and
+//!   writes a NUL-terminated one-line message into `err` (truncated to `err_len - 1` bytes;
+//!   `err` may be NULL). The messages are those of the `boundary` command.
+//! - No panic crosses the boundary (each entry point catches unwinding; a caught panic is
+//!   `BOUNDARY_ERR_INTERNAL`), and no allocation escapes: results go into the caller's
+//!   buffers; the only object the library allocates for the caller is the handle, released
+//!   by `boundary_detector_free`.
+//! - Threads: detection runs on rayon's pool of all cores, on the pool set by
+//!   `boundary_set_threads` (for `boundary_detect` and handles without their own), or on the
+//!   handle's own (`boundary_detector_set_threads`). Labels do not depend on the thread count.
+//!   A handle may be used from one thread at a time; different handles from different threads.
+//!
+//! This crate only translates: the detectors are the Rust library's (`boundary` facade).
+
+// A C API reads raw pointers and exports unmangled symbols, which is `unsafe_code`; the
+// workspace forbids it everywhere else. Each unsafe block here is one operation with its
+// SAFETY argument (enforced by clippy's `undocumented_unsafe_blocks` and
+// `multiple_unsafe_ops_per_block`, see Cargo.toml).
+#![allow(unsafe_code)]
+
+use boundary::{
+    detector_with_params, parse_param_list, AnyParticleSet, BoundaryDetector, Detection,
+    ParticleSet, Point, Radius,
+};
+use std::ffi::{c_char, c_int, CStr};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::{Arc, Mutex};
+
+/// Success.
+pub const BOUNDARY_OK: c_int = 0;
+/// A required pointer argument is NULL.
+pub const BOUNDARY_ERR_NULL: c_int = 1;
+/// A size or layout is invalid: `dim` not 2 or 3, `n * dim` too large, a misaligned buffer.
+pub const BOUNDARY_ERR_SIZE: c_int = 2;
+/// The input is invalid: a non-finite coordinate (the message names the particle), `r` not
+/// positive and finite, more than 2^32 - 1 particles.
+pub const BOUNDARY_ERR_INPUT: c_int = 3;
+/// No method of that name (the message lists the available ones).
+pub const BOUNDARY_ERR_METHOD: c_int = 4;
+/// A parameter is malformed (not `key=value`), unknown to the method, or out of range.
+pub const BOUNDARY_ERR_PARAM: c_int = 5;
+/// `method` or `params` is not valid UTF-8.
+pub const BOUNDARY_ERR_UTF8: c_int = 6;
+/// The method could not run on this input (the message says why).
+pub const BOUNDARY_ERR_DETECT: c_int = 7;
+/// `out_margin` was given but the method reports no margin.
+pub const BOUNDARY_ERR_NO_MARGIN: c_int = 8;
+/// Worker threads could not be started.
+pub const BOUNDARY_ERR_THREADS: c_int = 9;
+/// A bug in the library was caught (a panic); please report the message.
+pub const BOUNDARY_ERR_INTERNAL: c_int = 10;
+
+/// A detector created once (method and parameters parsed once) and used every time step.
+/// Opaque: create with `boundary_detector_new`, release with `boundary_detector_free`.
+#[allow(non_camel_case_types)] // the C type's name
+#[derive(Debug)]
+pub struct boundary_detector {
+    detector: Box<dyn BoundaryDetector>,
+    pool: Option<Arc<rayon::ThreadPool>>,
+}
+
+/// An error code with its message.
+#[derive(Debug)]
+struct Failure {
+    code: c_int,
+    message: String,
+}
+
+impl Failure {
+    fn new(code: c_int, message: impl Into<String>) -> Self {
+        Failure {
+            code,
+            message: message.into(),
+        }
+    }
+}
+
+/// The pool set by `boundary_set_threads`; `None`: rayon's global pool (all cores).
+static DEFAULT_POOL: Mutex<Option<Arc<rayon::ThreadPool>>> = Mutex::new(None);
+
+fn default_pool() -> Option<Arc<rayon::ThreadPool>> {
+    // A poisoned lock only means a panic elsewhere while it was held; the value is intact.
+    match DEFAULT_POOL.lock() {
+        Ok(guard) => guard.clone(),
+        Err(poisoned) => poisoned.into_inner().clone(),
+    }
+}
+
+/// A pool of `threads` workers; 0: `None` (all cores).
+fn make_pool(threads: usize) -> Result<Option<Arc<rayon::ThreadPool>>, Failure> {
+    if threads == 0 {
+        return Ok(None);
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map(|p| Some(Arc::new(p)))
+        .map_err(|e| {
+            Failure::new(
+                BOUNDARY_ERR_THREADS,
+                format!("cannot start worker threads: {e}"),
+            )
+        })
+}
+
+/// Writes `message` into `err[0..err_len]`, NUL-terminated, cut at a character boundary.
+///
+/// # Safety
+/// `err` is NULL or valid for writes of `err_len` bytes.
+unsafe fn write_message(err: *mut c_char, err_len: usize, message: &str) {
+    if err.is_null() || err_len == 0 {
+        return;
+    }
+    let mut len = message.len().min(err_len - 1);
+    while !message.is_char_boundary(len) {
+        len -= 1;
+    }
+    // SAFETY: the caller guarantees `err` is valid for `err_len` bytes; `len < err_len`.
+    let out = unsafe { std::slice::from_raw_parts_mut(err.cast::<u8>(), err_len) };
+    out[..len].copy_from_slice(&message.as_bytes()[..len]);
+    out[len] = 0;
+}
+
+/// Runs `body`, catching any panic, and reports its outcome through `err`.
+///
+/// # Safety
+/// `err` is NULL or valid for writes of `err_len` bytes.
+unsafe fn guarded(
+    err: *mut c_char,
+    err_len: usize,
+    body: impl FnOnce() -> Result<(), Failure>,
+) -> c_int {
+    let outcome = catch_unwind(AssertUnwindSafe(body)).unwrap_or_else(|payload| {
+        let text = payload
+            .downcast_ref::<&str>()
+            .map(|s| (*s).to_owned())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".to_owned());
+        Err(Failure::new(
+            BOUNDARY_ERR_INTERNAL,
+            format!("internal error (please report it): {text}"),
+        ))
+    });
+    let (code, message) = match outcome {
+        Ok(()) => (BOUNDARY_OK, String::new()),
+        Err(f) => (f.code, f.message),
+    };
+    // SAFETY: forwarded from the caller's contract.
+    unsafe { write_message(err, err_len, &message) };
+    code
+}
+
+/// A C string argument as UTF-8.
+///
+/// # Safety
+/// `text` is NULL or points to a NUL-terminated string that lives for `'a`.
+unsafe fn c_str<'a>(text: *const c_char, what: &str) -> Result<&'a str, Failure> {
+    if text.is_null() {
+        return Err(Failure::new(BOUNDARY_ERR_NULL, format!("{what} is NULL")));
+    }
+    // SAFETY: non-NULL and NUL-terminated by the caller's contract.
+    let bytes = unsafe { CStr::from_ptr(text) };
+    bytes
+        .to_str()
+        .map_err(|e| Failure::new(BOUNDARY_ERR_UTF8, format!("{what} is not UTF-8: {e}")))
+}
+
+/// The detector `method` with `params` (`"key=value,key=value"`, NULL or "" for none).
+///
+/// # Safety
+/// `method` and `params` are NULL or NUL-terminated strings.
+unsafe fn make_detector(
+    method: *const c_char,
+    params: *const c_char,
+) -> Result<Box<dyn BoundaryDetector>, Failure> {
+    // SAFETY: forwarded from the caller's contract.
+    let method = unsafe { c_str(method, "method") }?;
+    let params = if params.is_null() {
+        Vec::new()
+    } else {
+        // SAFETY: non-NULL, forwarded from the caller's contract.
+        let text = unsafe { c_str(params, "params") }?;
+        parse_param_list(text)
+            .map_err(|e| Failure::new(BOUNDARY_ERR_PARAM, format!("params: {e}")))?
+    };
+    detector_with_params(method, &params).map_err(|e| {
+        let code = match e {
+            boundary::RegistryError::UnknownMethod { .. } => BOUNDARY_ERR_METHOD,
+            boundary::RegistryError::Param(_) => BOUNDARY_ERR_PARAM,
+        };
+        Failure::new(code, e.to_string())
+    })
+}
+
+/// The particle set of `xyz[0..n*dim]`, validated (finite coordinates).
+///
+/// # Safety
+/// `xyz` is NULL or valid for reads of `n * dim` doubles.
+unsafe fn particle_set(xyz: *const f64, n: usize, dim: c_int) -> Result<AnyParticleSet, Failure> {
+    let dim = match dim {
+        2 => 2usize,
+        3 => 3,
+        other => {
+            return Err(Failure::new(
+                BOUNDARY_ERR_SIZE,
+                format!("dim must be 2 or 3, got {other}"),
+            ))
+        }
+    };
+    let len = n
+        .checked_mul(dim)
+        .filter(|len| {
+            len.checked_mul(size_of::<f64>())
+                .is_some_and(|b| b <= isize::MAX as usize)
+        })
+        .ok_or_else(|| Failure::new(BOUNDARY_ERR_SIZE, format!("n = {n} particles is too many")))?;
+    let coords: &[f64] = if n == 0 {
+        &[]
+    } else if xyz.is_null() {
+        return Err(Failure::new(BOUNDARY_ERR_NULL, "xyz is NULL"));
+    } else if xyz.align_offset(align_of::<f64>()) != 0 {
+        return Err(Failure::new(
+            BOUNDARY_ERR_SIZE,
+            "xyz is not aligned for double",
+        ));
+    } else {
+        // SAFETY: non-NULL, aligned, `len * 8 <= isize::MAX`, and valid for `len` doubles by
+        // the caller's contract; only read while this call runs.
+        unsafe { std::slice::from_raw_parts(xyz, len) }
+    };
+    fn build<const D: usize>(coords: &[f64]) -> Result<ParticleSet<D>, boundary::CoreError> {
+        ParticleSet::new(
+            coords
+                .chunks_exact(D)
+                .map(Point::<D>::from_column_slice)
+                .collect(),
+        )
+    }
+    let set = if dim == 2 {
+        build::<2>(coords).map(AnyParticleSet::from)
+    } else {
+        build::<3>(coords).map(AnyParticleSet::from)
+    };
+    set.map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, e.to_string()))
+}
+
+/// A mutable output buffer of `n` elements; NULL is allowed only when `n == 0`.
+///
+/// # Safety
+/// `out` is NULL or valid for writes of `n` elements, not aliased during the call.
+unsafe fn out_slice<'a, T>(out: *mut T, n: usize, what: &str) -> Result<&'a mut [T], Failure> {
+    if n == 0 {
+        return Ok(&mut []);
+    }
+    if out.is_null() {
+        return Err(Failure::new(BOUNDARY_ERR_NULL, format!("{what} is NULL")));
+    }
+    if out.align_offset(align_of::<T>()) != 0 {
+        return Err(Failure::new(
+            BOUNDARY_ERR_SIZE,
+            format!("{what} is not aligned"),
+        ));
+    }
+    // SAFETY: non-NULL, aligned, valid for `n` elements and unaliased by the caller's
+    // contract (`n` elements fit in memory since the caller allocated them).
+    Ok(unsafe { std::slice::from_raw_parts_mut(out, n) })
+}
+
+/// Runs `detector` on `set` in `pool` (rayon's global pool when `None`).
+fn run(
+    detector: &dyn BoundaryDetector,
+    set: &AnyParticleSet,
+    r: f64,
+    pool: Option<&rayon::ThreadPool>,
+) -> Result<Detection, Failure> {
+    let r = Radius::new(r).map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, e.to_string()))?;
+    let detect = || detector.detect(set, r);
+    match pool {
+        Some(pool) => pool.install(detect),
+        None => detect(),
+    }
+    .map_err(|e| Failure::new(BOUNDARY_ERR_DETECT, e.to_string()))
+}
+
+/// Detects and writes the labels (and the margin when asked); nothing is written on error.
+///
+/// # Safety
+/// As [`boundary_detector_detect`].
+#[allow(clippy::too_many_arguments)]
+unsafe fn detect_into(
+    detector: &dyn BoundaryDetector,
+    pool: Option<&rayon::ThreadPool>,
+    xyz: *const f64,
+    n: usize,
+    dim: c_int,
+    r: f64,
+    out_labels: *mut u8,
+    out_margin: *mut f64,
+) -> Result<(), Failure> {
+    // SAFETY: forwarded from the caller's contract.
+    let set = unsafe { particle_set(xyz, n, dim) }?;
+    // SAFETY: forwarded from the caller's contract.
+    let labels = unsafe { out_slice(out_labels, n, "out_labels") }?;
+    let margin = if out_margin.is_null() {
+        None
+    } else {
+        // SAFETY: non-NULL, forwarded from the caller's contract.
+        Some(unsafe { out_slice(out_margin, n, "out_margin") }?)
+    };
+    let detection = run(detector, &set, r, pool)?;
+    if let Some(out) = margin {
+        let values = detection.margin.as_ref().ok_or_else(|| {
+            Failure::new(
+                BOUNDARY_ERR_NO_MARGIN,
+                format!(
+                    "method '{}' reports no margin (pass NULL as out_margin)",
+                    detector.name()
+                ),
+            )
+        })?;
+        out.copy_from_slice(values);
+    }
+    for (out, &b) in labels.iter_mut().zip(detection.labels.as_slice()) {
+        *out = u8::from(b);
+    }
+    Ok(())
+}
+
+/// The library's version, e.g. `"0.1.0"` (a static string; do not free it).
+#[no_mangle]
+pub extern "C" fn boundary_version() -> *const c_char {
+    const VERSION: &CStr =
+        match CStr::from_bytes_with_nul(concat!(env!("CARGO_PKG_VERSION"), "\0").as_bytes()) {
+            Ok(v) => v,
+            Err(_) => c"unknown",
+        };
+    VERSION.as_ptr()
+}
+
+/// Labels the `n` particles at `xyz` (`n * dim` doubles, `dim` 2 or 3) with resolution `r`
+/// by `method` (`"exact"`, `"ge"`, ... as `boundary methods` lists them) with `params`
+/// (`"key=value,key=value"` as `--set`, or NULL / `""`): `out_labels[i]` is 1 for a boundary
+/// particle, 0 for an interior one. Returns `BOUNDARY_OK` or a `BOUNDARY_ERR_*` code with the
+/// message in `err` (`err_len` bytes, may be NULL).
+///
+/// # Safety
+/// `xyz` is valid for reads of `n * dim` doubles (may be NULL when `n == 0`); `out_labels`
+/// valid for writes of `n` bytes; `method` and `params` NUL-terminated strings (or NULL);
+/// `err` NULL or valid for writes of `err_len` bytes.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)] // the C signature
+pub unsafe extern "C" fn boundary_detect(
+    xyz: *const f64,
+    n: usize,
+    dim: c_int,
+    r: f64,
+    method: *const c_char,
+    params: *const c_char,
+    out_labels: *mut u8,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    let body = || {
+        // SAFETY: forwarded from this function's contract.
+        let detector = unsafe { make_detector(method, params) }?;
+        let pool = default_pool();
+        // SAFETY: forwarded from this function's contract.
+        unsafe {
+            detect_into(
+                detector.as_ref(),
+                pool.as_deref(),
+                xyz,
+                n,
+                dim,
+                r,
+                out_labels,
+                std::ptr::null_mut(),
+            )
+        }
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { guarded(err, err_len, body) }
+}
+
+/// Creates a detector for repeated use: `method` with `params` as in `boundary_detect`,
+/// parsed once. Returns NULL on error, with the message in `err`. Release it with
+/// `boundary_detector_free`.
+///
+/// # Safety
+/// `method` and `params` are NUL-terminated strings (or NULL); `err` NULL or valid for writes
+/// of `err_len` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn boundary_detector_new(
+    method: *const c_char,
+    params: *const c_char,
+    err: *mut c_char,
+    err_len: usize,
+) -> *mut boundary_detector {
+    let mut handle = std::ptr::null_mut();
+    let body = || {
+        // SAFETY: forwarded from this function's contract.
+        let detector = unsafe { make_detector(method, params) }?;
+        handle = Box::into_raw(Box::new(boundary_detector {
+            detector,
+            pool: None,
+        }));
+        Ok(())
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { guarded(err, err_len, body) };
+    handle
+}
+
+/// Labels the `n` particles at `xyz` with the detector `handle` (as `boundary_detect`); when
+/// `out_margin` is not NULL, also writes the method's per-particle margin there (`n` doubles;
+/// positive leans boundary; `BOUNDARY_ERR_NO_MARGIN` if the method has none).
+///
+/// # Safety
+/// `handle` comes from `boundary_detector_new` and is not freed nor used by another thread
+/// during the call; `xyz` is valid for reads of `n * dim` doubles (may be NULL when `n == 0`);
+/// `out_labels` valid for writes of `n` bytes; `out_margin` NULL or valid for writes of `n`
+/// doubles; `err` NULL or valid for writes of `err_len` bytes.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)] // the C signature
+pub unsafe extern "C" fn boundary_detector_detect(
+    handle: *const boundary_detector,
+    xyz: *const f64,
+    n: usize,
+    dim: c_int,
+    r: f64,
+    out_labels: *mut u8,
+    out_margin: *mut f64,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    let body = || {
+        // SAFETY: NULL or a live handle from `boundary_detector_new` (this function's contract).
+        let handle = unsafe { handle.as_ref() }
+            .ok_or_else(|| Failure::new(BOUNDARY_ERR_NULL, "handle is NULL"))?;
+        let pool = handle.pool.clone().or_else(default_pool);
+        // SAFETY: forwarded from this function's contract.
+        unsafe {
+            detect_into(
+                handle.detector.as_ref(),
+                pool.as_deref(),
+                xyz,
+                n,
+                dim,
+                r,
+                out_labels,
+                out_margin,
+            )
+        }
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { guarded(err, err_len, body) }
+}
+
+/// Sets the number of worker threads of `handle` (0: back to the default of
+/// `boundary_set_threads`).
+///
+/// # Safety
+/// `handle` is NULL or comes from `boundary_detector_new`, not freed nor used by another
+/// thread during the call; `err` NULL or valid for writes of `err_len` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn boundary_detector_set_threads(
+    handle: *mut boundary_detector,
+    threads: usize,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    let body = || {
+        // SAFETY: NULL or a live, unaliased handle (this function's contract).
+        let handle = unsafe { handle.as_mut() }
+            .ok_or_else(|| Failure::new(BOUNDARY_ERR_NULL, "handle is NULL"))?;
+        handle.pool = make_pool(threads)?;
+        Ok(())
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { guarded(err, err_len, body) }
+}
+
+/// Releases a detector from `boundary_detector_new`; NULL is ignored.
+///
+/// # Safety
+/// `handle` is NULL or comes from `boundary_detector_new` and is not used afterwards.
+#[no_mangle]
+pub unsafe extern "C" fn boundary_detector_free(handle: *mut boundary_detector) {
+    if handle.is_null() {
+        return;
+    }
+    // Dropping a detector does not panic; the guard keeps unwinding out of C all the same.
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: `handle` came from `Box::into_raw` in `boundary_detector_new` and is
+        // released once (this function's contract).
+        drop(unsafe { Box::from_raw(handle) });
+    }));
+}
+
+/// Sets the number of worker threads used by `boundary_detect` and by handles without their
+/// own (0: all cores, the initial setting). Returns `BOUNDARY_OK` or
+/// `BOUNDARY_ERR_THREADS`.
+///
+/// # Safety
+/// `err` is NULL or valid for writes of `err_len` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn boundary_set_threads(
+    threads: usize,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    let body = || {
+        let pool = make_pool(threads)?;
+        match DEFAULT_POOL.lock() {
+            Ok(mut guard) => *guard = pool,
+            Err(poisoned) => *poisoned.into_inner() = pool,
+        }
+        Ok(())
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { guarded(err, err_len, body) }
+}

@@ -1,0 +1,497 @@
+//! The C API from Rust, through the same `extern "C"` functions a C program calls: labels
+//! equal the library's for every method, in 2D and 3D; every documented error code comes with
+//! its message and leaves the outputs untouched.
+
+// Calling the C API means passing raw pointers (see src/lib.rs for why the crate allows it).
+#![allow(unsafe_code)]
+#![allow(
+    clippy::undocumented_unsafe_blocks,
+    clippy::multiple_unsafe_ops_per_block
+)]
+
+use boundary::{detector_by_name, methods, Radius};
+use boundary_capi::*;
+use boundary_scenes::{shared_set, SHARED_SCENES};
+use std::ffi::{c_char, CStr, CString};
+
+/// Flat coordinates of a shared scene, its radius and its exact boundary count (manifest).
+fn scene(name: &str) -> (Vec<f64>, usize, f64, usize, boundary::AnyParticleSet) {
+    let &(_, dim, file, r, n, boundary, _) = SHARED_SCENES
+        .iter()
+        .find(|s| s.0 == name)
+        .expect("scene in the manifest");
+    let set: boundary::AnyParticleSet = if dim == 2 {
+        shared_set::<2>(file).expect("shared data").into()
+    } else {
+        shared_set::<3>(file).expect("shared data").into()
+    };
+    assert_eq!(set.len(), n);
+    let flat: Vec<f64> = (0..n).flat_map(|i| set.coords(i).to_vec()).collect();
+    (flat, dim, r, boundary, set)
+}
+
+fn message(err: &[c_char]) -> String {
+    unsafe { CStr::from_ptr(err.as_ptr()) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// `boundary_detect` with Rust strings; returns (code, labels, message).
+fn detect(xyz: &[f64], dim: usize, r: f64, method: &str, params: &str) -> (i32, Vec<u8>, String) {
+    let n = xyz.len() / dim;
+    let mut labels = vec![7u8; n];
+    let mut err = [0 as c_char; 512];
+    let method = CString::new(method).expect("no NUL");
+    let params = CString::new(params).expect("no NUL");
+    let code = unsafe {
+        boundary_detect(
+            xyz.as_ptr(),
+            n,
+            dim as i32,
+            r,
+            method.as_ptr(),
+            params.as_ptr(),
+            labels.as_mut_ptr(),
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    (code, labels, message(&err))
+}
+
+#[test]
+fn every_method_through_the_c_api_gives_the_library_labels_in_2d_and_3d() {
+    for name in ["sandim_vortex_050", "dualsphysics_dambreak3d"] {
+        let (xyz, dim, r, exact_count, set) = scene(name);
+        for method in methods() {
+            let (code, labels, err) = detect(&xyz, dim, r, method, "");
+            assert_eq!(code, BOUNDARY_OK, "{name} {method}: {err}");
+            assert_eq!(err, "", "no message on success");
+            let expected = detector_by_name(method)
+                .expect("registered")
+                .detect(&set, Radius::new(r).expect("r > 0"))
+                .expect("detects");
+            let expected: Vec<u8> = expected
+                .labels
+                .as_slice()
+                .iter()
+                .map(|&b| u8::from(b))
+                .collect();
+            assert_eq!(labels, expected, "{name} {method}");
+            if method == "exact" {
+                let count = labels.iter().filter(|&&b| b == 1).count();
+                assert_eq!(count, exact_count, "{name}: the manifest's exact count");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_handle_is_reused_across_steps_with_its_params_and_margin() {
+    let (xyz, dim, r, _, set) = scene("sandim_vortex_001");
+    let n = xyz.len() / dim;
+    let mut err = [0 as c_char; 256];
+    let handle = unsafe {
+        boundary_detector_new(
+            c"muller".as_ptr(),
+            c"threshold=0.3".as_ptr(),
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert!(!handle.is_null(), "{}", message(&err));
+    let mut muller = boundary::detector_by_name("muller").expect("muller");
+    muller.set_param("threshold", "0.3").expect("threshold 0.3");
+    let expected = muller
+        .detect(&set, Radius::new(r).expect("r"))
+        .expect("detects");
+    assert_eq!(
+        unsafe { boundary_detector_set_threads(handle, 1, err.as_mut_ptr(), err.len()) },
+        BOUNDARY_OK
+    );
+    for _step in 0..2 {
+        let mut labels = vec![0u8; n];
+        let mut margin = vec![0.0f64; n];
+        let code = unsafe {
+            boundary_detector_detect(
+                handle,
+                xyz.as_ptr(),
+                n,
+                dim as i32,
+                r,
+                labels.as_mut_ptr(),
+                margin.as_mut_ptr(),
+                err.as_mut_ptr(),
+                err.len(),
+            )
+        };
+        assert_eq!(code, BOUNDARY_OK, "{}", message(&err));
+        let want: Vec<u8> = expected
+            .labels
+            .as_slice()
+            .iter()
+            .map(|&b| u8::from(b))
+            .collect();
+        assert_eq!(labels, want);
+        assert_eq!(Some(margin), expected.margin.clone());
+    }
+    unsafe { boundary_detector_free(handle) };
+}
+
+#[test]
+fn a_method_without_margin_refuses_out_margin_and_writes_nothing() {
+    let xyz = [0.0, 0.0, 1.0, 0.0];
+    let mut err = [0 as c_char; 256];
+    let handle = unsafe {
+        boundary_detector_new(
+            c"ge".as_ptr(),
+            std::ptr::null(),
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert!(!handle.is_null(), "{}", message(&err));
+    let mut labels = [9u8; 2];
+    let mut margin = [5.0f64; 2];
+    let code = unsafe {
+        boundary_detector_detect(
+            handle,
+            xyz.as_ptr(),
+            2,
+            2,
+            1.0,
+            labels.as_mut_ptr(),
+            margin.as_mut_ptr(),
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert_eq!(code, BOUNDARY_ERR_NO_MARGIN);
+    assert!(message(&err).contains("no margin"), "{}", message(&err));
+    assert_eq!(labels, [9, 9]);
+    assert_eq!(margin, [5.0, 5.0]);
+    unsafe { boundary_detector_free(handle) };
+}
+
+#[test]
+fn bad_input_gives_its_code_and_the_cli_message_and_leaves_labels_untouched() {
+    let good = [0.0, 0.0, 1.0, 0.0, 0.0, 1.0];
+    // (what, xyz, dim, r, method, params, expected code, part of the message)
+    type Case = (
+        &'static str,
+        Vec<f64>,
+        usize,
+        f64,
+        &'static str,
+        &'static str,
+        i32,
+        &'static str,
+    );
+    let cases: Vec<Case> = vec![
+        (
+            "nan",
+            vec![0.0, 0.0, f64::NAN, 1.0],
+            2,
+            1.0,
+            "exact",
+            "",
+            BOUNDARY_ERR_INPUT,
+            "particle 1: coordinate 0 is not finite",
+        ),
+        (
+            "r = 0",
+            good.to_vec(),
+            2,
+            0.0,
+            "exact",
+            "",
+            BOUNDARY_ERR_INPUT,
+            "radius must be positive",
+        ),
+        (
+            "r = -1",
+            good.to_vec(),
+            2,
+            -1.0,
+            "exact",
+            "",
+            BOUNDARY_ERR_INPUT,
+            "radius must be positive",
+        ),
+        (
+            "dim 4",
+            good.to_vec(),
+            4,
+            1.0,
+            "exact",
+            "",
+            BOUNDARY_ERR_SIZE,
+            "dim must be 2 or 3",
+        ),
+        (
+            "method",
+            good.to_vec(),
+            2,
+            1.0,
+            "nope",
+            "",
+            BOUNDARY_ERR_METHOD,
+            "unknown method 'nope'",
+        ),
+        (
+            "param key",
+            good.to_vec(),
+            2,
+            1.0,
+            "ge",
+            "gamma=2",
+            BOUNDARY_ERR_PARAM,
+            "has no parameter 'gamma'",
+        ),
+        (
+            "param value",
+            good.to_vec(),
+            2,
+            1.0,
+            "ge",
+            "depth=-3",
+            BOUNDARY_ERR_PARAM,
+            "invalid value '-3'",
+        ),
+        (
+            "param syntax",
+            good.to_vec(),
+            2,
+            1.0,
+            "ge",
+            "depth",
+            BOUNDARY_ERR_PARAM,
+            "expected KEY=VALUE",
+        ),
+    ];
+    for (what, xyz, dim, r, method, params, code, text) in cases {
+        let n = xyz.len() / dim.clamp(2, 3);
+        let mut labels = vec![7u8; n];
+        let mut err = [0 as c_char; 512];
+        let method = CString::new(method).expect("no NUL");
+        let params = CString::new(params).expect("no NUL");
+        let got = unsafe {
+            boundary_detect(
+                xyz.as_ptr(),
+                n,
+                dim as i32,
+                r,
+                method.as_ptr(),
+                params.as_ptr(),
+                labels.as_mut_ptr(),
+                err.as_mut_ptr(),
+                err.len(),
+            )
+        };
+        assert_eq!(got, code, "{what}: {}", message(&err));
+        assert!(message(&err).contains(text), "{what}: {}", message(&err));
+        assert!(
+            labels.iter().all(|&b| b == 7),
+            "{what}: labels written on error"
+        );
+    }
+}
+
+#[test]
+fn null_pointers_are_errors_unless_there_is_nothing_to_read() {
+    let mut err = [0 as c_char; 256];
+    let mut labels = [0u8; 3];
+    let xyz = [0.0; 6];
+    let call = |xyz: *const f64,
+                n: usize,
+                method: *const c_char,
+                labels: *mut u8,
+                err: &mut [c_char]| unsafe {
+        boundary_detect(
+            xyz,
+            n,
+            2,
+            1.0,
+            method,
+            std::ptr::null(),
+            labels,
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert_eq!(
+        call(
+            std::ptr::null(),
+            3,
+            c"exact".as_ptr(),
+            labels.as_mut_ptr(),
+            &mut err
+        ),
+        BOUNDARY_ERR_NULL
+    );
+    assert_eq!(message(&err), "xyz is NULL");
+    assert_eq!(
+        call(
+            xyz.as_ptr(),
+            3,
+            c"exact".as_ptr(),
+            std::ptr::null_mut(),
+            &mut err
+        ),
+        BOUNDARY_ERR_NULL
+    );
+    assert_eq!(message(&err), "out_labels is NULL");
+    assert_eq!(
+        call(
+            xyz.as_ptr(),
+            3,
+            std::ptr::null(),
+            labels.as_mut_ptr(),
+            &mut err
+        ),
+        BOUNDARY_ERR_NULL
+    );
+    assert_eq!(message(&err), "method is NULL");
+    // n = 0: nothing to read or write, so NULL buffers are fine.
+    assert_eq!(
+        call(
+            std::ptr::null(),
+            0,
+            c"exact".as_ptr(),
+            std::ptr::null_mut(),
+            &mut err
+        ),
+        BOUNDARY_OK
+    );
+    // A NULL error buffer is allowed.
+    let code = unsafe {
+        boundary_detect(
+            std::ptr::null(),
+            3,
+            2,
+            1.0,
+            c"exact".as_ptr(),
+            std::ptr::null(),
+            labels.as_mut_ptr(),
+            std::ptr::null_mut(),
+            0,
+        )
+    };
+    assert_eq!(code, BOUNDARY_ERR_NULL);
+    let mut labels = [0u8; 1];
+    let code = unsafe {
+        boundary_detector_detect(
+            std::ptr::null(),
+            xyz.as_ptr(),
+            1,
+            2,
+            1.0,
+            labels.as_mut_ptr(),
+            std::ptr::null_mut(),
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert_eq!(code, BOUNDARY_ERR_NULL);
+    assert_eq!(message(&err), "handle is NULL");
+    unsafe { boundary_detector_free(std::ptr::null_mut()) };
+    let handle = unsafe {
+        boundary_detector_new(
+            c"nope".as_ptr(),
+            std::ptr::null(),
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert!(handle.is_null());
+    assert!(
+        message(&err).starts_with("unknown method 'nope'"),
+        "{}",
+        message(&err)
+    );
+}
+
+#[test]
+fn invalid_utf8_and_overflowing_sizes_are_refused() {
+    let mut err = [0 as c_char; 256];
+    let mut labels = [0u8; 1];
+    let xyz = [0.0; 2];
+    let bad = [0xffu8 as c_char, 0];
+    let code = unsafe {
+        boundary_detect(
+            xyz.as_ptr(),
+            1,
+            2,
+            1.0,
+            bad.as_ptr(),
+            std::ptr::null(),
+            labels.as_mut_ptr(),
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert_eq!(code, BOUNDARY_ERR_UTF8, "{}", message(&err));
+    let code = unsafe {
+        boundary_detect(
+            xyz.as_ptr(),
+            usize::MAX / 2,
+            3,
+            1.0,
+            c"exact".as_ptr(),
+            std::ptr::null(),
+            labels.as_mut_ptr(),
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert_eq!(code, BOUNDARY_ERR_SIZE, "{}", message(&err));
+    assert!(message(&err).contains("too many"), "{}", message(&err));
+}
+
+#[test]
+fn the_error_message_is_cut_to_the_buffer_and_nul_terminated() {
+    let mut err = [b'#' as c_char; 8];
+    let mut labels = [0u8; 1];
+    let xyz = [0.0; 2];
+    let code = unsafe {
+        boundary_detect(
+            xyz.as_ptr(),
+            1,
+            2,
+            1.0,
+            c"nope".as_ptr(),
+            std::ptr::null(),
+            labels.as_mut_ptr(),
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert_eq!(code, BOUNDARY_ERR_METHOD);
+    assert_eq!(message(&err), "unknown");
+    assert_eq!(err[7], 0);
+}
+
+#[test]
+fn the_thread_count_does_not_change_the_labels() {
+    let (xyz, dim, r, _, _) = scene("sandim_vortex_100");
+    let (code, all_cores, err) = detect(&xyz, dim, r, "ia", "depth=4");
+    assert_eq!(code, BOUNDARY_OK, "{err}");
+    let mut buf = [0 as c_char; 128];
+    assert_eq!(
+        unsafe { boundary_set_threads(1, buf.as_mut_ptr(), buf.len()) },
+        BOUNDARY_OK
+    );
+    let (code, one_thread, err) = detect(&xyz, dim, r, "ia", "depth=4");
+    assert_eq!(
+        unsafe { boundary_set_threads(0, buf.as_mut_ptr(), buf.len()) },
+        BOUNDARY_OK
+    );
+    assert_eq!(code, BOUNDARY_OK, "{err}");
+    assert_eq!(all_cores, one_thread);
+}
+
+#[test]
+fn the_version_is_the_crate_version() {
+    let version = unsafe { CStr::from_ptr(boundary_version()) };
+    assert_eq!(version.to_str(), Ok(env!("CARGO_PKG_VERSION")));
+}

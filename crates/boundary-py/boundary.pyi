@@ -1,0 +1,184 @@
+"""Boundary particles of meshfree particle sets (SPH, PBF, FLIP/APIC, MPS).
+
+Particle *i* at *p_i* with resolution *r* is **interior** iff its sphere *S_i* of radius *r* is
+covered by the closed balls of radius *r* of the other particles within *2r*; otherwise it is
+**boundary** (Sandim, Paiva & Figueiredo, "A fast and accurate method for boundary particle
+detection", J. Comput. Phys. 2020). Coincident duplicates do not cover each other.
+
+Every method of the Rust library is available by name (see :func:`methods`):
+
+- ``exact``: restricted Voronoi cell per particle, the reference labels (JCP 2020 Sec. 2);
+- ``dilts``: arc / cap covering (Dilts 2000; Haque & Dilts 2007), certified;
+- ``ia``: interval-arithmetic quadtree / octree (JCP 2020 Sec. 3.1), never a false negative;
+- ``ge``: geometric-enclosure slabs (JCP 2020 Sec. 3.2), never a false negative;
+- ``marrone``: SPH renormalisation-matrix eigenvalue and scan cone (Marrone et al., JCP 2010);
+- ``muller``: SPH colour-field gradient (Mueller et al., SCA 2003);
+- ``hpr``: hidden point removal (Sandim 2020 thesis, ch. 2, Alg. 1);
+- ``svm``: RBF support vector machine on SPH features (Sandim 2020 thesis, ch. 3).
+
+Conventions shared by every function:
+
+- ``points`` is any ``(n, 2)`` or ``(n, 3)`` array-like of reals. A C-contiguous ``float64``
+  array is read in place (no intermediate copy); ``float32``, Fortran-ordered arrays and lists
+  are converted by NumPy first. A 2D set has no z.
+- Detection releases the GIL and runs on all cores (rayon), or on ``threads`` worker threads.
+  Ctrl-C raises ``KeyboardInterrupt`` within 50 ms; the interrupted detection keeps running in
+  the background until it ends (it cannot be cancelled midway), and its result is discarded.
+- Method parameters are keyword arguments, exactly as ``--set KEY=VALUE`` on the command line
+  (``detect(points, r, "ge", depth=4)``); ``True``/``False`` become ``true``/``false``.
+- Errors raise ``ValueError`` (bad shape, non-finite coordinate, ``r <= 0``, unknown method or
+  parameter, malformed file) or ``OSError`` (a file that cannot be opened or written), with
+  the message the ``boundary`` command prints.
+"""
+
+from os import PathLike
+from typing import Any, Dict, List, Literal, Optional, Tuple, TypedDict, Union, overload
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__version__: str
+
+#: Feature codes of :func:`resample` (thesis Eq. 2.5): -1 interior, 0 droplet, 1 ligament,
+#: 2 sheet, 3 regular boundary particle.
+FEATURES: Dict[int, str]
+
+_Path = Union[str, "PathLike[str]"]
+_Param = Union[str, int, float, bool]
+
+class ParamInfo(TypedDict):
+    name: str
+    default: str
+    description: str
+
+class MethodInfo(TypedDict):
+    name: str
+    summary: str
+    certified: bool
+    params: List[ParamInfo]
+
+class Score(TypedDict):
+    TP: int
+    TN: int
+    FP: int
+    FN: int
+    Rec: float
+    FPR: float
+    M: float
+
+@overload
+def detect(
+    points: ArrayLike,
+    r: float,
+    method: str = "exact",
+    threads: Optional[int] = None,
+    margin: Literal[False] = False,
+    **params: _Param,
+) -> NDArray[np.bool_]: ...
+@overload
+def detect(
+    points: ArrayLike,
+    r: float,
+    method: str = "exact",
+    threads: Optional[int] = None,
+    *,
+    margin: Literal[True],
+    **params: _Param,
+) -> Tuple[NDArray[np.bool_], Optional[NDArray[np.float64]]]: ...
+def detect(
+    points: ArrayLike,
+    r: float,
+    method: str = "exact",
+    threads: Optional[int] = None,
+    margin: bool = False,
+    **params: _Param,
+) -> Union[NDArray[np.bool_], Tuple[NDArray[np.bool_], Optional[NDArray[np.float64]]]]:
+    """Labels every particle: ``True`` on the boundary, ``False`` inside.
+
+    Args:
+        points: ``(n, 2)`` or ``(n, 3)`` positions.
+        r: the particle resolution (positive, finite), in the positions' length unit.
+        method: a name from :func:`methods` (default ``exact``, the reference labels of
+            Sandim et al., JCP 2020).
+        threads: worker threads (default: all cores).
+        margin: also return the method's per-particle margin (positive leans boundary,
+            negative interior, near zero a near-tie; for ``exact`` the distance by which the
+            particle's Voronoi cell reaches beyond ``r``), or ``None`` when the method has none.
+        **params: the method's parameters (``depth=4``, ``gamma=1.3``, ...).
+
+    Returns:
+        A ``bool`` array of length ``n``; with ``margin=True`` the pair ``(labels, margin)``.
+
+    Raises:
+        ValueError: bad shape, a non-finite coordinate, ``r <= 0``, an unknown method or
+            parameter.
+        KeyboardInterrupt: Ctrl-C during the detection.
+    """
+
+def score(
+    points: ArrayLike,
+    r: float,
+    method: str,
+    truth: Optional[ArrayLike] = None,
+    threads: Optional[int] = None,
+    **params: _Param,
+) -> Score:
+    """Scores ``method`` against the truth: ``TP, TN, FP, FN, Rec, FPR, M``.
+
+    Boundary is the positive class. ``Rec = TP/(TP+FN)``, ``FPR = FP/(FP+TN)``,
+    ``M = Rec * (1 - FPR)`` (JCP 2020 Sec. 4).
+
+    Args:
+        truth: one boolean (or 0/1) per particle; default: the ``exact`` labels.
+    """
+
+def methods() -> List[MethodInfo]:
+    """Every available method with its summary, whether it is certified, and its parameters
+    with their defaults (the data of ``boundary methods --json``)."""
+
+def read(
+    path: _Path, dim: Optional[int] = None, format: Optional[str] = None
+) -> Tuple[NDArray[np.float64], Dict[str, NDArray[Any]]]:
+    """Reads a particle file: ``(points, attributes)``.
+
+    Formats: CSV (header ``x,y[,z]``), whitespace XYZ, PLY, legacy VTK, VTK XML ``.vtu`` /
+    ``.vtp``, Houdini BGEO (``.bgeo``, ``.bgeo.gz``), by extension or ``format``. ``points`` is
+    ``(n, dim)`` float64; ``attributes`` maps every other per-particle attribute (a vector as
+    ``name:0``, ``name:1``, ...) to an int64 or float64 array. ``dim=2`` drops the constant
+    axis of a 3D file. Attributes the file has but that cannot be kept raise a ``UserWarning``.
+    """
+
+def write(
+    path: _Path,
+    points: ArrayLike,
+    boundary: Optional[ArrayLike] = None,
+    format: Optional[str] = None,
+    **attributes: ArrayLike,
+) -> None:
+    """Writes ``points`` with an optional ``boundary`` column (0/1) and one column per
+    keyword attribute (integers stay integers, anything else is written as reals), in the
+    format of the extension or ``format``; VTK XML joins ``name:k`` into one vector array."""
+
+def resample(
+    points: ArrayLike,
+    r: float,
+    method: str = "exact",
+    k: int = 4,
+    alpha: float = 0.2,
+    shift: float = 0.5,
+    labels: Optional[ArrayLike] = None,
+    threads: Optional[int] = None,
+    **params: _Param,
+) -> Tuple[NDArray[np.float64], NDArray[np.int8], NDArray[np.int64]]:
+    """Classifies the boundary particles by feature and resamples thin features (Sandim et
+    al., Computers & Graphics 2019; thesis Sec. 2.6, Eq. 2.4-2.5).
+
+    Boundary particles come from ``method`` (with ``**params``) or from ``labels``. A droplet
+    (fewer than ``k`` neighbours) becomes 4 (2D) or 6 (3D) particles, a ligament 2 or 4, a
+    sheet 2, all ``shift * r`` from it along its thin directions; a regular boundary particle
+    moves ``shift * r`` outwards; interior particles are kept.
+
+    Returns:
+        ``(points, feature, source)``: the new set, each new particle's feature code
+        (see :data:`FEATURES`) and the index of the input particle it comes from.
+    """
