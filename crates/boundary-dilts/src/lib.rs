@@ -416,7 +416,10 @@ fn gather_caps<const D: usize, C>(
     let p = positions[i];
     let neighbours = &mut scratch.neighbours;
     neighbours.clear();
-    grid.for_each_within(&p, 2.0 * r, |j, d2| {
+    // A little beyond 2r, so that no neighbour whose exact distance is below 2r is lost to the
+    // rounding of the query (the extra caps are points: the exact mode leaves them to the exact
+    // predicate, the tolerant mode drops them).
+    grid.for_each_within(&p, 2.0 * r * (1.0 + 1e-12), |j, d2| {
         // d2 == 0: `i` itself or an exact duplicate, which does not cover S_i.
         if d2 > 0.0 {
             neighbours.push((d2, j));

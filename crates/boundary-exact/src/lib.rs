@@ -367,7 +367,9 @@ fn cell_margin<const D: usize, C: ConvexCell<D>>(
     let p = positions[i];
     let neighbours = &mut scratch.neighbours;
     neighbours.clear();
-    grid.for_each_within(&p, 2.0 * r, |j, d2| {
+    // A little beyond 2r, so that no neighbour whose exact distance is below 2r is lost to the
+    // rounding of the query (a bisector just beyond r only trims the cell there: harmless).
+    grid.for_each_within(&p, 2.0 * r * (1.0 + 1e-12), |j, d2| {
         // d2 == 0: `i` itself or an exact duplicate, which does not cover (crate docs).
         if d2 > 0.0 {
             neighbours.push((d2, j));
