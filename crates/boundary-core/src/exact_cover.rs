@@ -481,7 +481,7 @@ mod tests {
     fn dyadic_decomposes_exactly() {
         for x in [1.0, -3.5, 0.1, 1e-310, -1e300, f64::MIN_POSITIVE] {
             let (m, e) = dyadic(x).unwrap();
-            assert_eq!(m % 2 != 0, true);
+            assert!(m % 2 != 0);
             assert_eq!(m as f64 * 2f64.powi(e), x, "{x}");
         }
         assert_eq!(dyadic(0.0), None);

@@ -249,6 +249,7 @@ fn check_subset(caps: &[Cap3], m: usize, crossed: &mut Vec<bool>, tol: f64) -> O
     crossed.clear();
     crossed.resize(m, false);
     let mut undecided = false;
+    let mut ambiguous = false;
     // Exact mode: `x` lies on the circles of `j` and `k` (equal for (c)), within `err`.
     let mut strict_probe = |x: &Point<3>, j: usize, k: usize, err: f64| -> Option<Outcome> {
         // x·u − c carries the point's error, plus a few u for the dot product and c.
@@ -264,16 +265,24 @@ fn check_subset(caps: &[Cap3], m: usize, crossed: &mut Vec<bool>, tol: f64) -> O
         }
         let touching = |(l, cap): (usize, &Cap3)| l != j && l != k && value(cap) >= -band;
         if inner.iter().enumerate().any(touching) || outer.iter().any(|c| value(c) >= -band) {
-            return Some(Outcome::Ambiguous);
+            // Undecidable here; a clear witness elsewhere may still decide the particle.
+            ambiguous = true;
+            return None;
         }
         Some(Outcome::Uncovered)
     };
     if strict {
+        let mut ambiguous_pair = false;
         for j in 0..m {
             for k in j + 1..m {
                 match circle_intersections(&inner[j], &inner[k], true) {
                     Meeting::Apart => {}
-                    Meeting::Ambiguous => return Outcome::Ambiguous,
+                    Meeting::Ambiguous => {
+                        // Whether these circles cross is undecided: (c) cannot use them.
+                        crossed[j] = true;
+                        crossed[k] = true;
+                        ambiguous_pair = true;
+                    }
                     Meeting::Points(points, _, err) => {
                         crossed[j] = true;
                         crossed[k] = true;
@@ -293,7 +302,10 @@ fn check_subset(caps: &[Cap3], m: usize, crossed: &mut Vec<bool>, tol: f64) -> O
                 }
             }
         }
-        return if undecided {
+        // No clear witness: any undecidable step leaves the particle to the exact predicate.
+        return if ambiguous || ambiguous_pair {
+            Outcome::Ambiguous
+        } else if undecided {
             Outcome::Undecided
         } else {
             Outcome::Covered

@@ -94,6 +94,7 @@
 //!   near-concentric circles, where the first-order bound fails), caps with `sin α < 1e-4`
 //!   (neighbours near `2r`), and distinct near-twins merged by [`TWIN_TOLERANCE`] are left to
 //!   the exact predicate, as is any probe inside its band.
+//!
 //! With every decision outside its band, the criterion (a)–(c) is evaluated exactly as in real
 //! arithmetic, in generic position (no point on three circles: that would put a cap value
 //! inside the band), where it is exact (proof above).

@@ -109,15 +109,15 @@ fn solve(planes: &[(Vec<BigRational>, BigRational)], ids: &[usize]) -> Option<Ve
         let pivot = (col..d).find(|&r| !m[r][col].is_zero())?;
         m.swap(col, pivot);
         let inv = BigRational::one() / &m[col][col];
-        for k in col..=d {
-            m[col][k] = &m[col][k] * &inv;
+        for x in m[col][col..].iter_mut() {
+            *x = &*x * &inv;
         }
-        for row in 0..d {
-            if row != col && !m[row][col].is_zero() {
-                let f = m[row][col].clone();
-                for k in col..=d {
-                    let t = &f * &m[col][k];
-                    m[row][k] = &m[row][k] - t;
+        let pivot_row = m[col].clone();
+        for (i, row) in m.iter_mut().enumerate() {
+            if i != col && !row[col].is_zero() {
+                let f = row[col].clone();
+                for (x, p) in row[col..].iter_mut().zip(&pivot_row[col..]) {
+                    *x = &*x - &f * p;
                 }
             }
         }
