@@ -74,9 +74,13 @@
 //! or meets two at nearly equal angles, `cell.rs`). There the float topology could differ from
 //! the exact one, so such particles always go to the exact predicate.
 //!
-//! *How often.* On the 1M-particle jittered ball (`r = 1.2a`) no particle needs the fallback;
-//! on perfect lattices at their tie radius every inner particle does (a few hundred
-//! microseconds each, small integers); see the README for the sweep scenes.
+//! *How often* (`cargo run --release -p boundary-dilts --example fallbacks`): on the
+//! 1M-particle jittered ball (`r = 1.2a`) no particle needs the fallback; on the sweep scenes
+//! none either, except the inner particles of the two perfect lattices at their tie radius
+//! (196 of 256 in 2D, 512 of 1000 in 3D: genuine near-ties) and `pysph_case5` (15,423 of
+//! 15,827: a perfect lattice whose bisectors cut exactly through cell vertices, so nearly every
+//! clip is flagged near-degenerate). Lattices have small integer coordinates: the `i128`
+//! path, tens of microseconds per particle.
 //!
 //! # Policy: ties, duplicates, degenerate input
 //! - **Ties.** A cell that reaches exactly to `r` touches `S_i` only at points equidistant from
