@@ -33,6 +33,7 @@
 pub mod decompose;
 mod detector;
 mod error;
+pub mod exact_cover;
 mod grid;
 mod metrics;
 mod particles;

@@ -12,7 +12,7 @@
 //! minimum is `(e_a − s_b)/2`. The margin is therefore the largest `(s_b − e_a)/2`: half the
 //! widest gap if there is one, else minus half the narrowest overlap.
 
-use crate::{Cap, SphereCover, COVER_TOLERANCE};
+use crate::{Cap, SphereCover, U};
 use std::f64::consts::{PI, TAU};
 
 /// The 2D covering test; holds the arcs of the current particle.
@@ -22,19 +22,34 @@ pub(crate) struct Arcs {
     arcs: Vec<(f64, f64)>,
 }
 
+/// In the exact mode, arcs with `sin α` below this (neighbours within about `1e-12·r` of `2r`)
+/// are outside the float error analysis: the particle goes to the exact predicate.
+const THIN_ARC: f64 = 1e-6;
+
 impl SphereCover<2> for Arcs {
-    fn classify(&mut self, caps: &[Cap<2>]) -> (bool, Option<f64>) {
+    fn classify(&mut self, caps: &[Cap<2>], tol: f64) -> (Option<bool>, Option<f64>) {
         self.arcs.clear();
+        let mut sin_min = 1.0f64;
         self.arcs.extend(caps.iter().map(|cap| {
             let theta = cap.u.y.atan2(cap.u.x);
-            let alpha = (cap.half_distance - COVER_TOLERANCE)
-                .clamp(-1.0, 1.0)
-                .acos();
+            let c = (cap.half_distance - tol).clamp(-1.0, 1.0);
+            sin_min = sin_min.min((1.0 - c * c).max(0.0).sqrt());
+            let alpha = c.acos();
             let start = (theta - alpha).rem_euclid(TAU);
             (start, start + 2.0 * alpha)
         }));
         let margin = largest_half_gap(&mut self.arcs);
-        (margin > 0.0, Some(margin))
+        if tol > 0.0 || caps.is_empty() {
+            return (Some(margin > 0.0), Some(margin));
+        }
+        // Exact mode: every arc end is within `E` of its exact value (crate docs "Exactness"),
+        // so the half gap is within `E` of the exact one.
+        let e = 64.0 * U + 8.0 * U / sin_min.max(f64::MIN_POSITIVE);
+        if sin_min < THIN_ARC || margin.abs() <= 2.0 * e {
+            (None, Some(margin))
+        } else {
+            (Some(margin > 0.0), Some(margin))
+        }
     }
 }
 
@@ -79,7 +94,7 @@ mod tests {
             caps.iter()
                 .map(|c| {
                     let theta = c.u.y.atan2(c.u.x);
-                    let alpha = (c.half_distance - COVER_TOLERANCE).acos();
+                    let alpha = (c.half_distance - 1e-12).acos();
                     let diff = (phi - theta).rem_euclid(TAU);
                     diff.min(TAU - diff) - alpha
                 })
@@ -93,10 +108,11 @@ mod tests {
     #[test]
     fn no_arc_and_one_arc() {
         let mut arcs = Arcs::default();
-        assert_eq!(arcs.classify(&[]), (true, Some(PI)));
+        assert_eq!(arcs.classify(&[], 1e-12), (Some(true), Some(PI)));
+        assert_eq!(arcs.classify(&[], 0.0), (Some(true), Some(PI)));
         // One neighbour at distance r (d = 1): a 60° half-angle arc leaves 360° − 120° open.
-        let (boundary, margin) = arcs.classify(&[cap(0.3, 0.5)]);
-        assert!(boundary);
+        let (boundary, margin) = arcs.classify(&[cap(0.3, 0.5)], 1e-12);
+        assert_eq!(boundary, Some(true));
         assert!((margin.unwrap() - (PI - PI / 3.0)).abs() < 1e-9);
     }
 
@@ -106,10 +122,12 @@ mod tests {
         // is covered thanks to the tolerance, and the overlap is about 2·1e-12/sin 60°.
         let mut arcs = Arcs::default();
         let caps: Vec<_> = (0..3).map(|k| cap(k as f64 * TAU / 3.0, 0.5)).collect();
-        let (boundary, margin) = arcs.classify(&caps);
-        assert!(!boundary);
+        let (boundary, margin) = arcs.classify(&caps, 1e-12);
+        assert_eq!(boundary, Some(false));
         let m = margin.unwrap();
         assert!(m < 0.0 && m > -1e-11, "margin {m}");
+        // The exact mode leaves the tie to the exact predicate.
+        assert_eq!(arcs.classify(&caps, 0.0).0, None);
     }
 
     #[test]
@@ -121,11 +139,11 @@ mod tests {
             let caps: Vec<_> = (0..n)
                 .map(|_| cap(rng.gen_range(-PI..PI), rng.gen_range(0.05..1.0)))
                 .collect();
-            let (boundary, margin) = arcs.classify(&caps);
+            let (boundary, margin) = arcs.classify(&caps, 1e-12);
             let m = margin.unwrap();
             let brute = brute_margin(&caps);
             assert!((m - brute).abs() < 1e-4, "{m} vs {brute} for {caps:?}");
-            assert_eq!(boundary, m > 0.0);
+            assert_eq!(boundary, Some(m > 0.0));
         }
     }
 
@@ -134,10 +152,10 @@ mod tests {
         // Arcs centred near ±π wrap through the seam of atan2 and of the [0, 2π) starts.
         let mut arcs = Arcs::default();
         let caps = [cap(PI - 0.1, 0.2), cap(-PI + 0.1, 0.2), cap(0.0, 0.2)];
-        let (boundary, margin) = arcs.classify(&caps);
+        let (boundary, margin) = arcs.classify(&caps, 1e-12);
         let brute = brute_margin(&caps);
         assert!((margin.unwrap() - brute).abs() < 1e-4);
         // Half-angles acos(0.2) ≈ 78.5° at 0° and ±174.3°: a gap around ±90° remains.
-        assert!(boundary && brute > 0.0);
+        assert!(boundary == Some(true) && brute > 0.0);
     }
 }

@@ -11,7 +11,7 @@
 //! form avoids the cancellation of `1 − g` for close centres). A negative right-hand side means
 //! the circles do not meet (the caps are disjoint or nested).
 
-use crate::{Cap, SphereCover, COVER_TOLERANCE, TANGENT_TOLERANCE};
+use crate::{Cap, SphereCover, TANGENT_TOLERANCE, U};
 use boundary_core::Point;
 
 /// Size of the first subset of caps tried (the largest ones); it doubles until the question is
@@ -54,9 +54,9 @@ struct Cap3 {
 }
 
 impl Cap3 {
-    /// Closed cap with the covering tolerance (crate docs).
-    fn covers(&self, x: &Point<3>) -> bool {
-        x.dot(&self.u) >= self.c - COVER_TOLERANCE
+    /// Closed cap with the covering tolerance `tol` (crate docs).
+    fn covers(&self, x: &Point<3>, tol: f64) -> bool {
+        x.dot(&self.u) >= self.c - tol
     }
 
     /// One point of the boundary circle.
@@ -68,35 +68,64 @@ impl Cap3 {
     }
 }
 
-/// The points where the circles of `p` and `q` meet: none, one (tangent: both points equal,
-/// and the flag is set) or two.
-fn circle_intersections(p: &Cap3, q: &Cap3) -> Option<([Point<3>; 2], bool)> {
+/// In the exact mode (`tie = 0`), pairs whose discriminant `h` or `|u_p × u_q|²` is below this
+/// are not decided by floating point (near-tangent or near-concentric circles): the particle
+/// goes to the exact predicate.
+const PAIR_BAND: f64 = 1e-8;
+
+/// Where the circles of two caps meet.
+enum Meeting {
+    /// They do not cross (disjoint, nested, or concentric).
+    Apart,
+    /// One or two points (equal and flagged when tangent), with a bound on the error of each
+    /// point (the distance to the true intersection point, crate docs "Exactness").
+    Points([Point<3>; 2], bool, f64),
+    /// Exact mode only: too close to tangency or concentricity for the float bound.
+    Ambiguous,
+}
+
+/// The points where the circles of `p` and `q` meet. `strict`: the exact mode.
+fn circle_intersections(p: &Cap3, q: &Cap3, strict: bool) -> Meeting {
     let g = p.u.dot(&q.u);
     // Prune: centres farther apart than α_p + α_q (disjoint caps) or closer than |α_p − α_q|
     // (nested caps) cannot give crossing circles.
     let cc = p.c * q.c;
     let ss = p.s * q.s;
     if g < cc - ss - PRUNE_SLACK || g > cc + ss + PRUNE_SLACK {
-        return None;
+        return Meeting::Apart;
     }
     let w = p.u.cross(&q.u);
     let w2 = w.norm_squared();
+    if strict && w2 < PAIR_BAND {
+        return Meeting::Ambiguous;
+    }
     if w2 < CONCENTRIC {
-        return None;
+        return Meeting::Apart;
     }
     let a = (p.c - g * q.c) / w2;
     let b = (q.c - g * p.c) / w2;
     let dc = p.c - q.c;
     let h = 1.0 - (dc * dc + cc * (p.u - q.u).norm_squared()) / w2;
-    if h < -TANGENT_TOLERANCE {
-        return None;
+    if strict {
+        if h.abs() <= PAIR_BAND {
+            return Meeting::Ambiguous;
+        }
+        if h < 0.0 {
+            return Meeting::Apart;
+        }
+    } else if h < -TANGENT_TOLERANCE {
+        return Meeting::Apart;
     }
     let t = (h.max(0.0) / w2).sqrt();
     let base = p.u * a + q.u * b;
-    Some((
+    // First-order error of the point (crate docs): the inputs u, c carry a relative error of a
+    // few u; a, b divide by w2, t by sqrt(h·w2).
+    let err = 64.0 * U * (1.0 + 1.0 / w2 + 1.0 / (h.max(PAIR_BAND) * w2).sqrt()) + 16.0 * U;
+    Meeting::Points(
         [(base + w * t).normalize(), (base - w * t).normalize()],
         h <= TANGENT_TOLERANCE,
-    ))
+        err,
+    )
 }
 
 /// The point at angular distance [`STEP`] from `x` (on the circle of cap `j`) in the direction
@@ -153,6 +182,9 @@ enum Outcome {
     Uncovered,
     /// The subset does not cover, but every point it leaves was covered by another cap.
     Undecided,
+    /// Exact mode: a decision fell inside the float error bound; the caller asks the exact
+    /// predicate.
+    Ambiguous,
 }
 
 /// The 3D covering test; holds per-particle working memory.
@@ -164,7 +196,16 @@ pub(crate) struct Caps {
 }
 
 impl SphereCover<3> for Caps {
-    fn classify(&mut self, caps: &[Cap<3>]) -> (bool, Option<f64>) {
+    fn classify(&mut self, caps: &[Cap<3>], tol: f64) -> (Option<bool>, Option<f64>) {
+        let strict = tol == 0.0;
+        if strict
+            && caps
+                .iter()
+                .any(|cap| 1.0 - cap.half_distance * cap.half_distance < POINT_CAP * POINT_CAP)
+        {
+            // A cap too thin for the float test: not dropped silently in the exact mode.
+            return (None, None);
+        }
         self.caps.clear();
         self.caps.extend(
             caps.iter()
@@ -179,17 +220,18 @@ impl SphereCover<3> for Caps {
         );
         // (a): no cap, nothing covered.
         if self.caps.is_empty() {
-            return (true, None);
+            return (Some(true), None);
         }
         let n = self.caps.len();
         let mut m = FIRST_LEVEL.min(n);
         loop {
-            match check_subset(&self.caps, m, &mut self.crossed) {
-                Outcome::Covered => return (false, None),
-                Outcome::Uncovered => return (true, None),
+            match check_subset(&self.caps, m, &mut self.crossed, tol) {
+                Outcome::Covered => return (Some(false), None),
+                Outcome::Uncovered => return (Some(true), None),
+                Outcome::Ambiguous => return (None, None),
                 // With m == n every point is tested against all caps: never undecided.
                 Outcome::Undecided if m < n => m = (2 * m).min(n),
-                Outcome::Undecided => return (true, None),
+                Outcome::Undecided => return (Some(true), None),
             }
         }
     }
@@ -197,11 +239,78 @@ impl SphereCover<3> for Caps {
 
 /// Criterion (b) and (c) for the first `m` caps; points they leave uncovered are tested against
 /// the remaining caps, so that [`Outcome::Uncovered`] is a witness for the whole set.
-fn check_subset(caps: &[Cap3], m: usize, crossed: &mut Vec<bool>) -> Outcome {
+///
+/// `tol > 0`: the tolerant mode (covering tolerance `tol`, ties resolved by [`step_off`]).
+/// `tol == 0`: the exact mode: a point is decided only when every cap value `x·u_l − c_l` is
+/// farther from 0 than the point's error bound `err`; otherwise [`Outcome::Ambiguous`].
+fn check_subset(caps: &[Cap3], m: usize, crossed: &mut Vec<bool>, tol: f64) -> Outcome {
+    let strict = tol == 0.0;
     let (inner, outer) = caps.split_at(m);
     crossed.clear();
     crossed.resize(m, false);
     let mut undecided = false;
+    let mut ambiguous = false;
+    // Exact mode: `x` lies on the circles of `j` and `k` (equal for (c)), within `err`.
+    let mut strict_probe = |x: &Point<3>, j: usize, k: usize, err: f64| -> Option<Outcome> {
+        // x·u − c carries the point's error, plus a few u for the dot product and c.
+        let band = err + 16.0 * U;
+        let value = |cap: &Cap3| x.dot(&cap.u) - cap.c;
+        let third = |(l, cap): (usize, &Cap3)| l != j && l != k && value(cap) > band;
+        if inner.iter().enumerate().any(third) {
+            return None;
+        }
+        if outer.iter().any(|cap| value(cap) > band) {
+            undecided = true;
+            return None;
+        }
+        let touching = |(l, cap): (usize, &Cap3)| l != j && l != k && value(cap) >= -band;
+        if inner.iter().enumerate().any(touching) || outer.iter().any(|c| value(c) >= -band) {
+            // Undecidable here; a clear witness elsewhere may still decide the particle.
+            ambiguous = true;
+            return None;
+        }
+        Some(Outcome::Uncovered)
+    };
+    if strict {
+        let mut ambiguous_pair = false;
+        for j in 0..m {
+            for k in j + 1..m {
+                match circle_intersections(&inner[j], &inner[k], true) {
+                    Meeting::Apart => {}
+                    Meeting::Ambiguous => {
+                        // Whether these circles cross is undecided: (c) cannot use them.
+                        crossed[j] = true;
+                        crossed[k] = true;
+                        ambiguous_pair = true;
+                    }
+                    Meeting::Points(points, _, err) => {
+                        crossed[j] = true;
+                        crossed[k] = true;
+                        for x in &points {
+                            if let Some(outcome) = strict_probe(x, j, k, err) {
+                                return outcome;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        for j in 0..m {
+            if !crossed[j] {
+                if let Some(outcome) = strict_probe(&inner[j].point_on_circle(), j, j, 16.0 * U) {
+                    return outcome;
+                }
+            }
+        }
+        // No clear witness: any undecidable step leaves the particle to the exact predicate.
+        return if ambiguous || ambiguous_pair {
+            Outcome::Ambiguous
+        } else if undecided {
+            Outcome::Undecided
+        } else {
+            Outcome::Covered
+        };
+    }
     // `x` lies on the circles of `j` and `k` (equal for (c)): is a neighbourhood of `x` covered?
     let mut probe = |x: &Point<3>, j: usize, k: usize| -> Option<Outcome> {
         let clear = |cap: &Cap3| x.dot(&cap.u) - cap.c > TIE_BAND;
@@ -216,9 +325,9 @@ fn check_subset(caps: &[Cap3], m: usize, crossed: &mut Vec<bool>) -> Outcome {
         // No cap contains `x` with room to spare: `x` is uncovered or a tie. Step off `x` into
         // the sector that the circles through it leave open, and test that point instead.
         let y = step_off(inner, x, j);
-        if inner.iter().any(|cap| cap.covers(&y)) {
+        if inner.iter().any(|cap| cap.covers(&y, tol)) {
             None
-        } else if outer.iter().any(|cap| cap.covers(&y)) {
+        } else if outer.iter().any(|cap| cap.covers(&y, tol)) {
             undecided = true;
             None
         } else {
@@ -228,7 +337,9 @@ fn check_subset(caps: &[Cap3], m: usize, crossed: &mut Vec<bool>) -> Outcome {
     // (b): every pairwise intersection point of circles lies in a third cap.
     for j in 0..m {
         for k in j + 1..m {
-            let Some((points, tangent)) = circle_intersections(&inner[j], &inner[k]) else {
+            let Meeting::Points(points, tangent, _) =
+                circle_intersections(&inner[j], &inner[k], false)
+            else {
                 continue;
             };
             // A tangency is not a crossing: the circles still get their own probe in (c), as
@@ -277,7 +388,9 @@ mod tests {
     fn intersection_points_lie_on_both_circles() {
         let p = cap3([1.0, 0.0, 0.0], 0.5);
         let q = cap3([0.3, 1.0, -0.2], 0.4);
-        let (points, _) = circle_intersections(&p, &q).unwrap();
+        let Meeting::Points(points, _, _) = circle_intersections(&p, &q, false) else {
+            panic!("the circles cross");
+        };
         for x in points {
             assert!((x.norm() - 1.0).abs() < 1e-14);
             assert!((x.dot(&p.u) - p.c).abs() < 1e-14);
@@ -298,18 +411,30 @@ mod tests {
             ],
             0.5,
         );
-        assert!(circle_intersections(&a, &far).is_none());
+        assert!(matches!(
+            circle_intersections(&a, &far, false),
+            Meeting::Apart
+        ));
         // A 10° cap 20° from the centre of a 60° cap: nested.
         let small = cap3(
             [(20f64).to_radians().cos(), (20f64).to_radians().sin(), 0.0],
             (10f64).to_radians().cos(),
         );
-        assert!(circle_intersections(&a, &small).is_none());
+        assert!(matches!(
+            circle_intersections(&a, &small, false),
+            Meeting::Apart
+        ));
         // Two 45° caps 90° apart touch at one point: (1, 1, 0)/√2.
         let c45 = std::f64::consts::FRAC_1_SQRT_2;
         let x = cap3([1.0, 0.0, 0.0], c45);
         let y = cap3([0.0, 1.0, 0.0], c45);
-        let (points, tangent) = circle_intersections(&x, &y).unwrap();
+        let Meeting::Points(points, tangent, _) = circle_intersections(&x, &y, false) else {
+            panic!("tangent circles meet");
+        };
+        assert!(matches!(
+            circle_intersections(&x, &y, true),
+            Meeting::Ambiguous
+        ));
         assert!(tangent);
         let touch = Point::<3>::new(c45, c45, 0.0);
         assert!((points[0] - touch).norm() < 1e-6 && (points[1] - touch).norm() < 1e-6);
@@ -347,11 +472,30 @@ mod tests {
         };
         let mut caps = Caps::default();
         let tie = 1.0 / 3f64.sqrt();
-        assert!(!caps.classify(&caps_of(tie * (1.0 - 1e-6))).0);
-        assert!(!caps.classify(&caps_of(tie)).0, "tie is interior");
-        assert!(caps.classify(&caps_of(tie * (1.0 + 1e-6))).0);
+        assert!(!caps
+            .classify(&caps_of(tie * (1.0 - 1e-6)), 1e-12)
+            .0
+            .unwrap());
+        assert!(
+            !caps.classify(&caps_of(tie), 1e-12).0.unwrap(),
+            "tie is interior"
+        );
+        assert!(caps
+            .classify(&caps_of(tie * (1.0 + 1e-6)), 1e-12)
+            .0
+            .unwrap());
+        // The exact mode decides clear cases and leaves the tie to the exact predicate.
+        assert_eq!(
+            caps.classify(&caps_of(tie * (1.0 - 1e-6)), 0.0).0,
+            Some(false)
+        );
+        assert_eq!(caps.classify(&caps_of(tie), 0.0).0, None);
+        assert_eq!(
+            caps.classify(&caps_of(tie * (1.0 + 1e-6)), 0.0).0,
+            Some(true)
+        );
         // Five caps never cover: the sixth axis is free.
-        assert!(caps.classify(&caps_of(0.1)[..5]).0);
+        assert!(caps.classify(&caps_of(0.1)[..5], 1e-12).0.unwrap());
     }
 
     #[test]
@@ -363,7 +507,12 @@ mod tests {
         let mut caps = Caps::default();
         // A lone pair exactly 2r apart, or 2r minus a rounding error: boundary.
         for c in [1.0, 1.0 - 1e-15, 1.0 - 1e-12] {
-            assert!(caps.classify(&[point([0.0, 0.0, 1.0], c)]).0, "c = {c}");
+            assert!(
+                caps.classify(&[point([0.0, 0.0, 1.0], c)], 1e-12)
+                    .0
+                    .unwrap(),
+                "c = {c}"
+            );
         }
         // A point cap does not spoil a covering either.
         let mut six: Vec<Cap<3>> = [
@@ -377,6 +526,6 @@ mod tests {
         .map(|u| point(u, 0.5))
         .to_vec();
         six.push(point([0.6, 0.0, 0.8], 1.0));
-        assert!(!caps.classify(&six).0);
+        assert!(!caps.classify(&six, 1e-12).0.unwrap());
     }
 }

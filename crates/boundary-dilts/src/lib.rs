@@ -54,10 +54,11 @@
 //!
 //! The two readings differ only when a pairwise intersection point lies exactly on a third
 //! circle: a *tie*, where three or more circles pass through one point (a Voronoi vertex of
-//! `p_i` and three neighbours lying exactly on `S_i`). This crate uses the closed reading, which
-//! makes ties interior, the same rule as `boundary-exact`. (In a degenerate arrangement whose
-//! uncovered region has only such tie points as corners, the closed reading would say interior
-//! too; that needs cospherical points by construction and never happened on the shared scenes.)
+//! `p_i` and three neighbours lying exactly on `S_i`). With the default `tie = 0` such a point
+//! lies inside the float test's error band and the particle is decided by the exact predicate
+//! (below). With `tie > 0` the closed reading is used, which makes ties interior (in a
+//! degenerate arrangement whose uncovered region has only tie points as corners it would say
+//! interior too; that needs cospherical points by construction).
 //!
 //! The 3D test therefore computes, for every pair of caps whose circles meet (pairs whose
 //! centres are farther apart than `α_j + α_k`, or nested caps, are pruned first), the one or two
@@ -70,43 +71,84 @@
 //! one uncovered by every cap is a witness. Only particles whose small subsets do not decide go
 //! on to the full quadratic test.
 //!
+//! # Exactness: the float test as a filter, the exact predicate inside its bound
+//! With the default `tie = 0` the labels are the exact answer for the given `f64` input. The
+//! float covering test runs with no tolerance and answers only when every comparison it makes
+//! is farther from its threshold than a bound on its rounding error; otherwise (and for the
+//! degenerate configurations below) the particle is decided by
+//! [`boundary_core::exact_cover::sphere_uncovered`] (exact integer arithmetic on the exact
+//! differences `p_j − p_i`, shared with `exact`). `u = 2^-53`; the inputs `q_j = fl(fl(p_j −
+//! p_i)/r)` carry a relative error `<= 2u` per component, so `d_j`, `u_j`, `c_j = d_j/2` carry
+//! a few `u` each.
+//! - **2D.** Each arc end `θ_j ± α_j` is within `e_j = 64u + 8u/sin α_j` of its exact value
+//!   (`atan2` and the direction: a few `u`; `acos`: the error of `c_j` divided by `sin α_j`,
+//!   valid while that error is far below `sin² α_j`, i.e. `sin α_j >= 1e-6`; `rem_euclid` and
+//!   the sweep: a few `u·2π`). The margin (half the largest gap, or minus half the narrowest
+//!   overlap) is then within `E = max_j e_j` of the exact one, and the label is decided by the
+//!   float test iff `|margin| > 2E` and every `sin α_j >= 1e-6` (`THIN_ARC`).
+//! - **3D.** An intersection point of two circles is within
+//!   `err = 64u·(1 + 1/|w|² + 1/sqrt(h·|w|²)) + 16u` of the exact one (first order: `a`, `b`
+//!   divide by `|w|²`, `t` by `sqrt(h·|w|²)`; see `caps.rs` for `w`, `h`), and a point on an
+//!   isolated circle within `16u`. A probe point `x` is decided only if every cap value
+//!   `x·u_l − c_l` is outside `±(err + 16u)`: *covered* if one exceeds it, a *witness* if all
+//!   lie below it. Pairs with `h` or `|w|²` within `1e-8` of 0 (near-tangent or
+//!   near-concentric circles, where the first-order bound fails), caps with `sin α < 1e-4`
+//!   (neighbours near `2r`), and distinct near-twins merged by [`TWIN_TOLERANCE`] are left to
+//!   the exact predicate, as is any probe inside its band.
+//!
+//! *How often* (`cargo run --release -p boundary-dilts --example fallbacks`): never on the
+//! jittered and simulated sweep scenes; on lattice-like scenes every particle whose uncovered
+//! region has only multi-circle corners (lattice symmetry): all 256 / 1000 particles of the
+//! tie lattices, the 304 boundary particles of `duplicates3d`, 2,580 of 9,600 in
+//! `dualsphysics_dambreak3d`, 4,307 of 15,827 in `pysph_case5`.
+//!
+//! With every decision outside its band, the criterion (a)–(c) is evaluated exactly as in real
+//! arithmetic, in generic position (no point on three circles: that would put a cap value
+//! inside the band), where it is exact (proof above).
+//!
 //! # Policy: tolerances, ties, duplicates, degenerate input
-//! - **Covering tolerance** ([`COVER_TOLERANCE`]): a point `x` of `S_i` counts as covered by cap
-//!   `j` iff `x·u_j >= d_j/2 − 1e-12`; equivalently the neighbour balls are enlarged to radius
-//!   `r·sqrt(1 + 2·1e-12·d_j) ≈ r(1 + 1e-12·d_j)`. Exact ties (a point of `S_i` at exactly `r`
-//!   from a neighbour, as in perfect lattices at `r = a/√2` in 2D and `r = a·√3/2` in 3D) are
-//!   therefore interior. In 2D the same rule widens each arc, so an arc gap narrower than about
-//!   `1e-12/sin α` counts as covered.
+//! - **Ties.** A tie (a point of `S_i` at exactly `r` from the neighbours whose circles pass
+//!   through it) is interior, decided exactly. Perfect lattices at the float tie radius:
+//!   `fl(1/√2)` lies above `1/√2` (inner particles interior), `fl(√3/2)` below `√3/2` (every
+//!   particle boundary).
+//! - **Opt-in covering tolerance `tie`** (`--set tie=1e-12`, [`DiltsDetector::with_tie`]): a
+//!   point `x` of `S_i` counts as covered by cap `j` iff `x·u_j >= d_j/2 − tie`; equivalently
+//!   the neighbour balls are enlarged to radius `r·sqrt(1 + 2·tie·d_j) ≈ r(1 + tie·d_j)`, so
+//!   lattice round-off counts as a tie (interior), and the exact predicate is not used
+//!   (ties resolved by stepping off the tie point, `caps.rs`). `tie = 1e-12`
+//!   ([`COVER_TOLERANCE`]) gives the labels of release 0.1. Finite, `>= 0`.
 //! - **Duplicates.** Particles at exactly `p_i` (`d = 0`) do not cover `S_i` and are skipped; two
 //!   coincident particles alone are both boundary. Neighbours closer to one another than
-//!   [`TWIN_TOLERANCE`]`·r` give caps that coincide within the covering tolerance (a pair of
-//!   identical circles has no isolated intersection points, and a near-twin would "cover" its
-//!   twin's intersection points within tolerance): only the nearest of them is kept.
-//! - **Closedness at `2r`.** Neighbours at exactly `2r` are kept; their cap is a point. In 3D
-//!   caps of angular radius below about `1e-4` (neighbours within about `1e-8·r` of `2r`) are
-//!   then dropped: they are too thin for the covering test to step off, and a point never
-//!   decides a covering (a lone pair exactly `2r` apart is boundary, as in `boundary-exact`).
-//! - **Near-tangent circles** ([`TANGENT_TOLERANCE`]): two circles that miss each other by less
-//!   than the tolerance are treated as touching at one point; that only adds points to test.
-//! - **Floating point.** Intersection points are computed to about `1e-16/sin θ_jk` (`θ_jk` the
-//!   angle between the cap centres); the covering tolerance absorbs this except for nearly
-//!   concentric caps, which are near-twins or nested in practice.
+//!   [`TWIN_TOLERANCE`]`·r` give caps that coincide within rounding (a pair of
+//!   identical circles has no isolated intersection points): only the nearest of them is kept
+//!   (exact copies of a neighbour change nothing; distinct near-twins go to the exact
+//!   predicate when `tie = 0`).
+//! - **Closedness at `2r`.** Neighbours at `2r` or more cover at most one point of `S_i` and
+//!   never decide a covering. With `tie > 0`, 3D caps of angular radius below about `1e-4` are
+//!   dropped (they are too thin for the step-off test); with `tie = 0` such a particle goes to
+//!   the exact predicate, which drops neighbours at `2r` or more exactly.
+//! - **Near-tangent circles** ([`TANGENT_TOLERANCE`], `tie > 0` only): two circles that miss
+//!   each other by less than the tolerance are treated as touching at one point.
 //! - **Far offsets.** Only differences `p_j − p_i` enter the geometry, scaled by `1/r`, so scenes
-//!   at `1e6` with `r = 0.01` are classified as accurately as the input differences allow.
+//!   at `1e6` with `r = 0.01` are classified as accurately as the input differences allow (and
+//!   exactly, through the fallback, near ties).
 //!
 //! # Margins
 //! In 2D, [`Detection::margin`] holds, per particle, `r · max_{x ∈ S_i} min_j (∠(x, u_j) − α_j)`
-//! computed for the tolerance-widened arcs: half the width of the largest uncovered arc of `S_i`
-//! (as an arc length, units of length) when positive, minus half the narrowest overlap between
-//! consecutive arcs when negative. The label is exactly `margin > 0`. A particle with no
-//! neighbour has margin `π·r`. In 3D no margin is reported (`None`).
+//! computed for the (tolerance-widened, if `tie > 0`) arcs: half the width of the largest
+//! uncovered arc of `S_i` (as an arc length, units of length) when positive, minus half the
+//! narrowest overlap between consecutive arcs when negative. It is the float margin: the
+//! *label*, not the margin, is exact (near a tie the sign may disagree with the label). A
+//! particle with no neighbour has margin `π·r`. In 3D no margin is reported (`None`).
 //!
 //! # Hard cases
 //! What `dilts` returns on the hard cases of issue 11 (the test
 //! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
 //! them all and keeps the table of counts against `exact`, `+FP −FN`, in
 //! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`).
-//! The same labels as `exact` on every case: ties and near-ties (±4 ulps) interior, exact
+//! The same labels as `exact` on every case (both exact): lattices at the float tie radius and
+//! ±4 ulps decided exactly (square: interior inner particles from `fl(1/√2)` up; cubic: every
+//! particle boundary up to `fl(√3/2)`, inner particles interior above), exact
 //! duplicates as single particles, near-duplicates 1e-12 apart as neighbours, degenerate sets
 //! (single particles, pairs exactly `2r` apart, lines, collinear and coplanar 3D sets) all
 //! boundary, far offsets and `r` from 1e-9 to 1e9 unchanged, empty input empty. Two false
@@ -139,12 +181,13 @@ mod caps;
 
 use boundary_core::{
     AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, NeighbourGrid, ParamError,
-    Params, ParticleSet, Point, Radius,
+    ParamInfo, Params, ParticleSet, Point, Radius,
 };
 use rayon::prelude::*;
 
-/// Covering tolerance, in units of the scaled cap test `x·u_j >= d_j/2`: a point of `S_i` is
-/// covered by neighbour `j` iff `x·u_j >= d_j/2 − COVER_TOLERANCE`. Makes exact ties interior.
+/// The covering tolerance of release 0.1, now the opt-in parameter `tie`: with
+/// `--set tie=1e-12` a point of `S_i` counts as covered by neighbour `j` iff
+/// `x·u_j >= d_j/2 − 1e-12` (near-ties interior). The default `tie = 0` gives the exact labels.
 pub const COVER_TOLERANCE: f64 = 1e-12;
 
 /// Neighbours closer than `TWIN_TOLERANCE · r` to an already kept (nearer) neighbour are
@@ -155,15 +198,66 @@ pub const TWIN_TOLERANCE: f64 = 1e-11;
 /// (in the dimensionless discriminant `1 − (a·c_j + b·c_k)`, see `caps.rs`) touch at one point.
 pub const TANGENT_TOLERANCE: f64 = 1e-12;
 
+/// Unit roundoff of `f64`.
+pub(crate) const U: f64 = f64::EPSILON / 2.0;
+
 /// The reference detector (`dilts`): explicit covering of `S_i` by arcs (2D) or caps (3D).
 /// See the crate documentation.
-#[derive(Debug, Clone, Default)]
-pub struct DiltsDetector;
+///
+/// `DiltsDetector` is also a constant, the default detector (`tie = 0`), so
+/// `DiltsDetector.detect(…)` works as for a unit struct.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DiltsDetector {
+    tie: f64,
+}
+
+/// The default detector (`tie = 0`: exact labels).
+#[allow(non_upper_case_globals)]
+pub const DiltsDetector: DiltsDetector = DiltsDetector { tie: 0.0 };
+
+impl Default for DiltsDetector {
+    fn default() -> Self {
+        DiltsDetector
+    }
+}
 
 impl DiltsDetector {
-    /// The detector (it has no parameters).
+    /// The detector with exact labels (`tie = 0`).
     pub fn new() -> Self {
         DiltsDetector
+    }
+
+    /// The detector with covering tolerance `tie` (opt-in; crate docs). `tie` must be finite
+    /// and `>= 0`.
+    pub fn with_tie(tie: f64) -> Result<Self, ParamError> {
+        if tie.is_finite() && tie >= 0.0 {
+            Ok(DiltsDetector { tie })
+        } else {
+            Err(ParamError::invalid(
+                "dilts",
+                "tie",
+                &tie.to_string(),
+                "a finite number >= 0",
+            ))
+        }
+    }
+
+    /// The covering tolerance (`0` = exact labels).
+    pub fn tie(&self) -> f64 {
+        self.tie
+    }
+
+    /// Like [`BoundaryDetector::detect`], also returning how many particles the exact
+    /// predicate decided (those the float covering test could not decide within its bound).
+    pub fn detect_counting_fallbacks(
+        &self,
+        set: &AnyParticleSet,
+        r: Radius,
+    ) -> Result<(Detection, usize), DetectError> {
+        match set {
+            AnyParticleSet::D2(s) => detect_with::<2, arcs::Arcs>(s, s.len(), r, self.tie),
+            AnyParticleSet::D3(s) => detect_with::<3, caps::Caps>(s, s.len(), r, self.tie),
+        }
     }
 }
 
@@ -176,24 +270,39 @@ impl BoundaryDetector for DiltsDetector {
     }
 
     fn params(&self) -> Params {
-        Params::default()
+        Params(vec![ParamInfo {
+            name: "tie",
+            value: self.tie.to_string(),
+            default: "0".to_owned(),
+            description: "covering tolerance: x on S_i is covered by j iff x·u_j >= d_j/2 − tie \
+                          (e.g. 1e-12 treats lattice round-off as ties); 0 = exact labels",
+        }])
     }
 
-    fn set_param(&mut self, key: &str, _value: &str) -> Result<(), ParamError> {
-        Err(ParamError::unknown("dilts", key, &[]))
+    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        match key {
+            "tie" => {
+                let tie: f64 = value.parse().map_err(|_| {
+                    ParamError::invalid("dilts", key, value, "a finite number >= 0")
+                })?;
+                *self = DiltsDetector::with_tie(tie)?;
+                Ok(())
+            }
+            _ => Err(ParamError::unknown("dilts", key, &["tie"])),
+        }
     }
 
-    /// Exact up to [`COVER_TOLERANCE`], which only turns near-ties interior.
+    /// Exact: the float covering test decides the clear cases, the exact predicate the rest.
     fn certified(&self) -> bool {
         true
     }
 
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        detect_with::<2, arcs::Arcs>(set, set.len(), r)
+        Ok(detect_with::<2, arcs::Arcs>(set, set.len(), r, self.tie)?.0)
     }
 
     fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        detect_with::<3, caps::Caps>(set, set.len(), r)
+        Ok(detect_with::<3, caps::Caps>(set, set.len(), r, self.tie)?.0)
     }
 
     /// Classifies only the owned particles; the ghosts serve as neighbours only.
@@ -204,10 +313,10 @@ impl BoundaryDetector for DiltsDetector {
         r: Radius,
     ) -> Result<Detection, DetectError> {
         DetectError::check_owned("dilts", owned, set.len())?;
-        match set {
-            AnyParticleSet::D2(s) => detect_with::<2, arcs::Arcs>(s, owned, r),
-            AnyParticleSet::D3(s) => detect_with::<3, caps::Caps>(s, owned, r),
-        }
+        Ok(match set {
+            AnyParticleSet::D2(s) => detect_with::<2, arcs::Arcs>(s, owned, r, self.tie)?.0,
+            AnyParticleSet::D3(s) => detect_with::<3, caps::Caps>(s, owned, r, self.tie)?.0,
+        })
     }
 }
 
@@ -224,8 +333,10 @@ pub(crate) struct Cap<const D: usize> {
 /// The covering test of one dimension, given the caps of one particle (largest first).
 pub(crate) trait SphereCover<const D: usize>: Default + Send {
     /// Whether the caps fail to cover the sphere (boundary), and the margin (in units of `r`)
-    /// if the method defines one.
-    fn classify(&mut self, caps: &[Cap<D>]) -> (bool, Option<f64>);
+    /// if the method defines one. `tol > 0`: covering tolerance `tol`, always decided.
+    /// `tol == 0`: the exact mode; `None` when the float test cannot decide within its error
+    /// bound.
+    fn classify(&mut self, caps: &[Cap<D>], tol: f64) -> (Option<bool>, Option<f64>);
 }
 
 /// Per-thread working memory.
@@ -248,43 +359,75 @@ impl<const D: usize, C: Default> Default for Scratch<D, C> {
     }
 }
 
-/// Classifies the first `count` particles of `set` (all of them serve as neighbours).
+/// Classifies the first `count` particles of `set` (all of them serve as neighbours); also
+/// returns how many the exact predicate decided.
 fn detect_with<const D: usize, C: SphereCover<D>>(
     set: &ParticleSet<D>,
     count: usize,
     r: Radius,
-) -> Result<Detection, DetectError> {
+    tie: f64,
+) -> Result<(Detection, usize), DetectError> {
     let r = r.get();
     let grid = NeighbourGrid::new(set, 2.0 * r)?;
-    let results: Vec<(bool, Option<f64>)> = (0..count)
+    let results: Vec<(bool, Option<f64>, bool)> = (0..count)
         .into_par_iter()
         .map_init(Scratch::<D, C>::default, |scratch, i| {
-            gather_caps(set.positions(), &grid, i, r, scratch);
-            scratch.cover.classify(&scratch.caps)
+            let twins = gather_caps(set.positions(), &grid, i, r, scratch);
+            let (label, margin) = scratch.cover.classify(&scratch.caps, tie);
+            match label {
+                Some(b) if !(twins && tie == 0.0) => (b, margin, false),
+                _ => (exact_label(set.positions(), &grid, i, r), margin, true),
+            }
         })
         .collect();
-    let labels = results.iter().map(|&(b, _)| b).collect::<Labels>();
+    let fallbacks = results.iter().filter(|x| x.2).count();
+    let labels = results.iter().map(|x| x.0).collect::<Labels>();
     let margin = results
         .iter()
-        .map(|&(_, m)| m.map(|m| m * r))
+        .map(|x| x.1.map(|m| m * r))
         .collect::<Option<Vec<f64>>>();
-    Ok(Detection { labels, margin })
+    Ok((Detection { labels, margin }, fallbacks))
+}
+
+/// The exact label of particle `i` ([`boundary_core::exact_cover`]) from every particle the
+/// grid finds within `2r(1 + 1e-9)` (the predicate drops those at `2r` or more exactly).
+fn exact_label<const D: usize>(
+    positions: &[Point<D>],
+    grid: &NeighbourGrid<D>,
+    i: usize,
+    r: f64,
+) -> bool {
+    let p = positions[i];
+    let mut near: Vec<Point<D>> = Vec::new();
+    grid.for_each_within(&p, 2.0 * r * (1.0 + 1e-9), |j, _| {
+        if j != i {
+            near.push(positions[j]);
+        }
+    });
+    boundary_core::exact_cover::sphere_uncovered(&p, &near, r)
 }
 
 /// Fills `scratch.caps` with the caps of particle `i` on its sphere, largest (nearest
 /// neighbour) first, ties by index. Exact duplicates of `p_i` are skipped; near-twins are merged
 /// (see [`TWIN_TOLERANCE`]).
+///
+/// Returns whether a distinct near-twin was dropped (not an exact copy of a kept neighbour):
+/// in the exact mode (`tie == 0`) the particle then goes to the exact predicate.
 fn gather_caps<const D: usize, C>(
     positions: &[Point<D>],
     grid: &NeighbourGrid<D>,
     i: usize,
     r: f64,
     scratch: &mut Scratch<D, C>,
-) {
+) -> bool {
+    let mut dropped_twin = false;
     let p = positions[i];
     let neighbours = &mut scratch.neighbours;
     neighbours.clear();
-    grid.for_each_within(&p, 2.0 * r, |j, d2| {
+    // A little beyond 2r, so that no neighbour whose exact distance is below 2r is lost to the
+    // rounding of the query (the extra caps are points: the exact mode leaves them to the exact
+    // predicate, the tolerant mode drops them).
+    grid.for_each_within(&p, 2.0 * r * (1.0 + 1e-12), |j, d2| {
         // d2 == 0: `i` itself or an exact duplicate, which does not cover S_i.
         if d2 > 0.0 {
             neighbours.push((d2, j));
@@ -306,8 +449,9 @@ fn gather_caps<const D: usize, C>(
             .iter()
             .rev()
             .take_while(|(dk, _)| d - dk <= TWIN_TOLERANCE)
-            .any(|(_, qk)| (q - qk).norm() <= TWIN_TOLERANCE);
-        if twin {
+            .find(|(_, qk)| (q - qk).norm() <= TWIN_TOLERANCE);
+        if let Some((_, qk)) = twin {
+            dropped_twin |= q != *qk;
             continue;
         }
         kept.push((d, q));
@@ -317,4 +461,5 @@ fn gather_caps<const D: usize, C>(
             half_distance: (0.5 * d).min(1.0),
         });
     }
+    dropped_twin
 }

@@ -12,6 +12,10 @@ pub(crate) const PLANE_EPS: f64 = 1e-12;
 /// Cap points of one clip closer than this to each other are merged into one vertex.
 const MERGE_EPS2: f64 = 1e-24;
 
+/// Cap points whose pseudo-angles around the cap centroid differ by less than this make the
+/// clip near-degenerate (their order may be wrong in floating point).
+const ANGLE_EPS: f64 = 1e-12;
+
 /// Operations the cell-clipping driver needs from a cell.
 pub(crate) trait ConvexCell<const D: usize> {
     /// Resets the cell to the box `[-1, 1]^D`.
@@ -20,6 +24,11 @@ pub(crate) trait ConvexCell<const D: usize> {
     fn clip(&mut self, n: &[f64; D], offset: f64);
     /// Largest squared distance of a vertex from the origin.
     fn max_norm2(&self) -> f64;
+    /// Whether a clip since the last reset was near-degenerate: it cut the cell while a vertex
+    /// lay within [`PLANE_EPS`] of the plane, or (3D) it merged cap points or met two cap
+    /// points at nearly the same angle. The error bound of the crate docs assumes no such clip;
+    /// a flagged particle is decided by the exact predicate.
+    fn degenerate(&self) -> bool;
 }
 
 fn dot<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
@@ -45,6 +54,7 @@ fn crossing<const D: usize>(a: &[f64; D], b: &[f64; D], sa: f64, sb: f64) -> [f6
 pub(crate) struct Polygon {
     verts: Vec<[f64; 2]>,
     scratch: Vec<[f64; 2]>,
+    degenerate: bool,
 }
 
 impl ConvexCell<2> for Polygon {
@@ -52,6 +62,7 @@ impl ConvexCell<2> for Polygon {
         self.verts.clear();
         self.verts
             .extend_from_slice(&[[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]);
+        self.degenerate = false;
     }
 
     fn clip(&mut self, n: &[f64; 2], offset: f64) {
@@ -64,9 +75,17 @@ impl ConvexCell<2> for Polygon {
                 s
             }
         };
-        if self.verts.iter().all(|v| signed(v) <= 0.0) {
+        let mut out = false;
+        let mut near = false;
+        for v in &self.verts {
+            let s = dot(n, v) - offset;
+            out |= s > PLANE_EPS;
+            near |= s.abs() <= PLANE_EPS;
+        }
+        if !out {
             return;
         }
+        self.degenerate |= near;
         self.scratch.clear();
         let m = self.verts.len();
         for k in 0..m {
@@ -86,6 +105,10 @@ impl ConvexCell<2> for Polygon {
     fn max_norm2(&self) -> f64 {
         self.verts.iter().map(norm2).fold(0.0, f64::max)
     }
+
+    fn degenerate(&self) -> bool {
+        self.degenerate
+    }
 }
 
 /// A convex polyhedron stored as vertices and edges (faces are not needed: a plane meets the
@@ -102,6 +125,7 @@ pub(crate) struct Polyhedron {
     new_edges: Vec<[u32; 2]>,
     cap: Vec<u32>,
     cap_angle: Vec<(f64, u32)>,
+    degenerate: bool,
 }
 
 const GONE: u32 = u32::MAX;
@@ -112,6 +136,7 @@ impl Polyhedron {
         for &c in &self.cap {
             let y = self.new_verts[c as usize];
             if norm2(&[x[0] - y[0], x[1] - y[1], x[2] - y[2]]) <= MERGE_EPS2 {
+                self.degenerate = true;
                 return c;
             }
         }
@@ -157,6 +182,9 @@ impl Polyhedron {
         self.cap_angle
             .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         for j in 0..k {
+            if self.cap_angle[(j + 1) % k].0 - self.cap_angle[j].0 < ANGLE_EPS && j + 1 < k {
+                self.degenerate = true;
+            }
             let a = self.cap_angle[j].1;
             let b = self.cap_angle[(j + 1) % k].1;
             self.new_edges.push([a, b]);
@@ -207,20 +235,28 @@ impl ConvexCell<3> for Polyhedron {
                 }
             }
         }
+        self.degenerate = false;
     }
 
     fn clip(&mut self, n: &[f64; 3], offset: f64) {
         self.side.clear();
         let mut any_out = false;
+        let mut near = false;
         for v in &self.verts {
             let s = dot(n, v) - offset;
-            let s = if s.abs() <= PLANE_EPS { 0.0 } else { s };
+            let s = if s.abs() <= PLANE_EPS {
+                near = true;
+                0.0
+            } else {
+                s
+            };
             any_out |= s > 0.0;
             self.side.push(s);
         }
         if !any_out {
             return;
         }
+        self.degenerate |= near;
         self.new_verts.clear();
         self.new_edges.clear();
         self.cap.clear();
@@ -268,6 +304,10 @@ impl ConvexCell<3> for Polyhedron {
 
     fn max_norm2(&self) -> f64 {
         self.verts.iter().map(norm2).fold(0.0, f64::max)
+    }
+
+    fn degenerate(&self) -> bool {
+        self.degenerate
     }
 }
 

@@ -37,29 +37,85 @@
 //! (see `cell.rs`). Particles are processed in parallel with rayon; each particle is
 //! independent, so the labels do not depend on the number of threads.
 //!
+//! # Exactness: a float filter with a proven bound, and an exact fallback
+//! The labels are the exact answer for the given `f64` input (with the default `tie = 0`).
+//! The float clipping above decides a particle when its margin is clearly away from 0; the
+//! others go to [`boundary_core::exact_cover::sphere_uncovered`], which decides the same
+//! question in exact integer arithmetic (exact differences `p_j − p_i`, rational cell
+//! vertices; see its docs).
+//!
+//! *The bound.* Units of `r`, coordinates relative to `p_i`, `u = 2^-53`. Let `C` be the exact
+//! cell (with the box), `F` the float cell after `m` clips, `ρ0 = min(1, h_min)` with `h_min`
+//! the smallest bisector offset used (then `C` and every used half-space contain the ball
+//! `B(0, ρ0)`). Facts, each elementary:
+//! 1. *Scaling sandwich.* For half-spaces `n·x <= h` with unit `n` and `h >= ρ0`, moving the
+//!    offset by `±δ` lies between the scalings by `1 ± δ/ρ0`: `H^{+δ} ⊆ (1 + δ/ρ0)H` and
+//!    `(1 − δ/ρ0)H ⊆ H^{−δ}`. Exact clipping preserves a sandwich `(1+β)^{-1}C' ⊆ F ⊆
+//!    (1+β)C'` (intersect both sides with `H`, and `λH ⊆ H ⊆ H/λ` for `λ <= 1`), and composing
+//!    steps multiplies the factors. No condition number enters: near-parallel planes cost
+//!    nothing, which is why a margin bound exists at all.
+//! 2. *Planes.* `q̃ = fl(fl(p_j − p_i)/r)` has relative error `<= 2u` per component, so the used
+//!    `(n, offset)` differ from the exact bisector by `<= 8u` in the normal and `<= 5u·offset`;
+//!    for `|x| <= √D <= 2` that is an offset shift `<= 24u`.
+//! 3. *A clip that cuts,* with every vertex's computed `s = n·v − offset` farther than
+//!    `PLANE_EPS = 1e-12` from 0 (its rounding is `<= 12u`), classifies every vertex correctly;
+//!    each crossing point `a + t(b − a)` lies on the edge within `4u` and within `40u` of the
+//!    plane, so the new cell is sandwiched between the exact clip at offsets `∓64u`.
+//!    A clip that cuts nothing changes nothing and ignores at most `PLANE_EPS` of depth.
+//!    Pruned neighbours (`offset >= reach`) and the settled stop (`reach <= 1 − 1e-6`) are
+//!    clips of the first kind covered by the sandwich.
+//!
+//! Hence `(1+β)^{-1}C ⊆ F ⊆ (1+β)C` with `β = (24u + m·(64u + PLANE_EPS))/ρ0`, and the float
+//! reach is within a factor `1 + β` (plus `3u` for `max |v|`) of the exact one: the label is
+//! exact whenever `|margin| > τ = 2(2β·max(reach, 1) + 8u)` (a factor 2 of safety). Typical
+//! values: `m ≈ 15`, `ρ0 ≈ 0.4`, `τ ≈ 1e-10`.
+//!
+//! *What the bound assumes,* and is checked at run time: no clip was *near-degenerate* (one
+//! that cuts while a vertex lies within `PLANE_EPS` of its plane, or that merges two cap points
+//! or meets two at nearly equal angles, `cell.rs`). There the float topology could differ from
+//! the exact one, so such particles always go to the exact predicate.
+//!
+//! *How often* (`cargo run --release -p boundary-dilts --example fallbacks`): on the
+//! 1M-particle jittered ball (`r = 1.2a`) no particle needs the fallback; on the sweep scenes
+//! none either, except the inner particles of the two perfect lattices at their tie radius
+//! (196 of 256 in 2D, 512 of 1000 in 3D: genuine near-ties) and `pysph_case5` (15,423 of
+//! 15,827: a perfect lattice whose bisectors cut exactly through cell vertices, so nearly every
+//! clip is flagged near-degenerate). Lattices have small integer coordinates: the `i128`
+//! path, tens of microseconds per particle.
+//!
 //! # Policy: ties, duplicates, degenerate input
 //! - **Ties.** A cell that reaches exactly to `r` touches `S_i` only at points equidistant from
 //!   `p_i` and another particle, which the closed ball of that particle covers: a tie is
-//!   *interior*. In floating point a particle is boundary iff its margin exceeds
-//!   [`TIE_TOLERANCE`]`·r`; margins within `±TIE_TOLERANCE·r` are near-ties, classified interior.
-//!   Perfect lattices at `r = a/√2` (2D) and `r = a·√3/2` (3D) are exact ties for every
-//!   interior particle, and come out interior.
+//!   *interior*, decided exactly. Perfect lattices at `r = a/√2` (2D) and `r = a·√3/2` (3D) are
+//!   exact ties for every inner particle *if `r` is the exact tie*; a float `r` is one ulp
+//!   above or below it: `fl(1/√2)` lies above `1/√2` (inner particles interior), `fl(√3/2)`
+//!   lies below `√3/2` (the cube corners are uncovered: every particle boundary).
+//! - **Opt-in tolerance `tie`** (`--set tie=1e-9`, [`ExactDetector::with_tie`]): a particle is
+//!   boundary iff its float margin exceeds `tie·r`; margins within `±tie·r` count as ties
+//!   (interior) and the exact fallback is not used. For users who want lattice round-off treated
+//!   as ties; `tie = 1e-9` ([`TIE_TOLERANCE`]) gives the labels of release 0.1. Finite, `>= 0`.
+//! - **Margins** are the float margins (`(max |v| − 1)·r`): meaningful to about `τ·r`; the
+//!   *label*, not the margin, is exact. Near a tie the margin's sign may disagree with the label.
 //! - **Duplicates.** Particles at exactly the same position as `p_i` do not cover `S_i`: they are
 //!   ignored when building `V_i`. Two coincident particles alone are both boundary.
 //!   Near-duplicates (distinct positions, however close) are ordinary neighbours.
 //! - **Clipping tolerance.** Vertices within `1e-12·r` of a clipping plane count as on it
-//!   (`cell::PLANE_EPS`); this can shift a margin by about `1e-12·r`, well inside the tie band.
+//!   (`cell::PLANE_EPS`); this enters the bound above.
 //! - **Margins saturate.** The cell starts as the box `[p_i − r, p_i + r]`, so a particle with
 //!   no neighbour has margin `(√D − 1)·r`, the largest possible.
-//! - Neighbours at exactly `2r` are included (closed), though their ball only touches `S_i`.
+//! - Neighbours at `2r` or more change nothing (their ball touches `S_i` at one point at most);
+//!   the exact predicate excludes them exactly.
 //!
 //! # Hard cases
 //! What `exact` returns on the hard cases of issue 11 (the test
 //! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
 //! them all and keeps the table of counts against `exact`, `+FP −FN`, in
 //! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`):
-//! - Perfect lattices at the tie radius (`a/√2` in 2D, `a·√3/2` in 3D) and 4 ulps either side
-//!   of it: interior particles are interior (near-ties, within [`TIE_TOLERANCE`]`·r`).
+//! - Perfect lattices at the float tie radius and 4 ulps either side of it: decided exactly.
+//!   Square lattice: at `fl(1/√2)` and above, inner particles interior; 4 ulps below, every
+//!   particle boundary. Cubic lattice: at `fl(√3/2)` and 4 ulps below, every particle
+//!   boundary; 4 ulps above, inner particles interior. (With `tie=1e-9`: inner particles
+//!   interior at all of them, as in release 0.1.)
 //! - Exact duplicates: each copy gets the label of the single particle (a doubled 5³ lattice at
 //!   `r = 1.2`: the 98 surface positions, twice). Near-duplicates 1e-12 apart are neighbours
 //!   like any other, and a twin covers the half of `S_i` facing it, so 18 of those 196 copies
@@ -84,15 +140,17 @@
 
 mod cell;
 
+use boundary_core::exact_cover;
 use boundary_core::{
     AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, NeighbourGrid, ParamError,
-    Params, ParticleSet, Point, Radius,
+    ParamInfo, Params, ParticleSet, Point, Radius,
 };
 use cell::{ConvexCell, Polygon, Polyhedron};
 use rayon::prelude::*;
 
-/// Relative tie band: a particle is boundary iff its margin exceeds `TIE_TOLERANCE · r`.
-/// Cells reaching beyond `r` by less than this are near-ties and classified interior.
+/// The tolerance of the opt-in parameter `tie` up to release 0.1: with `--set tie=1e-9` a
+/// particle is boundary iff its float margin exceeds `1e-9·r` (lattice round-off counted as
+/// ties). The default `tie = 0` gives the exact labels instead.
 pub const TIE_TOLERANCE: f64 = 1e-9;
 
 /// Clipping stops once every vertex lies within `(1 − INTERIOR_BAND)·r`: the particle is then
@@ -104,14 +162,65 @@ pub const INTERIOR_BAND: f64 = 1e-6;
 /// particles (a jittered cubic lattice needs about 6 to 10), the rest only when needed.
 const FIRST_BATCH: usize = 16;
 
+/// Unit roundoff of `f64`.
+const U: f64 = f64::EPSILON / 2.0;
+
 /// The exact detector (`exact`): restricted Voronoi cells. See the crate documentation.
-#[derive(Debug, Clone, Default)]
-pub struct ExactDetector;
+///
+/// `ExactDetector` is also a constant, the default detector (`tie = 0`), so
+/// `ExactDetector.detect(…)` works as for a unit struct.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ExactDetector {
+    tie: f64,
+}
+
+/// The default exact detector (`tie = 0`: exact labels).
+#[allow(non_upper_case_globals)]
+pub const ExactDetector: ExactDetector = ExactDetector { tie: 0.0 };
+
+impl Default for ExactDetector {
+    fn default() -> Self {
+        ExactDetector
+    }
+}
 
 impl ExactDetector {
-    /// The detector (it has no parameters).
+    /// The detector with exact labels (`tie = 0`).
     pub fn new() -> Self {
         ExactDetector
+    }
+
+    /// The detector that calls a particle interior when its float margin is at most `tie·r`
+    /// (opt-in; see the crate docs). `tie` must be finite and `>= 0`.
+    pub fn with_tie(tie: f64) -> Result<Self, ParamError> {
+        if tie.is_finite() && tie >= 0.0 {
+            Ok(ExactDetector { tie })
+        } else {
+            Err(ParamError::invalid(
+                "exact",
+                "tie",
+                &tie.to_string(),
+                "a finite number >= 0",
+            ))
+        }
+    }
+
+    /// The tie tolerance (`0` = exact labels).
+    pub fn tie(&self) -> f64 {
+        self.tie
+    }
+
+    /// Like [`BoundaryDetector::detect`], also returning how many particles the exact
+    /// fallback decided (those whose float decision fell inside its error bound).
+    pub fn detect_counting_fallbacks(
+        &self,
+        set: &AnyParticleSet,
+        r: Radius,
+    ) -> Result<(Detection, usize), DetectError> {
+        match set {
+            AnyParticleSet::D2(s) => detect_with::<2, Polygon>(s, s.len(), r, self.tie),
+            AnyParticleSet::D3(s) => detect_with::<3, Polyhedron>(s, s.len(), r, self.tie),
+        }
     }
 }
 
@@ -124,11 +233,26 @@ impl BoundaryDetector for ExactDetector {
     }
 
     fn params(&self) -> Params {
-        Params::default()
+        Params(vec![ParamInfo {
+            name: "tie",
+            value: self.tie.to_string(),
+            default: "0".to_owned(),
+            description: "tie tolerance: boundary iff the float margin exceeds tie·r (e.g. 1e-9 \
+                          treats lattice round-off as ties); 0 = exact labels (definition, JCP Sec. 2)",
+        }])
     }
 
-    fn set_param(&mut self, key: &str, _value: &str) -> Result<(), ParamError> {
-        Err(ParamError::unknown("exact", key, &[]))
+    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        match key {
+            "tie" => {
+                let tie: f64 = value.parse().map_err(|_| {
+                    ParamError::invalid("exact", key, value, "a finite number >= 0")
+                })?;
+                *self = ExactDetector::with_tie(tie)?;
+                Ok(())
+            }
+            _ => Err(ParamError::unknown("exact", key, &["tie"])),
+        }
     }
 
     fn certified(&self) -> bool {
@@ -136,11 +260,11 @@ impl BoundaryDetector for ExactDetector {
     }
 
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        detect_with::<2, Polygon>(set, set.len(), r)
+        Ok(detect_with::<2, Polygon>(set, set.len(), r, self.tie)?.0)
     }
 
     fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        detect_with::<3, Polyhedron>(set, set.len(), r)
+        Ok(detect_with::<3, Polyhedron>(set, set.len(), r, self.tie)?.0)
     }
 
     /// Classifies only the owned particles; the ghosts serve as neighbours only. A halo of
@@ -152,10 +276,10 @@ impl BoundaryDetector for ExactDetector {
         r: Radius,
     ) -> Result<Detection, DetectError> {
         DetectError::check_owned("exact", owned, set.len())?;
-        match set {
-            AnyParticleSet::D2(s) => detect_with::<2, Polygon>(s, owned, r),
-            AnyParticleSet::D3(s) => detect_with::<3, Polyhedron>(s, owned, r),
-        }
+        Ok(match set {
+            AnyParticleSet::D2(s) => detect_with::<2, Polygon>(s, owned, r, self.tie)?.0,
+            AnyParticleSet::D3(s) => detect_with::<3, Polyhedron>(s, owned, r, self.tie)?.0,
+        })
     }
 }
 
@@ -166,12 +290,25 @@ struct Scratch<C> {
     neighbours: Vec<(f64, usize)>,
 }
 
-/// Classifies the first `count` particles of `set` (all of them are neighbours).
+/// What the float clipping says about one particle.
+struct FloatCell {
+    /// `max |v| − 1` over the float cell's vertices, in units of `r`.
+    margin: f64,
+    /// The error bound `τ` of the crate docs: the exact margin has the same sign as `margin`
+    /// whenever `|margin| > tau` (and the run was not flagged degenerate).
+    tau: f64,
+    /// A clip was near-degenerate (see `cell::ConvexCell::degenerate`): no bound.
+    degenerate: bool,
+}
+
+/// Classifies the first `count` particles of `set` (all of them are neighbours); also returns
+/// the number of particles decided by the exact fallback.
 fn detect_with<const D: usize, C>(
     set: &ParticleSet<D>,
     count: usize,
     r: Radius,
-) -> Result<Detection, DetectError>
+    tie: f64,
+) -> Result<(Detection, usize), DetectError>
 where
     C: ConvexCell<D> + Default + Send,
 {
@@ -179,34 +316,65 @@ where
     // Cells of side r, queried at 2r: the 5^D visited cells hold fewer non-neighbours than
     // the 3^D cells of side 2r (1M-particle ball, 1 thread: 3.6 s -> 3.35 s).
     let grid = NeighbourGrid::new(set, r)?;
-    let margins: Vec<f64> = (0..count)
+    let results: Vec<(f64, bool, bool)> = (0..count)
         .into_par_iter()
         .map_init(Scratch::<C>::default, |scratch, i| {
-            cell_margin(set.positions(), &grid, i, r, scratch) * r
+            let cell = cell_margin(set.positions(), &grid, i, r, scratch);
+            let margin = cell.margin * r;
+            if tie > 0.0 {
+                return (margin, margin > tie * r, false);
+            }
+            if !cell.degenerate && cell.margin.abs() > cell.tau {
+                return (margin, cell.margin > 0.0, false);
+            }
+            (margin, exact_label(set.positions(), &grid, i, r), true)
         })
         .collect();
-    let labels = margins
-        .iter()
-        .map(|&m| m > TIE_TOLERANCE * r)
-        .collect::<Labels>();
-    Ok(Detection {
-        labels,
-        margin: Some(margins),
-    })
+    let fallbacks = results.iter().filter(|x| x.2).count();
+    let labels = results.iter().map(|x| x.1).collect::<Labels>();
+    let margins = results.into_iter().map(|x| x.0).collect();
+    Ok((
+        Detection {
+            labels,
+            margin: Some(margins),
+        },
+        fallbacks,
+    ))
 }
 
-/// `max |v| − 1` over the vertices of particle `i`'s restricted Voronoi cell, in units of `r`.
+/// The exact label of particle `i` ([`boundary_core::exact_cover`]), from every particle the
+/// grid finds within `2r(1 + 1e-9)`: a superset of the neighbours whose exact distance is below
+/// `2r` despite the rounding of the query; the predicate drops the others exactly.
+fn exact_label<const D: usize>(
+    positions: &[Point<D>],
+    grid: &NeighbourGrid<D>,
+    i: usize,
+    r: f64,
+) -> bool {
+    let p = positions[i];
+    let mut near: Vec<Point<D>> = Vec::new();
+    grid.for_each_within(&p, 2.0 * r * (1.0 + 1e-9), |j, _| {
+        if j != i {
+            near.push(positions[j]);
+        }
+    });
+    exact_cover::sphere_uncovered(&p, &near, r)
+}
+
+/// The float restricted Voronoi cell of particle `i`, with its error bound (crate docs).
 fn cell_margin<const D: usize, C: ConvexCell<D>>(
     positions: &[Point<D>],
     grid: &NeighbourGrid<D>,
     i: usize,
     r: f64,
     scratch: &mut Scratch<C>,
-) -> f64 {
+) -> FloatCell {
     let p = positions[i];
     let neighbours = &mut scratch.neighbours;
     neighbours.clear();
-    grid.for_each_within(&p, 2.0 * r, |j, d2| {
+    // A little beyond 2r, so that no neighbour whose exact distance is below 2r is lost to the
+    // rounding of the query (a bisector just beyond r only trims the cell there: harmless).
+    grid.for_each_within(&p, 2.0 * r * (1.0 + 1e-12), |j, d2| {
         // d2 == 0: `i` itself or an exact duplicate, which does not cover (crate docs).
         if d2 > 0.0 {
             neighbours.push((d2, j));
@@ -223,6 +391,9 @@ fn cell_margin<const D: usize, C: ConvexCell<D>>(
     cell.reset_box();
     let mut reach = (D as f64).sqrt();
     let settled = 1.0 - INTERIOR_BAND;
+    // ρ0: a ball around the origin inside every used half-space (the box has inradius 1).
+    let mut rho0 = 1.0f64;
+    let mut clips = 0usize;
     for k in 0..neighbours.len() {
         if k == first {
             neighbours[first..].sort_unstable_by(by_distance);
@@ -235,12 +406,24 @@ fn cell_margin<const D: usize, C: ConvexCell<D>>(
             // Sorted nearest first: no remaining bisector can reach the cell.
             break;
         }
+        rho0 = rho0.min(offset);
         let n: [f64; D] = std::array::from_fn(|k| q[k] / len);
         cell.clip(&n, offset);
+        clips += 1;
         reach = cell.max_norm2().sqrt();
         if reach <= settled {
             break;
         }
     }
-    reach - 1.0
+    // The bound of the crate docs ("Exactness"): β = (24u + m·(64u + PLANE_EPS)) / ρ0 for m
+    // clips, ρ0 shrunk by the offsets' relative error 8u; τ = 2·β·max(reach, 1) + 8u, doubled
+    // for safety.
+    let rho0 = rho0 * (1.0 - 8.0 * U);
+    let beta = (24.0 * U + clips as f64 * (64.0 * U + cell::PLANE_EPS)) / rho0;
+    let tau = 2.0 * (2.0 * beta * reach.max(1.0) + 8.0 * U);
+    FloatCell {
+        margin: reach - 1.0,
+        tau,
+        degenerate: cell.degenerate(),
+    }
 }

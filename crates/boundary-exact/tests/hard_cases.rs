@@ -127,11 +127,24 @@ fn cubic_lattice_counts_and_exact_ties() {
         run3(&rows, 1.2).labels.boundary_count(),
         n * n * n - inner(n, 3)
     );
+    // fl(√3/2) lies 1 ulp below a·√3/2: the cube corners are uncovered, every particle is
+    // boundary (exact labels); the next float up is above the tie: inner particles interior.
     let r = 3f64.sqrt() / 2.0;
     let d = run3(&rows, r);
-    assert_eq!(d.labels.boundary_count(), n * n * n - inner(n, 3));
+    assert_eq!(d.labels.boundary_count(), n * n * n);
     let centre = (n / 2 * n + n / 2) * n + n / 2;
     assert!(d.margin.unwrap()[centre].abs() <= TIE_TOLERANCE * r);
+    let up = run3(&rows, r.next_up());
+    assert_eq!(up.labels.boundary_count(), n * n * n - inner(n, 3));
+    // The opt-in tolerance `tie=1e-9` treats the round-off as a tie: interior again.
+    let loose = ExactDetector::with_tie(TIE_TOLERANCE)
+        .unwrap()
+        .detect_3d(
+            &ParticleSet::from_rows(&rows).unwrap(),
+            Radius::new(r).unwrap(),
+        )
+        .unwrap();
+    assert_eq!(loose.labels.boundary_count(), n * n * n - inner(n, 3));
     assert_eq!(
         run3(&rows, r * (1.0 - 1e-6)).labels.boundary_count(),
         n * n * n

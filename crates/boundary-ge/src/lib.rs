@@ -77,8 +77,12 @@
 //! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`).
 //! No false negative on any case (certified). The differences from `exact` are false
 //! positives:
-//! - Perfect lattices at the tie radius and 4 ulps either side: every particle boundary (+100
-//!   of 144 in 2D, +125 of 343 in 3D); ties stay partial at every depth (see Ties above).
+//! - Perfect lattices at the float tie radius and 4 ulps either side: every particle boundary.
+//!   Where the float radius lies below the exact tie (square lattice 4 ulps below `fl(1/√2)`,
+//!   cubic lattice at `fl(√3/2)` and 4 ulps below) that is the exact answer; above it the
+//!   inner particles are exact ties or near-ties and stay partial at every depth: +100 of 144
+//!   in 2D, +125 of 343 in 3D, false positives, never false negatives (also checked on the
+//!   near-tie lattices at `tie·(1 ± k·1e-10)` of `boundary_scenes::certify::near_tie_cases`).
 //! - Near-duplicates 1e-12 apart: closer than the cover margin, 18 false positives.
 //! - Jittered lattices at the default depth 6: at most 1 false positive.
 //!

@@ -34,11 +34,14 @@
 //!
 //! # Policy: tolerances, ties, duplicates, degenerate input
 //! - **Arithmetic.** The box images are computed in coordinates relative to `p_i` and scaled by
-//!   `1/r` (so scenes at `1e6` with `r = 0.01` lose nothing to the offset), without outward
-//!   rounding, as the paper does (Appendix): the geometric resolution `2^-depth` is far above the
-//!   floating-point resolution. The interval image of `|x − q|²` is exact, so there is no
-//!   overestimation to tune.
-//! - **Ties.** Closed balls: `max f_j(Q) <= 0` counts as covered, so a box touching `S_j` from
+//!   `1/r` (so scenes at `1e6` with `r = 0.01` lose nothing to the offset). The interval image
+//!   of `|x − q|²` is exact in real arithmetic, so there is no overestimation to tune; its
+//!   floating-point rounding is bounded (`IMAGE_ERROR`, about `6e-14`) and rounded outward where
+//!   a wrong answer could hide a boundary particle: a box is *covered* only if `max f_j <=
+//!   −IMAGE_ERROR`, and a box counts as meeting `S_i` when a corner is within rounding of it.
+//!   (The paper computes without outward rounding; near-tie lattices, `tie·(1 ± k·1e-10)` and
+//!   ±4 ulps, showed no false negative either way, but only the rounded test is a proof.)
+//! - **Ties.** Closed balls, rounded outward: `max f_j(Q) <= −IMAGE_ERROR` counts as covered; a box touching `S_j` from
 //!   inside is covered. At an exact tie (a point of `S_i` covered only on the spheres of its
 //!   neighbours, as in perfect lattices at `r = a/√2` in 2D or `a·√3/2` in 3D) boxes around the
 //!   tie point stay partial at every depth, and R4 labels the particle boundary: for `ia`,
@@ -59,8 +62,12 @@
 //! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`).
 //! No false negative on any case (certified). The differences from `exact` are false
 //! positives:
-//! - Perfect lattices at the tie radius and 4 ulps either side: every particle boundary (+100
-//!   of 144 in 2D, +125 of 343 in 3D): a tie cannot be certified by intervals (see Ties above).
+//! - Perfect lattices at the float tie radius and 4 ulps either side: every particle boundary.
+//!   Where the float radius lies below the exact tie (square lattice 4 ulps below `fl(1/√2)`,
+//!   cubic lattice at `fl(√3/2)` and 4 ulps below) that is the exact answer; above it the
+//!   inner particles are exact ties or near-ties and stay partial at every depth: +100 of 144
+//!   in 2D, +125 of 343 in 3D, false positives, never false negatives (also checked on the
+//!   near-tie lattices at `tie·(1 ± k·1e-10)` of `boundary_scenes::certify::near_tie_cases`).
 //! - Near-duplicates 1e-12 apart: their covering is too thin to certify, 18 false positives.
 //! - Jittered lattices at the default depth 6: 1–7 false positives.
 //!
@@ -292,10 +299,20 @@ fn image<const D: usize>(lo: &Point<D>, size: f64, c: &Point<D>) -> (f64, f64) {
     (min, max)
 }
 
-/// The relation of a box to a ball from the image of `f` over the box.
+/// Bound on the rounding error of [`image`]'s `max` (and `min`) for a box in `[-1, 1]^D` and
+/// a centre within distance 2 (crate docs, "Arithmetic"): every difference `lo − c` carries the
+/// rounding of `c = fl(fl(p_j − p_i)/r)` (relative `2u`) and its own (`u`), so each square is
+/// within a relative `7u` of `(lo − c_true)²` (at most 9 in magnitude), and the sum of `D + 1`
+/// terms adds `(D + 1)u` of at most `9D + 1`: below `(9D + 1)·(7u + 4u) <= 28·11u` in 3D.
+/// Taken as `512u ≈ 5.7e-14`.
+const IMAGE_ERROR: f64 = 512.0 * (f64::EPSILON / 2.0);
+
+/// The relation of a box to a ball from the image of `f` over the box. *Inside* needs
+/// `max <= −IMAGE_ERROR`: outward rounding, so that a box counted covered is covered in exact
+/// arithmetic for the given input (no false negative from rounding).
 #[inline]
 fn classify((min, max): (f64, f64)) -> Relation {
-    if max <= 0.0 {
+    if max <= -IMAGE_ERROR {
         Relation::Inside
     } else if min > 0.0 {
         Relation::Outside
@@ -308,7 +325,7 @@ fn classify((min, max): (f64, f64)) -> Relation {
 /// vertices differ; see the crate docs).
 #[inline]
 fn is_boundary_box<const D: usize>(lo: &Point<D>, size: f64) -> bool {
-    let mut inside = 0usize;
+    let (mut inside, mut outside) = (0usize, 0usize);
     for corner in 0..(1usize << D) {
         let mut n2 = 0.0;
         for a in 0..D {
@@ -319,11 +336,17 @@ fn is_boundary_box<const D: usize>(lo: &Point<D>, size: f64) -> bool {
             };
             n2 += x * x;
         }
-        if n2 <= 1.0 {
+        // The corners are exact dyadic numbers; n2 carries at most (D + 1)u·n2 of rounding.
+        // A corner within that of the sphere counts as on both sides: the box is kept.
+        let slack = 8.0 * f64::EPSILON * n2.max(1.0);
+        if n2 <= 1.0 + slack {
             inside += 1;
         }
+        if n2 > 1.0 - slack {
+            outside += 1;
+        }
     }
-    inside != 0 && inside != 1usize << D
+    inside != 0 && outside != 0
 }
 
 impl<const D: usize> Scratch<D> {

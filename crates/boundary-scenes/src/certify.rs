@@ -111,6 +111,43 @@ pub fn hard_cases() -> Vec<Case> {
     cases
 }
 
+/// Perfect lattices just around their tie radii, where the exact labels flip: a 7² square
+/// lattice at `a/√2` and a 5³ cubic lattice at `a·√3/2`, each at `tie·(1 ± k·1e-10)`,
+/// `k = 1..5`, and `±1..4` ulps around the float tie radius (41 cases, small enough for every
+/// depth of a certified method).
+pub fn near_tie_cases() -> Vec<Case> {
+    let near = |tie: f64| -> Vec<f64> {
+        let mut radii = vec![tie];
+        for k in 1..=5 {
+            radii.push(tie * (1.0 + k as f64 * 1e-10));
+            radii.push(tie * (1.0 - k as f64 * 1e-10));
+        }
+        for k in 1..=4 {
+            radii.push(ulps(tie, k));
+            radii.push(ulps(tie, -k));
+        }
+        radii
+    };
+    let mut cases = Vec::new();
+    let square = square_lattice(7, 1.0);
+    for r in near(std::f64::consts::FRAC_1_SQRT_2) {
+        cases.push(Case::new(
+            format!("near-tie square lattice r={r:e}"),
+            &square,
+            r,
+        ));
+    }
+    let cubic = cubic_lattice(5, 1.0);
+    for r in near(3f64.sqrt() / 2.0) {
+        cases.push(Case::new(
+            format!("near-tie cubic lattice r={r:e}"),
+            &cubic,
+            r,
+        ));
+    }
+    cases
+}
+
 /// `x` moved by `k` units in the last place.
 fn ulps(x: f64, k: i64) -> f64 {
     let mut y = x;
@@ -122,8 +159,9 @@ fn ulps(x: f64, k: i64) -> f64 {
 
 /// Every case a certified method must pass: the generated fixture scenes, the shared scenes
 /// and the volumetric samples of the shared meshes (read through `data`, so a missing data
-/// folder is an error unless `data` allows it) and the hard cases. Also returns the files that
-/// were skipped (only when `data` allows missing data).
+/// folder is an error unless `data` allows it), the hard cases and the near-tie lattices
+/// ([`near_tie_cases`]). Also returns the files that were skipped (only when `data` allows
+/// missing data).
 pub fn certification_cases(data: &SharedData) -> Result<(Vec<Case>, Vec<String>), String> {
     let mut cases: Vec<Case> = all_scenes()
         .into_iter()
@@ -160,6 +198,7 @@ pub fn certification_cases(data: &SharedData) -> Result<(Vec<Case>, Vec<String>)
         }
     }
     cases.extend(hard_cases());
+    cases.extend(near_tie_cases());
     Ok((cases, skipped))
 }
 

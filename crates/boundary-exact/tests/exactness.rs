@@ -1,0 +1,204 @@
+//! `exact` gives the exact labels for the given floating-point input, near-ties included:
+//! checked against independent exact-rational computations written for the tests
+//! (`boundary_scenes::brute`: lattice ties decided as `2r² >= a²` / `4r² >= 3a²`, and vertex
+//! enumeration by brute force over exact rationals for small sets).
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+use boundary_core::{AnyParticleSet, BoundaryDetector, ParticleSet, Radius};
+use boundary_exact::ExactDetector;
+use boundary_scenes::brute::{lattice_labels_near_tie, uncovered_by_enumeration};
+use boundary_scenes::{cubic_lattice, square_lattice};
+use rand::{rngs::StdRng, Rng, SeedableRng};
+
+/// `x` moved by `k` ulps.
+fn ulps(x: f64, k: i64) -> f64 {
+    let mut y = x;
+    for _ in 0..k.unsigned_abs() {
+        y = if k > 0 { y.next_up() } else { y.next_down() };
+    }
+    y
+}
+
+/// The radii around a tie: `tie·(1 ± k·1e-10)`, `k = 1..5`, and `±1..4` ulps.
+fn near(tie: f64) -> Vec<f64> {
+    let mut radii = vec![tie];
+    for k in 1..=5 {
+        radii.push(tie * (1.0 + k as f64 * 1e-10));
+        radii.push(tie * (1.0 - k as f64 * 1e-10));
+    }
+    for k in 1..=4 {
+        radii.push(ulps(tie, k));
+        radii.push(ulps(tie, -k));
+    }
+    radii
+}
+
+fn labels(set: AnyParticleSet, r: f64) -> (Vec<bool>, usize) {
+    let (d, fallbacks) = ExactDetector
+        .detect_counting_fallbacks(&set, Radius::new(r).unwrap())
+        .unwrap();
+    (d.labels.as_slice().to_vec(), fallbacks)
+}
+
+#[test]
+fn near_tie_lattices_get_the_exact_labels_in_2d_and_3d() {
+    let tie2 = std::f64::consts::FRAC_1_SQRT_2;
+    let tie3 = 3f64.sqrt() / 2.0;
+    for offset in [0.0, 1e6, 1e9] {
+        for r in near(tie2) {
+            let rows: Vec<[f64; 2]> = square_lattice(7, 1.0)
+                .iter()
+                .map(|p| [p[0] + offset, p[1] - offset])
+                .collect();
+            let set = ParticleSet::from_rows(&rows).unwrap().into();
+            let (got, _) = labels(set, r);
+            assert_eq!(
+                got,
+                lattice_labels_near_tie(2, 7, 1.0, r),
+                "2D r={r:e} +{offset}"
+            );
+        }
+        for r in near(tie3) {
+            let rows: Vec<[f64; 3]> = cubic_lattice(5, 1.0)
+                .iter()
+                .map(|p| [p[0] + offset, p[1] - offset, p[2] + offset])
+                .collect();
+            let set = ParticleSet::from_rows(&rows).unwrap().into();
+            let (got, _) = labels(set, r);
+            assert_eq!(
+                got,
+                lattice_labels_near_tie(3, 5, 1.0, r),
+                "3D r={r:e} +{offset}"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_issue_example_below_the_tie_is_all_boundary_and_the_opt_in_tie_keeps_the_old_labels() {
+    let rows = square_lattice(9, 1.0);
+    let set: AnyParticleSet = ParticleSet::from_rows(&rows).unwrap().into();
+    let r = Radius::new(std::f64::consts::FRAC_1_SQRT_2 * (1.0 - 1e-10)).unwrap();
+    let exact = ExactDetector.detect(&set, r).unwrap();
+    assert_eq!(exact.labels.boundary_count(), 81);
+    let mut loose = ExactDetector;
+    loose.set_param("tie", "1e-9").unwrap();
+    assert_eq!(loose.detect(&set, r).unwrap().labels.boundary_count(), 32);
+    // The margin stays the float margin: about -1e-10 r at the inner particles.
+    let m = exact.margin.unwrap()[40];
+    assert!(m > 0.0 && m < 2e-10 * r.get(), "{m}");
+}
+
+#[test]
+fn tie_parameter_is_validated_and_listed() {
+    let mut d = ExactDetector;
+    for bad in ["-1e-9", "NaN", "inf", "x"] {
+        assert!(d.set_param("tie", bad).is_err(), "{bad}");
+    }
+    assert!(d.set_param("depth", "3").is_err());
+    d.set_param("tie", "1e-9").unwrap();
+    assert_eq!(d.tie(), 1e-9);
+    assert_eq!(d.params().to_string(), "tie=0.000000001");
+    assert_eq!(ExactDetector.params().to_string(), "tie=0");
+}
+
+/// A centre at `c`, and neighbours `c + s·(u + jitter)` for the unit directions `u` of a
+/// lattice's nearest shell, each coordinate jittered by a relative `jitter`: near-cospherical
+/// (the cell vertices all lie within about `jitter` of the tie radius `s·tie`).
+fn jittered_shell<const D: usize>(
+    c: [f64; D],
+    s: f64,
+    jitter: f64,
+    rng: &mut StdRng,
+) -> Vec<[f64; D]> {
+    let mut rows = vec![c];
+    for axis in 0..D {
+        for sign in [1.0, -1.0] {
+            let mut p = c;
+            for (k, x) in p.iter_mut().enumerate() {
+                let u = if k == axis { sign } else { 0.0 };
+                *x += s * (u + rng.gen_range(-jitter..=jitter));
+            }
+            rows.push(p);
+        }
+    }
+    rows
+}
+
+fn check_random_near_cospherical<const D: usize>(offset: f64, s: f64) -> usize
+where
+    ParticleSet<D>: Into<AnyParticleSet>,
+{
+    let mut rng = StdRng::seed_from_u64(20 + D as u64);
+    let tie = if D == 2 {
+        std::f64::consts::FRAC_1_SQRT_2
+    } else {
+        3f64.sqrt() / 2.0
+    };
+    let mut fallbacks = 0;
+    let mut both = [0usize; 2];
+    for trial in 0..40 {
+        let jitter = [0.0, 1e-15, 1e-13, 1e-11][trial % 4];
+        let rows = jittered_shell::<D>([offset; D], s, jitter, &mut rng);
+        // The float reach of the centre's cell (its tie radius up to rounding), then a few
+        // ulps either side of it: offsets round the coordinates far more than the jitter.
+        let r0 = s * tie;
+        let set: AnyParticleSet = ParticleSet::from_rows(&rows).unwrap().into();
+        let m = ExactDetector
+            .detect(&set, Radius::new(r0).unwrap())
+            .unwrap()
+            .margin
+            .unwrap()[0];
+        let r = ulps(r0 + m, rng.gen_range(-6..=6));
+        let truth = uncovered_by_enumeration(rows[0], &rows[1..], r);
+        let (got, f) = labels(ParticleSet::from_rows(&rows).unwrap().into(), r);
+        assert_eq!(got[0], truth, "D={D} trial {trial} offset {offset} r={r:e}");
+        fallbacks += f;
+        both[truth as usize] += 1;
+    }
+    // Both answers occur: the cases are near-ties indeed.
+    assert!(both[0] > 0 && both[1] > 0, "{both:?}");
+    fallbacks
+}
+
+#[test]
+fn random_near_cospherical_sets_match_brute_force_enumeration() {
+    assert!(check_random_near_cospherical::<2>(0.0, 1.0) > 0);
+    assert!(check_random_near_cospherical::<3>(0.0, 1.0) > 0);
+}
+
+#[test]
+fn large_offsets_at_small_r_match_brute_force_enumeration() {
+    for offset in [1e6, 1e9] {
+        check_random_near_cospherical::<2>(offset, 0.01);
+        check_random_near_cospherical::<3>(offset, 0.01);
+    }
+}
+
+#[test]
+fn generic_random_sets_match_brute_force_enumeration() {
+    // Clearly decided particles too (the float filter alone decides them): same answer.
+    let mut rng = StdRng::seed_from_u64(3);
+    for trial in 0..30 {
+        let n = rng.gen_range(4..9);
+        let rows: Vec<[f64; 3]> = (0..n)
+            .map(|_| std::array::from_fn(|_| rng.gen_range(-1.0..1.0)))
+            .collect();
+        let r = rng.gen_range(0.4..1.2);
+        let (got, _) = labels(ParticleSet::from_rows(&rows).unwrap().into(), r);
+        for (i, &label) in got.iter().enumerate() {
+            let others: Vec<[f64; 3]> = rows
+                .iter()
+                .enumerate()
+                .filter(|&(j, _)| j != i)
+                .map(|(_, p)| *p)
+                .collect();
+            assert_eq!(
+                label,
+                uncovered_by_enumeration(rows[i], &others, r),
+                "trial {trial} particle {i}"
+            );
+        }
+    }
+}

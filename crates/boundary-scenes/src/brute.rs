@@ -1,0 +1,192 @@
+//! Brute-force exact labels for tests: an independent check of the certified reference
+//! detectors on near-ties, written without any code of theirs.
+//!
+//! Characterisation used: particle `i` is boundary iff some point `x` with `|x − p_i| > r`
+//! satisfies `|x − p_i| <= |x − p_j|` for every other particle `j` with `0 < |p_j − p_i| <= 2r`
+//! (its restricted Voronoi cell leaves the ball), restricted to the box `|x_k − p_{i,k}| <= 2r`
+//! (which contains the ball with room). The cell is a polytope, so this holds iff one of its
+//! vertices lies beyond `r`. The vertices are found by brute force: every choice of `D` planes
+//! (bisectors and box faces) whose system has a unique solution, solved by Gaussian elimination
+//! over exact rationals (`num_rational::BigRational`, every `f64` converted exactly), kept if it
+//! satisfies every plane. Cost `O(m^(D+1))` for `m` planes: only for small sets.
+
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{One, Zero};
+
+/// The exact value of a finite `f64`.
+pub fn rational(x: f64) -> BigRational {
+    BigRational::from_float(x).expect("finite input")
+}
+
+/// Whether the particle at `centre` is boundary among `others` at resolution `r`, by vertex
+/// enumeration in exact rationals (module docs). `others` may contain copies of `centre`.
+pub fn uncovered_by_enumeration<const D: usize>(
+    centre: [f64; D],
+    others: &[[f64; D]],
+    r: f64,
+) -> bool {
+    let r = rational(r);
+    let c: Vec<BigRational> = centre.iter().map(|&x| rational(x)).collect();
+    let two = BigRational::from_integer(BigInt::from(2));
+    // Planes a·x <= b in coordinates relative to the centre.
+    let mut planes: Vec<(Vec<BigRational>, BigRational)> = Vec::new();
+    for axis in 0..D {
+        for sign in [1, -1] {
+            let a: Vec<BigRational> = (0..D)
+                .map(|k| {
+                    if k == axis {
+                        BigRational::from_integer(BigInt::from(sign))
+                    } else {
+                        BigRational::zero()
+                    }
+                })
+                .collect();
+            planes.push((a, &two * &r));
+        }
+    }
+    let limit = &two * &two * &r * &r;
+    for p in others {
+        let q: Vec<BigRational> = (0..D).map(|k| rational(p[k]) - &c[k]).collect();
+        let d2: BigRational = q.iter().map(|x| x * x).sum();
+        if d2.is_zero() || d2 > limit {
+            continue;
+        }
+        // |x|² <= |x − q|²  <=>  q·x <= |q|²/2.
+        planes.push((q, d2 / &two));
+    }
+    let r2 = &r * &r;
+    let m = planes.len();
+    let mut ids = vec![0usize; D];
+    // Enumerate D-subsets in lexicographic order.
+    fn next(ids: &mut [usize], m: usize) -> bool {
+        let d = ids.len();
+        for k in (0..d).rev() {
+            if ids[k] < m - d + k {
+                ids[k] += 1;
+                for l in k + 1..d {
+                    ids[l] = ids[l - 1] + 1;
+                }
+                return true;
+            }
+        }
+        false
+    }
+    for (k, id) in ids.iter_mut().enumerate() {
+        *id = k;
+    }
+    loop {
+        if let Some(x) = solve(&planes, &ids) {
+            let norm2: BigRational = x.iter().map(|v| v * v).sum();
+            if norm2 > r2 {
+                let feasible = planes.iter().all(|(a, b)| {
+                    let s: BigRational = a.iter().zip(&x).map(|(u, v)| u * v).sum();
+                    s <= *b
+                });
+                if feasible {
+                    return true;
+                }
+            }
+        }
+        if !next(&mut ids, m) {
+            return false;
+        }
+    }
+}
+
+/// Gaussian elimination with exact pivoting on the rows `ids`; `None` if singular.
+fn solve(planes: &[(Vec<BigRational>, BigRational)], ids: &[usize]) -> Option<Vec<BigRational>> {
+    let d = ids.len();
+    let mut m: Vec<Vec<BigRational>> = ids
+        .iter()
+        .map(|&i| {
+            let mut row = planes[i].0.clone();
+            row.push(planes[i].1.clone());
+            row
+        })
+        .collect();
+    for col in 0..d {
+        let pivot = (col..d).find(|&r| !m[r][col].is_zero())?;
+        m.swap(col, pivot);
+        let inv = BigRational::one() / &m[col][col];
+        for x in m[col][col..].iter_mut() {
+            *x = &*x * &inv;
+        }
+        let pivot_row = m[col].clone();
+        for (i, row) in m.iter_mut().enumerate() {
+            if i != col && !row[col].is_zero() {
+                let f = row[col].clone();
+                for (x, p) in row[col..].iter_mut().zip(&pivot_row[col..]) {
+                    *x = &*x - &f * p;
+                }
+            }
+        }
+    }
+    Some(m.into_iter().map(|row| row[d].clone()).collect())
+}
+
+/// The exact labels of a lattice of spacing `a` (`n` per axis, origin at 0, `D` = 2 or 3)
+/// near its tie radius (`a/√2 <= r < a` in 2D, `a·√3/2 <= r < a` in 3D, or just below the tie):
+/// the outer layer is boundary, an inner particle is interior iff `r >= tie`, decided as
+/// `2r² >= a²` (2D) or `4r² >= 3a²` (3D) in exact rationals. Valid for `r` within a relative
+/// 1e-6 of the tie.
+pub fn lattice_labels_near_tie(d: usize, n: usize, a: f64, r: f64) -> Vec<bool> {
+    let (r, a) = (rational(r), rational(a));
+    let covered = if d == 2 {
+        BigRational::from_integer(2.into()) * &r * &r >= &a * &a
+    } else {
+        BigRational::from_integer(4.into()) * &r * &r
+            >= BigRational::from_integer(3.into()) * &a * &a
+    };
+    (0..n.pow(d as u32))
+        .map(|k| {
+            let mut rest = k;
+            let mut outer = false;
+            for _ in 0..d {
+                let c = rest % n;
+                outer |= c == 0 || c == n - 1;
+                rest /= n;
+            }
+            outer || !covered
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn four_axis_neighbours_cover_from_the_tie_up() {
+        let n = [[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]];
+        let tie = std::f64::consts::FRAC_1_SQRT_2; // fl(1/√2) > 1/√2
+        assert!(!uncovered_by_enumeration([0.0, 0.0], &n, tie));
+        assert!(uncovered_by_enumeration([0.0, 0.0], &n, tie.next_down()));
+        assert!(uncovered_by_enumeration([0.0, 0.0], &n[..3], 0.9));
+        assert!(uncovered_by_enumeration([0.0, 0.0], &[], 1.0));
+    }
+
+    #[test]
+    fn six_axis_neighbours_cover_from_the_tie_up() {
+        let n = [
+            [1.0, 0.0, 0.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+        ];
+        let tie = 3f64.sqrt() / 2.0; // fl(√3/2) < √3/2
+        assert!(uncovered_by_enumeration([0.0; 3], &n, tie));
+        assert!(!uncovered_by_enumeration([0.0; 3], &n, tie.next_up()));
+    }
+
+    #[test]
+    fn lattice_labels_follow_the_exact_tie() {
+        let tie = std::f64::consts::FRAC_1_SQRT_2;
+        let above = lattice_labels_near_tie(2, 4, 1.0, tie);
+        assert_eq!(above.iter().filter(|&&b| b).count(), 12);
+        let below = lattice_labels_near_tie(2, 4, 1.0, tie.next_down());
+        assert!(below.iter().all(|&b| b));
+    }
+}
