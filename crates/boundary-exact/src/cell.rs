@@ -24,6 +24,8 @@ pub(crate) trait ConvexCell<const D: usize> {
     fn clip(&mut self, n: &[f64; D], offset: f64);
     /// Largest squared distance of a vertex from the origin.
     fn max_norm2(&self) -> f64;
+    /// The cell's vertices.
+    fn vertices(&self) -> &[[f64; D]];
     /// Whether a clip since the last reset was near-degenerate: it cut the cell while a vertex
     /// lay within [`PLANE_EPS`] of the plane, or (3D) it merged cap points or met two cap
     /// points at nearly the same angle. The error bound of the crate docs assumes no such clip;
@@ -104,6 +106,10 @@ impl ConvexCell<2> for Polygon {
 
     fn max_norm2(&self) -> f64 {
         self.verts.iter().map(norm2).fold(0.0, f64::max)
+    }
+
+    fn vertices(&self) -> &[[f64; 2]] {
+        &self.verts
     }
 
     fn degenerate(&self) -> bool {
@@ -304,6 +310,10 @@ impl ConvexCell<3> for Polyhedron {
 
     fn max_norm2(&self) -> f64 {
         self.verts.iter().map(norm2).fold(0.0, f64::max)
+    }
+
+    fn vertices(&self) -> &[[f64; 3]] {
+        &self.verts
     }
 
     fn degenerate(&self) -> bool {
