@@ -317,7 +317,10 @@ mod tests {
             skipped.len(),
             SHARED_SCENES.len() + crate::mesh::MESH_SCENES.len()
         );
-        assert_eq!(cases.len(), all_scenes().len() + hard_cases().len());
+        assert_eq!(
+            cases.len(),
+            all_scenes().len() + hard_cases().len() + near_tie_cases().len()
+        );
     }
 
     #[test]
