@@ -470,10 +470,7 @@ fn interior_certificate<const D: usize, C: ConvexCell<D> + Clone>(
         clips += 1;
         reach = cell.max_norm2().sqrt();
     }
-    let rho0 = rho0 * (1.0 - 8.0 * U);
-    let beta = (24.0 * U + clips as f64 * (64.0 * U + cell::PLANE_EPS)) / rho0;
-    let tau = 2.0 * (2.0 * beta * reach.max(1.0) + 8.0 * U);
-    reach - 1.0 < -tau
+    reach - 1.0 < -float_bound(clips, rho0, reach)
 }
 
 /// The exact label of particle `i` ([`boundary_core::exact_cover`]), from every particle the
@@ -493,6 +490,16 @@ fn exact_label<const D: usize>(
         }
     });
     exact_cover::sphere_uncovered(&p, &near, r)
+}
+
+/// The bound `τ` of the crate docs ("Exactness") after `clips` non-degenerate clips whose
+/// smallest offset is `rho0` (at most 1, the box's inradius) and whose float reach is `reach`:
+/// β = (24u + m·(64u + PLANE_EPS)) / ρ0, ρ0 shrunk by the offsets' relative error 8u;
+/// τ = 2·β·max(reach, 1) + 8u, doubled for safety.
+fn float_bound(clips: usize, rho0: f64, reach: f64) -> f64 {
+    let rho0 = rho0 * (1.0 - 8.0 * U);
+    let beta = (24.0 * U + clips as f64 * (64.0 * U + cell::PLANE_EPS)) / rho0;
+    2.0 * (2.0 * beta * reach.max(1.0) + 8.0 * U)
 }
 
 /// The float restricted Voronoi cell of particle `i`, with its error bound (crate docs).
@@ -549,15 +556,9 @@ fn cell_margin<const D: usize, C: ConvexCell<D>>(
             break;
         }
     }
-    // The bound of the crate docs ("Exactness"): β = (24u + m·(64u + PLANE_EPS)) / ρ0 for m
-    // clips, ρ0 shrunk by the offsets' relative error 8u; τ = 2·β·max(reach, 1) + 8u, doubled
-    // for safety.
-    let rho0 = rho0 * (1.0 - 8.0 * U);
-    let beta = (24.0 * U + clips as f64 * (64.0 * U + cell::PLANE_EPS)) / rho0;
-    let tau = 2.0 * (2.0 * beta * reach.max(1.0) + 8.0 * U);
     FloatCell {
         margin: reach - 1.0,
-        tau,
+        tau: float_bound(clips, rho0, reach),
         degenerate: cell.degenerate(),
     }
 }
