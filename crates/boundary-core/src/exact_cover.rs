@@ -43,9 +43,17 @@
 //! exactly `r` is interior (a tie: the touching point is covered by the closed ball of the
 //! neighbour whose bisector passes through it).
 //!
-//! The cost is `O(n²·k)` exact operations in 3D for `n` neighbours and faces of `k` vertices:
-//! well below a millisecond for lattices (small integers), a few milliseconds for generic
-//! `f64` input; callers use it only where their floating-point filter cannot decide.
+//! # Nearest bisectors first
+//! Dense sets have hundreds of neighbours within `2r` of which a few dozen bound the cell. The
+//! cell is first built from the nearest 32 bisectors only: it contains the whole cell, so if it
+//! stays within `r` the particle is interior; a vertex of it beyond `r` that satisfies every
+//! other bisector is a vertex of the whole cell, so the particle is boundary; otherwise the
+//! prefix doubles, up to all of them (which always decides).
+//!
+//! The cost is `O(m²·k)` exact operations in 3D for a prefix of `m` planes and faces of `k`
+//! vertices: well below a millisecond for lattices of small integers, a few milliseconds for
+//! generic `f64` input (big integers); callers use it only where their floating-point filters
+//! and certificates cannot decide.
 
 use crate::Point;
 use num_bigint::BigInt;
@@ -92,17 +100,19 @@ pub fn sphere_uncovered<const D: usize>(centre: &Point<D>, others: &[Point<D>], 
     let r_int = to_int(r);
     let four_r2 = (&r_int * &r_int) << 2usize;
     let c: [BigInt; D] = std::array::from_fn(|k| to_int(centre[k]));
-    let mut qs: Vec<[BigInt; D]> = Vec::new();
+    let mut near: Vec<(BigInt, [BigInt; D])> = Vec::new();
     for p in others {
         let q: [BigInt; D] = std::array::from_fn(|k| to_int(p[k]) - &c[k]);
         let d2 = norm2_big(&q);
         if !d2.is_zero() && d2 < four_r2 {
-            qs.push(q);
+            near.push((d2, q));
         }
     }
-    // Nearest first (their faces shrink the others fastest), exact duplicates once.
-    qs.sort_by(|a, b| norm2_big(a).cmp(&norm2_big(b)).then_with(|| a.cmp(b)));
-    qs.dedup();
+    // Nearest first (their faces shrink the others fastest; `nearest_first` relies on the
+    // order), exact duplicates once.
+    near.sort_unstable();
+    near.dedup();
+    let qs: Vec<[BigInt; D]> = near.into_iter().map(|(_, q)| q).collect();
     // Box half-width R: the power of two with r <= R (in the unit 2^E: r_int <= 2^k).
     let k_box = {
         let bits = r_int.bits();
@@ -166,9 +176,35 @@ pub fn sphere_uncovered<const D: usize>(centre: &Point<D>, others: &[Point<D>], 
                 )
             })
             .collect();
-        cell_reaches_beyond::<i128, D>(&small, &beyond)
+        nearest_first::<i128, D>(&small, &beyond)
     } else {
-        cell_reaches_beyond::<BigInt, D>(&planes, &beyond)
+        nearest_first::<BigInt, D>(&planes, &beyond)
+    }
+}
+
+/// The bisectors the exact cell is built from at first: the nearest ones. Dense sets have
+/// hundreds of neighbours within `2r` (a lattice at `r = 2.25a`: about 380), of which the
+/// nearest few dozen bound the cell; the enumeration costs the square of the plane count.
+const FIRST_PLANES: usize = 32;
+
+/// Decides the cell of `planes` (the `2D` box planes, then the bisectors nearest first) from
+/// growing prefixes of its bisectors. The cell of a prefix contains the whole cell, so a prefix
+/// cell within `r` proves interior; a vertex of the prefix cell beyond `r` that satisfies every
+/// remaining plane is a vertex of the whole cell and proves boundary; otherwise the prefix
+/// doubles. The last prefix is the whole set, which always decides.
+fn nearest_first<T: Ring, const D: usize>(planes: &[([T; D], T)], beyond: &Beyond) -> bool {
+    let total = planes.len() - 2 * D;
+    let mut k = total.min(FIRST_PLANES);
+    loop {
+        let (used, rest) = planes.split_at(2 * D + k);
+        let in_rest = |v: &Vertex<T, D>| rest.iter().all(|plane| side(plane, v) <= 0);
+        match cell_reaches_beyond(used, beyond, in_rest) {
+            Reach::Within => return false,
+            Reach::Beyond => return true,
+            // Unreachable with `rest` empty: every vertex then satisfies it.
+            Reach::Unsure if k == total => return true,
+            Reach::Unsure => k = total.min(2 * k),
+        }
     }
 }
 
@@ -387,8 +423,36 @@ fn clip<T: Ring, const D: usize>(
     std::mem::swap(poly, out);
 }
 
-/// Whether the cell `∩ {a·x <= b}` (planes `0..2D` the box) has a vertex beyond `r`.
-fn cell_reaches_beyond<T: Ring, const D: usize>(planes: &[([T; D], T)], beyond: &Beyond) -> bool {
+/// What the vertices of a cell say about its reach.
+enum Reach {
+    /// No vertex beyond `r`.
+    Within,
+    /// A vertex beyond `r` that `confirm` accepted.
+    Beyond,
+    /// Vertices beyond `r`, none accepted by `confirm`.
+    Unsure,
+}
+
+/// Whether the cell `∩ {a·x <= b}` (planes `0..2D` the box) has a vertex beyond `r` that
+/// `confirm` accepts.
+fn cell_reaches_beyond<T: Ring, const D: usize>(
+    planes: &[([T; D], T)],
+    beyond: &Beyond,
+    confirm: impl Fn(&Vertex<T, D>) -> bool,
+) -> Reach {
+    let mut unsure = false;
+    // The verdict of one polygon's vertices, remembering a rejected one in `unsure`.
+    let mut judge = |poly: &[Vertex<T, D>]| {
+        for v in poly {
+            if beyond.test(&v.n, &v.den) {
+                if confirm(v) {
+                    return true;
+                }
+                unsure = true;
+            }
+        }
+        false
+    };
     let mut poly: Vec<Vertex<T, D>> = Vec::new();
     let mut out: Vec<Vertex<T, D>> = Vec::new();
     // The square in axes (b, c) (plane ids 2b, 2b+1 for +, −), counter-clockwise, as
@@ -406,13 +470,18 @@ fn cell_reaches_beyond<T: Ring, const D: usize>(planes: &[([T; D], T)], beyond: 
             }
         }
     };
-    let any_beyond = |poly: &[Vertex<T, D>]| poly.iter().any(|v| beyond.test(&v.n, &v.den));
     if D == 2 {
         square(&mut poly, None, 0, 1);
         for h in 4..planes.len() {
             clip(&mut poly, &mut out, planes, None, h);
         }
-        return any_beyond(&poly);
+        return if judge(&poly) {
+            Reach::Beyond
+        } else if unsure {
+            Reach::Unsure
+        } else {
+            Reach::Within
+        };
     }
     for p in 0..planes.len() {
         // The axis P eliminates: its largest coefficient (non-zero for every plane here).
@@ -440,11 +509,15 @@ fn cell_reaches_beyond<T: Ring, const D: usize>(planes: &[([T; D], T)], beyond: 
                 break;
             }
         }
-        if any_beyond(&poly) {
-            return true;
+        if judge(&poly) {
+            return Reach::Beyond;
         }
     }
-    false
+    if unsure {
+        Reach::Unsure
+    } else {
+        Reach::Within
+    }
 }
 
 #[cfg(test)]
@@ -511,6 +584,36 @@ mod tests {
         assert!(!sphere_uncovered(&c, &n, 0.9));
         assert!(sphere_uncovered(&c, &n, 0.86));
         assert!(sphere_uncovered(&c, &[], 1.0));
+    }
+
+    #[test]
+    fn far_bisectors_beyond_the_first_prefix_still_count() {
+        // 40 near neighbours clustered around +x bound the first prefix only on that side, so
+        // its cell reaches the box elsewhere; eight (or seven) neighbours at 1.5, every 45°,
+        // decide: their octagon has circumradius 0.75/cos 22.5° = 0.81 < 1 (covered), and
+        // without the one at 180° the cell reaches 0.75·√2 = 1.06 > 1 (uncovered).
+        let c = Point::<2>::zeros();
+        let mut n: Vec<Point<2>> = (0..40)
+            .map(|k| {
+                let a = (k as f64 / 40.0 - 0.5) * 0.3;
+                let d = 1.0 + 0.01 * k as f64;
+                Point::<2>::new(d * a.cos(), d * a.sin())
+            })
+            .collect();
+        let ring = |skip: Option<usize>| {
+            (0..8)
+                .filter(move |&k| Some(k) != skip)
+                .map(|k| {
+                    let a = k as f64 * std::f64::consts::FRAC_PI_4;
+                    Point::<2>::new(1.5 * a.cos(), 1.5 * a.sin())
+                })
+                .collect::<Vec<_>>()
+        };
+        let mut all = n.clone();
+        all.extend(ring(None));
+        assert!(!sphere_uncovered(&c, &all, 1.0));
+        n.extend(ring(Some(4)));
+        assert!(sphere_uncovered(&c, &n, 1.0));
     }
 
     #[test]

@@ -13,6 +13,7 @@
 //! widest gap if there is one, else minus half the narrowest overlap.
 
 use crate::{Cap, SphereCover, U};
+use boundary_core::Point;
 use std::f64::consts::{PI, TAU};
 
 /// The 2D covering test; holds the arcs of the current particle.
@@ -27,6 +28,10 @@ pub(crate) struct Arcs {
 const THIN_ARC: f64 = 1e-6;
 
 impl SphereCover<2> for Arcs {
+    fn exact(centre: &Point<2>, others: &[Point<2>], r: f64) -> bool {
+        boundary_exact::sphere_uncovered_2d(centre, others, r)
+    }
+
     fn classify(&mut self, caps: &[Cap<2>], tol: f64) -> (Option<bool>, Option<f64>) {
         self.arcs.clear();
         let mut sin_min = 1.0f64;

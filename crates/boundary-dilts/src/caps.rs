@@ -196,6 +196,10 @@ pub(crate) struct Caps {
 }
 
 impl SphereCover<3> for Caps {
+    fn exact(centre: &Point<3>, others: &[Point<3>], r: f64) -> bool {
+        boundary_exact::sphere_uncovered_3d(centre, others, r)
+    }
+
     fn classify(&mut self, caps: &[Cap<3>], tol: f64) -> (Option<bool>, Option<f64>) {
         let strict = tol == 0.0;
         if strict

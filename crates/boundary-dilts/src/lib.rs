@@ -75,9 +75,10 @@
 //! With the default `tie = 0` the labels are the exact answer for the given `f64` input. The
 //! float covering test runs with no tolerance and answers only when every comparison it makes
 //! is farther from its threshold than a bound on its rounding error; otherwise (and for the
-//! degenerate configurations below) the particle is decided by
-//! [`boundary_core::exact_cover::sphere_uncovered`] (exact integer arithmetic on the exact
-//! differences `p_j − p_i`, shared with `exact`). `u = 2^-53`; the inputs `q_j = fl(fl(p_j −
+//! degenerate configurations below) the particle is decided by `exact`'s certified decision
+//! ([`boundary_exact::sphere_uncovered_3d`] and `_2d`: its float Voronoi cell with a proven
+//! bound, two certificates, then [`boundary_core::exact_cover::sphere_uncovered`], exact
+//! integer arithmetic on the exact differences `p_j − p_i`). `u = 2^-53`; the inputs `q_j = fl(fl(p_j −
 //! p_i)/r)` carry a relative error `<= 2u` per component, so `d_j`, `u_j`, `c_j = d_j/2` carry
 //! a few `u` each.
 //! - **2D.** Each arc end `θ_j ± α_j` is within `e_j = 64u + 8u/sin α_j` of its exact value
@@ -100,7 +101,9 @@
 //! jittered and simulated sweep scenes; on lattice-like scenes every particle whose uncovered
 //! region has only multi-circle corners (lattice symmetry): all 256 / 1000 particles of the
 //! tie lattices, the 304 boundary particles of `duplicates3d`, 2,580 of 9,600 in
-//! `dualsphysics_dambreak3d`, 4,307 of 15,827 in `pysph_case5`.
+//! `dualsphysics_dambreak3d`, 4,307 of 15,827 in `pysph_case5`. `exact`'s decision settles
+//! lattices in microseconds (`pysph_case5`: 0.28 s for the whole set in the test profile on 2
+//! threads, 13 s when every fallback went to the exact predicate).
 //!
 //! With every decision outside its band, the criterion (a)–(c) is evaluated exactly as in real
 //! arithmetic, in generic position (no point on three circles: that would put a cap value
@@ -337,6 +340,11 @@ pub(crate) trait SphereCover<const D: usize>: Default + Send {
     /// `tol == 0`: the exact mode; `None` when the float test cannot decide within its error
     /// bound.
     fn classify(&mut self, caps: &[Cap<D>], tol: f64) -> (Option<bool>, Option<f64>);
+
+    /// The exact label of the sphere of radius `r` around `centre` among `others` (a superset
+    /// of the neighbours within `2r`), for the particles the float test leaves undecided:
+    /// `exact`'s certified decision ([`boundary_exact::sphere_uncovered_2d`] and `_3d`).
+    fn exact(centre: &Point<D>, others: &[Point<D>], r: f64) -> bool;
 }
 
 /// Per-thread working memory.
@@ -376,7 +384,11 @@ fn detect_with<const D: usize, C: SphereCover<D>>(
             let (label, margin) = scratch.cover.classify(&scratch.caps, tie);
             match label {
                 Some(b) if !(twins && tie == 0.0) => (b, margin, false),
-                _ => (exact_label(set.positions(), &grid, i, r), margin, true),
+                _ => (
+                    exact_label::<D, C>(set.positions(), &grid, i, r),
+                    margin,
+                    true,
+                ),
             }
         })
         .collect();
@@ -389,9 +401,9 @@ fn detect_with<const D: usize, C: SphereCover<D>>(
     Ok((Detection { labels, margin }, fallbacks))
 }
 
-/// The exact label of particle `i` ([`boundary_core::exact_cover`]) from every particle the
-/// grid finds within `2r(1 + 1e-9)` (the predicate drops those at `2r` or more exactly).
-fn exact_label<const D: usize>(
+/// The exact label of particle `i` ([`SphereCover::exact`]) from every particle the grid
+/// finds within `2r(1 + 1e-9)` (those at `2r` or more are dropped exactly there).
+fn exact_label<const D: usize, C: SphereCover<D>>(
     positions: &[Point<D>],
     grid: &NeighbourGrid<D>,
     i: usize,
@@ -404,7 +416,7 @@ fn exact_label<const D: usize>(
             near.push(positions[j]);
         }
     });
-    boundary_core::exact_cover::sphere_uncovered(&p, &near, r)
+    C::exact(&p, &near, r)
 }
 
 /// Fills `scratch.caps` with the caps of particle `i` on its sphere, largest (nearest

@@ -78,10 +78,12 @@
 //! *How often* (`cargo run --release -p boundary-dilts --example fallbacks`): on the
 //! 1M-particle jittered ball (`r = 1.2a`) no particle needs the fallback; on the sweep scenes
 //! none either, except the inner particles of the two perfect lattices at their tie radius
-//! (196 of 256 in 2D, 512 of 1000 in 3D: genuine near-ties) and `pysph_case5` (15,423 of
-//! 15,827: a perfect lattice whose bisectors cut exactly through cell vertices, so nearly every
-//! clip is flagged near-degenerate). Lattices have small integer coordinates: the `i128`
-//! path, tens of microseconds per particle.
+//! (196 of 256 in 2D, 512 of 1000 in 3D: genuine near-ties, on small integer coordinates: the
+//! `i128` path, tens of microseconds per particle). `pysph_case5` (15,827 particles of a
+//! body-centred cubic lattice with decimal coordinates) flags nearly every clip
+//! near-degenerate; the certificates below settle all of it (0 fallbacks, 0.24 s in the test
+//! profile on 2 threads; 9.6 s before the shifted planes, with 1,854 big-integer fallbacks of
+//! about 5 ms each).
 //!
 //! # Certificates
 //! A particle whose float decision is not covered by the bound (a flagged clip, or a margin
@@ -90,14 +92,21 @@
 //!   halfway back toward it, is
 //!   checked against the bisector of every neighbour within `2r(1 + 1e-12)` with `1e-11` of
 //!   slack and `|x| > 1 + 1e-11`: such a point lies strictly inside the exact cell beyond `r`;
-//! - *interior:* the cell is clipped again skipping every near-degenerate clip; skipping a
-//!   half-space only enlarges the exact cell and the kept clips are covered by the bound, so a
+//! - *interior:* the cell is clipped again, and a clip that would be near-degenerate is
+//!   retried with its plane moved outward by `1e-9`, `3.7e-9`, `1.3e-8` (units of `r`), or
+//!   skipped if each try is; a moved plane bounds a larger half-space and a skipped one none,
+//!   so the result contains the exact cell, and the kept clips are covered by the bound: a
 //!   margin below `−τ` of that larger cell proves interior.
 //!
 //! Perfect lattices need them: their bisectors pass exactly through cell vertices, so nearly
 //! every clip is flagged although the margins are far from 0 (`pysph_case5`, 15,827 particles
-//! of a lattice: 15,423 went to the exact predicate, about 7 ms each, before the
-//! certificates). Only what neither certificate settles goes to the exact predicate.
+//! of a lattice: 15,423 went to the exact predicate before the certificates, 1,854 with
+//! skipped planes instead of moved ones, none now). Only what neither certificate settles goes
+//! to the exact predicate.
+//!
+//! The same decision (float cell, certificates, exact predicate) is public for a particle
+//! whose neighbours the caller gathered: [`sphere_uncovered_2d`], [`sphere_uncovered_3d`].
+//! `dilts` uses it for the particles its own float test leaves undecided.
 //!
 //! # Policy: ties, duplicates, degenerate input
 //! - **Ties.** A cell that reaches exactly to `r` touches `S_i` only at points equidistant from
@@ -301,10 +310,23 @@ impl BoundaryDetector for ExactDetector {
 
 /// Per-thread working memory.
 #[derive(Default)]
-struct Scratch<C> {
+struct Scratch<const D: usize, C> {
     cell: C,
-    neighbours: Vec<(f64, usize)>,
+    /// The neighbours of the particle being classified: `(|p_j − p_i|², p_j)` for every other
+    /// particle within `2r(1 + 1e-9)` ([`NEAR_SLACK`]), exact duplicates of `p_i` left out.
+    near: Vec<(f64, Point<D>)>,
 }
+
+/// Neighbours are gathered within `2r(1 + NEAR_SLACK)`: a superset of those whose exact
+/// distance is below `2r` despite the rounding of the query. The exact predicate drops the
+/// others exactly; the float cell and the certificates use those within `2r(1 + 1e-12)`
+/// ([`FLOAT_REACH`]).
+const NEAR_SLACK: f64 = 1e-9;
+
+/// The float cell and the certificates use the neighbours within `2r·FLOAT_REACH`: a little
+/// beyond `2r`, so that no neighbour whose exact distance is below `2r` is lost to rounding
+/// (a bisector just beyond `r` only trims the cell there: harmless).
+const FLOAT_REACH: f64 = 1.0 + 1e-12;
 
 /// What the float clipping says about one particle.
 struct FloatCell {
@@ -332,31 +354,19 @@ where
     // Cells of side r, queried at 2r: the 5^D visited cells hold fewer non-neighbours than
     // the 3^D cells of side 2r (1M-particle ball, 1 thread: 3.6 s -> 3.35 s).
     let grid = NeighbourGrid::new(set, r)?;
+    let positions = set.positions();
     let results: Vec<(f64, bool, bool)> = (0..count)
         .into_par_iter()
-        .map_init(Scratch::<C>::default, |scratch, i| {
-            let cell = cell_margin(set.positions(), &grid, i, r, scratch);
-            let margin = cell.margin * r;
-            if tie > 0.0 {
-                return (margin, margin > tie * r, false);
-            }
-            if !cell.degenerate && cell.margin.abs() > cell.tau {
-                return (margin, cell.margin > 0.0, false);
-            }
-            // Two certificates before the exact predicate (crate docs, "Certificates"): they
-            // settle the clear-cut particles of perfect lattices, whose clips are flagged
-            // near-degenerate although their margins are far from 0.
-            if cell.margin > CERTIFICATE_MIN_MARGIN
-                && boundary_certificate(set.positions(), &grid, i, r, &scratch.cell)
-            {
-                return (margin, true, false);
-            }
-            if cell.margin < -CERTIFICATE_MIN_MARGIN
-                && interior_certificate(set.positions(), &grid, i, r, scratch)
-            {
-                return (margin, false, false);
-            }
-            (margin, exact_label(set.positions(), &grid, i, r), true)
+        .map_init(Scratch::<D, C>::default, |scratch, i| {
+            let p = positions[i];
+            scratch.near.clear();
+            grid.for_each_within(&p, 2.0 * r * (1.0 + NEAR_SLACK), |j, d2| {
+                // d2 == 0: `i` itself or an exact duplicate, which does not cover (crate docs).
+                if d2 > 0.0 {
+                    scratch.near.push((d2, positions[j]));
+                }
+            });
+            classify(&p, r, tie, scratch)
         })
         .collect();
     let fallbacks = results.iter().filter(|x| x.2).count();
@@ -369,6 +379,94 @@ where
         },
         fallbacks,
     ))
+}
+
+/// The label of the particle at `p` whose neighbours are in `scratch.near`: `(margin, label,
+/// whether the exact predicate decided it)`. The float cell first; where its bound does not
+/// decide (or a clip was near-degenerate), the two certificates; then the exact predicate.
+fn classify<const D: usize, C: ConvexCell<D> + Clone>(
+    p: &Point<D>,
+    r: f64,
+    tie: f64,
+    scratch: &mut Scratch<D, C>,
+) -> (f64, bool, bool) {
+    let cell = cell_margin(p, r, scratch);
+    let margin = cell.margin * r;
+    if tie > 0.0 {
+        return (margin, margin > tie * r, false);
+    }
+    if !cell.degenerate && cell.margin.abs() > cell.tau {
+        return (margin, cell.margin > 0.0, false);
+    }
+    // Two certificates before the exact predicate (crate docs, "Certificates"): they settle
+    // the clear-cut particles of perfect lattices, whose clips are flagged near-degenerate
+    // although their margins are far from 0.
+    if cell.margin > CERTIFICATE_MIN_MARGIN && boundary_certificate(p, r, scratch) {
+        return (margin, true, false);
+    }
+    if cell.margin < -CERTIFICATE_MIN_MARGIN && interior_certificate(p, r, scratch) {
+        return (margin, false, false);
+    }
+    let others: Vec<Point<D>> = scratch.near.iter().map(|x| x.1).collect();
+    (margin, exact_cover::sphere_uncovered(p, &others, r), true)
+}
+
+/// Whether the sphere of radius `r` around `centre` is **not** covered by the closed balls of
+/// radius `r` around `others` (boundary): the label `exact` gives, for a particle whose
+/// neighbours the caller has gathered (any superset of the points within `2r` will do; copies
+/// of `centre` and points at `2r` or farther are ignored, exactly). Other certified detectors
+/// use it for the particles their own float test cannot decide; it is exact for the given
+/// `f64` input, as [`exact_cover::sphere_uncovered`], and far faster on lattices (crate docs,
+/// "Certificates").
+///
+/// ```
+/// use boundary_core::Point;
+///
+/// // Four neighbours at distance 1 on the axes cover the circle iff r >= 1/√2.
+/// let c = Point::<2>::new(0.0, 0.0);
+/// let n = [[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]].map(Point::<2>::from);
+/// assert!(!boundary_exact::sphere_uncovered_2d(&c, &n, std::f64::consts::FRAC_1_SQRT_2));
+/// assert!(boundary_exact::sphere_uncovered_2d(&c, &n, 0.7));
+/// ```
+pub fn sphere_uncovered_2d(centre: &Point<2>, others: &[Point<2>], r: f64) -> bool {
+    sphere_uncovered::<2, Polygon>(centre, others, r)
+}
+
+/// [`sphere_uncovered_2d`] in 3D.
+///
+/// ```
+/// use boundary_core::Point;
+///
+/// // The cubic lattice of spacing 1 covers the sphere from r = √3/2 up (fl(√3/2) lies below).
+/// let c = Point::<3>::new(0.0, 0.0, 0.0);
+/// let mut n = Vec::new();
+/// for k in 0..27 {
+///     let q = Point::<3>::new((k % 3) as f64 - 1.0, (k / 3 % 3) as f64 - 1.0, (k / 9) as f64 - 1.0);
+///     n.push(q);
+/// }
+/// let tie = 3f64.sqrt() / 2.0;
+/// assert!(boundary_exact::sphere_uncovered_3d(&c, &n, tie));
+/// assert!(!boundary_exact::sphere_uncovered_3d(&c, &n, tie.next_up()));
+/// ```
+pub fn sphere_uncovered_3d(centre: &Point<3>, others: &[Point<3>], r: f64) -> bool {
+    sphere_uncovered::<3, Polyhedron>(centre, others, r)
+}
+
+fn sphere_uncovered<const D: usize, C: ConvexCell<D> + Default + Clone>(
+    centre: &Point<D>,
+    others: &[Point<D>],
+    r: f64,
+) -> bool {
+    assert!(r > 0.0 && r.is_finite(), "r must be positive and finite");
+    let mut scratch = Scratch::<D, C>::default();
+    let reach2 = (2.0 * r * (1.0 + NEAR_SLACK)).powi(2);
+    for q in others {
+        let d2 = (q - centre).norm_squared();
+        if d2 > 0.0 && d2 <= reach2 {
+            scratch.near.push((d2, *q));
+        }
+    }
+    classify(centre, r, 0.0, &mut scratch).1
 }
 
 /// The certificates are tried only on float margins at least this far from 0 (units of `r`):
@@ -387,16 +485,14 @@ const CERTIFICATE_SLACK: f64 = 1e-11;
 /// test holds with [`CERTIFICATE_SLACK`] to spare, so the rounding cannot fake it. The float
 /// cell's topology is not trusted: only the point is checked, against every neighbour.
 fn boundary_certificate<const D: usize, C: ConvexCell<D>>(
-    positions: &[Point<D>],
-    grid: &NeighbourGrid<D>,
-    i: usize,
+    p: &Point<D>,
     r: f64,
-    cell: &C,
+    scratch: &Scratch<D, C>,
 ) -> bool {
-    let p = positions[i];
     // Candidates: the vertices beyond the sphere, farthest first (the farthest may be an
     // artefact of a near-degenerate clip; another one often proves the same).
-    let mut candidates: Vec<[f64; D]> = cell
+    let mut candidates: Vec<[f64; D]> = scratch
+        .cell
         .vertices()
         .iter()
         .filter(|v| v.iter().map(|x| x * x).sum::<f64>() > 1.0 + 2.0 * CERTIFICATE_SLACK)
@@ -404,6 +500,7 @@ fn boundary_certificate<const D: usize, C: ConvexCell<D>>(
         .collect();
     let norm2 = |v: &[f64; D]| v.iter().map(|x| x * x).sum::<f64>();
     candidates.sort_unstable_by(|a, b| norm2(b).total_cmp(&norm2(a)));
+    let reach2 = float_reach2(r);
     candidates.iter().take(8).any(|v| {
         let norm = norm2(v).sqrt();
         let lambda = (1.0 + 0.5 * (norm - 1.0)) / norm;
@@ -411,49 +508,64 @@ fn boundary_certificate<const D: usize, C: ConvexCell<D>>(
         if norm2(&x) <= 1.0 + CERTIFICATE_SLACK {
             return false;
         }
-        let mut inside = true;
-        grid.for_each_within(&p, 2.0 * r * (1.0 + 1e-12), |j, d2| {
-            if !inside || j == i || d2 == 0.0 {
-                return;
-            }
-            let q: [f64; D] = std::array::from_fn(|k| (positions[j][k] - p[k]) / r);
-            let len = q.iter().map(|a| a * a).sum::<f64>().sqrt();
-            let s: f64 = (0..D).map(|k| q[k] / len * x[k]).sum::<f64>() - 0.5 * len;
-            if s >= -CERTIFICATE_SLACK {
-                inside = false;
-            }
-        });
-        inside
+        scratch
+            .near
+            .iter()
+            .filter(|(d2, _)| *d2 <= reach2)
+            .all(|(_, pj)| {
+                let q: [f64; D] = std::array::from_fn(|k| (pj[k] - p[k]) / r);
+                let len = q.iter().map(|a| a * a).sum::<f64>().sqrt();
+                let s: f64 = (0..D).map(|k| q[k] / len * x[k]).sum::<f64>() - 0.5 * len;
+                s < -CERTIFICATE_SLACK
+            })
     })
 }
 
-/// Interior certificate: the float cell clipped again, nearest neighbour first, skipping every
-/// clip that would be near-degenerate. Skipping a half-space only enlarges the exact cell, and
-/// the clips kept are all covered by the bound of the crate docs ("Exactness"), so a margin
-/// below `−τ` for that larger cell proves the particle interior.
+/// `(2r·FLOAT_REACH)²`: the float cell and the certificates use the neighbours within.
+fn float_reach2(r: f64) -> f64 {
+    (2.0 * r * FLOAT_REACH).powi(2)
+}
+
+/// Nearest first, ties by position (deterministic whatever order the grid gave).
+fn by_distance<const D: usize>(a: &(f64, Point<D>), b: &(f64, Point<D>)) -> std::cmp::Ordering {
+    a.0.total_cmp(&b.0).then_with(|| {
+        (0..D)
+            .map(|k| a.1[k].total_cmp(&b.1[k]))
+            .find(|o| o.is_ne())
+            .unwrap_or(std::cmp::Ordering::Equal)
+    })
+}
+
+/// How far the interior certificate moves a bisector outward (units of `r`) when clipping by
+/// it would be near-degenerate: first not at all, then by these amounts, each far above
+/// [`cell::PLANE_EPS`] (so a vertex the plane passed through is now clearly inside) and far
+/// below the margins the certificate is tried on (at least [`CERTIFICATE_MIN_MARGIN`]).
+const CERTIFICATE_SHIFTS: [f64; 4] = [0.0, 1e-9, 3.7e-9, 1.3e-8];
+
+/// Interior certificate: the float cell clipped again, nearest neighbour first. A clip that
+/// would be near-degenerate is retried with the plane moved outward ([`CERTIFICATE_SHIFTS`]),
+/// and skipped if every try is. A moved plane bounds a larger half-space, and skipping one
+/// only enlarges the cell too, so the result contains the exact cell; the clips kept are all
+/// covered by the bound of the crate docs ("Exactness"), so a margin below `−τ` for that
+/// larger cell proves the particle interior. Perfect lattices need the shifts: their bisectors
+/// pass exactly through the vertices of the cell, and skipping every such plane leaves the
+/// cell far too large (`pysph_case5`: 1,854 particles at margin −0.33r went to the exact
+/// predicate).
 fn interior_certificate<const D: usize, C: ConvexCell<D> + Clone>(
-    positions: &[Point<D>],
-    grid: &NeighbourGrid<D>,
-    i: usize,
+    p: &Point<D>,
     r: f64,
-    scratch: &mut Scratch<C>,
+    scratch: &mut Scratch<D, C>,
 ) -> bool {
-    let p = positions[i];
-    let neighbours = &mut scratch.neighbours;
-    neighbours.clear();
-    grid.for_each_within(&p, 2.0 * r * (1.0 + 1e-12), |j, d2| {
-        if d2 > 0.0 {
-            neighbours.push((d2, j));
-        }
-    });
-    neighbours.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let near = &mut scratch.near;
+    near.sort_unstable_by(by_distance);
+    let reach2 = float_reach2(r);
     let cell = &mut scratch.cell;
     cell.reset_box();
     let mut reach = (D as f64).sqrt();
     let mut rho0 = 1.0f64;
     let mut clips = 0usize;
-    for &(_, j) in neighbours.iter() {
-        let q: [f64; D] = std::array::from_fn(|k| (positions[j][k] - p[k]) / r);
+    for (_, pj) in near.iter().take_while(|(d2, _)| *d2 <= reach2) {
+        let q: [f64; D] = std::array::from_fn(|k| (pj[k] - p[k]) / r);
         let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
         let offset = 0.5 * len;
         if offset >= reach {
@@ -461,9 +573,18 @@ fn interior_certificate<const D: usize, C: ConvexCell<D> + Clone>(
         }
         let n: [f64; D] = std::array::from_fn(|k| q[k] / len);
         let saved = cell.clone();
-        cell.clip(&n, offset);
-        if cell.degenerate() {
-            *cell = saved;
+        // The plane itself, then moved outward (a larger half-space) until the clip is not
+        // near-degenerate; skipped if none is.
+        let kept = CERTIFICATE_SHIFTS.iter().any(|&shift| {
+            cell.clip(&n, offset + shift);
+            if cell.degenerate() {
+                cell.clone_from(&saved);
+                false
+            } else {
+                true
+            }
+        });
+        if !kept {
             continue;
         }
         rho0 = rho0.min(offset);
@@ -471,25 +592,6 @@ fn interior_certificate<const D: usize, C: ConvexCell<D> + Clone>(
         reach = cell.max_norm2().sqrt();
     }
     reach - 1.0 < -float_bound(clips, rho0, reach)
-}
-
-/// The exact label of particle `i` ([`boundary_core::exact_cover`]), from every particle the
-/// grid finds within `2r(1 + 1e-9)`: a superset of the neighbours whose exact distance is below
-/// `2r` despite the rounding of the query; the predicate drops the others exactly.
-fn exact_label<const D: usize>(
-    positions: &[Point<D>],
-    grid: &NeighbourGrid<D>,
-    i: usize,
-    r: f64,
-) -> bool {
-    let p = positions[i];
-    let mut near: Vec<Point<D>> = Vec::new();
-    grid.for_each_within(&p, 2.0 * r * (1.0 + 1e-9), |j, _| {
-        if j != i {
-            near.push(positions[j]);
-        }
-    });
-    exact_cover::sphere_uncovered(&p, &near, r)
 }
 
 /// The bound `τ` of the crate docs ("Exactness") after `clips` non-degenerate clips whose
@@ -502,31 +604,20 @@ fn float_bound(clips: usize, rho0: f64, reach: f64) -> f64 {
     2.0 * (2.0 * beta * reach.max(1.0) + 8.0 * U)
 }
 
-/// The float restricted Voronoi cell of particle `i`, with its error bound (crate docs).
+/// The float restricted Voronoi cell of the particle at `p` (neighbours in `scratch.near`),
+/// with its error bound (crate docs).
 fn cell_margin<const D: usize, C: ConvexCell<D>>(
-    positions: &[Point<D>],
-    grid: &NeighbourGrid<D>,
-    i: usize,
+    p: &Point<D>,
     r: f64,
-    scratch: &mut Scratch<C>,
+    scratch: &mut Scratch<D, C>,
 ) -> FloatCell {
-    let p = positions[i];
-    let neighbours = &mut scratch.neighbours;
-    neighbours.clear();
-    // A little beyond 2r, so that no neighbour whose exact distance is below 2r is lost to the
-    // rounding of the query (a bisector just beyond r only trims the cell there: harmless).
-    grid.for_each_within(&p, 2.0 * r * (1.0 + 1e-12), |j, d2| {
-        // d2 == 0: `i` itself or an exact duplicate, which does not cover (crate docs).
-        if d2 > 0.0 {
-            neighbours.push((d2, j));
-        }
-    });
-    let by_distance = |a: &(f64, usize), b: &(f64, usize)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+    let neighbours = &mut scratch.near;
     let first = FIRST_BATCH.min(neighbours.len());
     if first < neighbours.len() {
         neighbours.select_nth_unstable_by(first, by_distance);
     }
     neighbours[..first].sort_unstable_by(by_distance);
+    let reach2 = float_reach2(r);
 
     let cell = &mut scratch.cell;
     cell.reset_box();
@@ -539,8 +630,12 @@ fn cell_margin<const D: usize, C: ConvexCell<D>>(
         if k == first {
             neighbours[first..].sort_unstable_by(by_distance);
         }
-        let j = neighbours[k].1;
-        let q: [f64; D] = std::array::from_fn(|k| (positions[j][k] - p[k]) / r);
+        let (d2, pj) = neighbours[k];
+        if d2 > reach2 {
+            // Sorted: the rest lie beyond 2r too.
+            break;
+        }
+        let q: [f64; D] = std::array::from_fn(|k| (pj[k] - p[k]) / r);
         let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
         let offset = 0.5 * len;
         if offset >= reach {

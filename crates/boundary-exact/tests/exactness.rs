@@ -202,3 +202,72 @@ fn generic_random_sets_match_brute_force_enumeration() {
         }
     }
 }
+
+/// Every particle of `rows` at `r`: `exact`'s labels, its list-based entry point and the exact
+/// predicate of `boundary_core::exact_cover` alone must agree; returns the fallback count.
+fn agree_with_the_exact_predicate<const D: usize>(rows: &[[f64; D]], r: f64) -> usize
+where
+    ParticleSet<D>: Into<AnyParticleSet>,
+{
+    let (got, fallbacks) = labels(ParticleSet::from_rows(rows).unwrap().into(), r);
+    let points: Vec<boundary_core::Point<D>> = rows.iter().map(|&p| p.into()).collect();
+    for (i, p) in points.iter().enumerate() {
+        let others: Vec<_> = points
+            .iter()
+            .enumerate()
+            .filter(|&(j, q)| j != i && (q - p).norm() < 2.5 * r)
+            .map(|(_, q)| *q)
+            .collect();
+        let truth = boundary_core::exact_cover::sphere_uncovered(p, &others, r);
+        assert_eq!(got[i], truth, "D={D} particle {i}");
+        let listed = match D {
+            2 => boundary_exact::sphere_uncovered_2d(
+                &boundary_core::Point::<2>::from_fn(|k, _| p[k]),
+                &others
+                    .iter()
+                    .map(|q| boundary_core::Point::<2>::from_fn(|k, _| q[k]))
+                    .collect::<Vec<_>>(),
+                r,
+            ),
+            _ => boundary_exact::sphere_uncovered_3d(
+                &boundary_core::Point::<3>::from_fn(|k, _| p[k]),
+                &others
+                    .iter()
+                    .map(|q| boundary_core::Point::<3>::from_fn(|k, _| q[k]))
+                    .collect::<Vec<_>>(),
+                r,
+            ),
+        };
+        assert_eq!(listed, truth, "D={D} particle {i}, list-based");
+    }
+    fallbacks
+}
+
+#[test]
+fn dense_decimal_lattices_are_settled_by_the_certificates_with_the_exact_labels() {
+    // As `pysph_case5`: a body-centred cubic lattice of cube side 0.0225 (not dyadic: full
+    // 53-bit mantissas, so the exact predicate takes its big-integer path) at r = 0.0253, with
+    // dozens of neighbours whose bisectors pass exactly through the cell vertices (every clip
+    // flagged near-degenerate). The certificates must settle every particle, with the exact
+    // predicate's labels.
+    let a = 0.0225;
+    let r = 0.0253;
+    let mut rows3: Vec<[f64; 3]> = Vec::new();
+    for k in 0..6 * 6 * 6 {
+        let c = [k % 6, k / 6 % 6, k / 36].map(|x| x as f64 * a);
+        rows3.push([c[0] + 0.0225, c[1] + 0.0225, c[2] + 0.01125]);
+        rows3.push([c[0] + 0.03375, c[1] + 0.03375, c[2] + 0.0225]);
+    }
+    assert_eq!(agree_with_the_exact_predicate(&rows3, r), 0);
+    // Its 2D analogue: a centred square lattice (a square and its centres).
+    let mut rows2: Vec<[f64; 2]> = Vec::new();
+    for k in 0..10 * 10 {
+        let c = [k % 10, k / 10].map(|x| x as f64 * a);
+        rows2.push([c[0] + 0.0225, c[1] + 0.01125]);
+        rows2.push([c[0] + 0.03375, c[1] + 0.0225]);
+    }
+    assert_eq!(agree_with_the_exact_predicate(&rows2, r), 0);
+    // Both labels occur (surface and inside).
+    let (got, _) = labels(ParticleSet::from_rows(&rows3).unwrap().into(), r);
+    assert!(got.iter().any(|&b| b) && got.iter().any(|&b| !b));
+}
