@@ -43,9 +43,11 @@ fn assert_agree<const D: usize>(what: &str, set: &ParticleSet<D>, r: f64) {
 fn shared_scenes_agree_particle_by_particle() {
     for &(_, dim, file, r, _, _, _) in SHARED_SCENES {
         if dim == 2 {
-            assert_agree(file, &shared_set::<2>(file).unwrap(), r);
-        } else {
-            assert_agree(file, &shared_set::<3>(file).unwrap(), r);
+            if let Some(set) = shared_set::<2>(file).unwrap() {
+                assert_agree(file, &set, r);
+            }
+        } else if let Some(set) = shared_set::<3>(file).unwrap() {
+            assert_agree(file, &set, r);
         }
     }
 }

@@ -13,9 +13,15 @@ fn reproduces_the_reference_boundary_counts() {
     for &(_, dim, file, r, _, expected, _) in SHARED_SCENES {
         let radius = Radius::new(r).unwrap();
         let det = if dim == 2 {
-            ExactDetector.detect_2d(&shared_set::<2>(file).unwrap(), radius)
+            let Some(set) = shared_set::<2>(file).unwrap() else {
+                continue;
+            };
+            ExactDetector.detect_2d(&set, radius)
         } else {
-            ExactDetector.detect_3d(&shared_set::<3>(file).unwrap(), radius)
+            let Some(set) = shared_set::<3>(file).unwrap() else {
+                continue;
+            };
+            ExactDetector.detect_3d(&set, radius)
         }
         .unwrap();
         let margins = det.margin.as_ref().unwrap();

@@ -58,11 +58,12 @@ fn workspace_root() -> PathBuf {
         .to_path_buf()
 }
 
-/// Reads `file` (relative to [`data_dir`], as in [`SHARED_SCENES`]) as a `D`-dimensional set.
-/// Any failure (missing folder or file) is an error; tests that should honour
-/// `BOUNDARY_ALLOW_MISSING_DATA` use [`SharedData`] instead.
-pub fn shared_set<const D: usize>(file: &str) -> Result<ParticleSet<D>, String> {
-    shared::read_set::<D>(&data_dir().join(file))
+/// Reads `file` (relative to [`data_dir`], as in [`SHARED_SCENES`]) as a `D`-dimensional set,
+/// under the policy of [`SharedData::from_env`]: a missing folder or file is an error naming
+/// them and the variables to set, or `Ok(None)` (a skip, said on stderr) when
+/// `BOUNDARY_ALLOW_MISSING_DATA=1`.
+pub fn shared_set<const D: usize>(file: &str) -> Result<Option<ParticleSet<D>>, String> {
+    SharedData::from_env().set::<D>(file)
 }
 
 /// An `n × n` square lattice of spacing `a`, x fastest.
