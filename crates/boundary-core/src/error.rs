@@ -16,6 +16,12 @@ pub enum CoreError {
     /// The resolution is not a positive finite number.
     #[error("radius must be positive and finite, got {0}")]
     InvalidRadius(f64),
+    /// The resolution lies outside [`crate::Radius::MIN`]`..=`[`crate::Radius::MAX`].
+    #[error(
+        "radius {0:e} is outside the supported range 1e-100..=1e100 (squared distances of \
+         up to 4r² must stay normal floating-point numbers); rescale the coordinates"
+    )]
+    RadiusOutOfRange(f64),
     /// The neighbour grid cannot index this scene at this cell size.
     #[error("neighbour grid: extent {extent:e} is too large for cell size {cell:e}")]
     GridTooFine {

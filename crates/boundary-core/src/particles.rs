@@ -4,17 +4,29 @@ use nalgebra::SVector;
 /// A position in `D` dimensions.
 pub type Point<const D: usize> = SVector<f64, D>;
 
-/// The resolution `r` of a particle set: positive and finite by construction.
+/// The resolution `r` of a particle set: positive, finite and within
+/// [`Radius::MIN`]`..=`[`Radius::MAX`] by construction.
+///
+/// The range keeps every squared distance the detectors compare with `4r²` (and every
+/// power `r^D` a feature or kernel may form) a normal `f64`, so that a scene scaled by any
+/// power of two within it gets the labels of the unscaled scene (tested for every method).
 #[derive(Debug, Clone, Copy, PartialEq, PartialOrd)]
 pub struct Radius(f64);
 
 impl Radius {
-    /// Validates `r`: it must be finite and strictly positive.
+    /// The smallest supported resolution.
+    pub const MIN: f64 = 1e-100;
+    /// The largest supported resolution.
+    pub const MAX: f64 = 1e100;
+
+    /// Validates `r`: finite, strictly positive, and within [`Radius::MIN`]`..=`[`Radius::MAX`].
     pub fn new(r: f64) -> Result<Self, CoreError> {
-        if r.is_finite() && r > 0.0 {
-            Ok(Radius(r))
-        } else {
+        if !(r.is_finite() && r > 0.0) {
             Err(CoreError::InvalidRadius(r))
+        } else if !(Self::MIN..=Self::MAX).contains(&r) {
+            Err(CoreError::RadiusOutOfRange(r))
+        } else {
+            Ok(Radius(r))
         }
     }
 
@@ -182,7 +194,20 @@ mod tests {
                 "{bad}"
             );
         }
-        assert_eq!(Radius::new(1e-300).map(Radius::get), Ok(1e-300));
+        for bad in [1e-300, 0.99e-100, 1.01e100, 1e300] {
+            assert_eq!(
+                Radius::new(bad),
+                Err(CoreError::RadiusOutOfRange(bad)),
+                "{bad}"
+            );
+        }
+        assert!(Radius::new(1e300)
+            .unwrap_err()
+            .to_string()
+            .contains("supported range 1e-100..=1e100"));
+        for good in [Radius::MIN, 1e-9, 1.0, 1e9, Radius::MAX] {
+            assert_eq!(Radius::new(good).map(Radius::get), Ok(good));
+        }
     }
 
     #[test]

@@ -270,6 +270,32 @@ fn far_offsets_keep_the_exact_labels_away_from_ties() {
     }
 }
 
+/// Every method, at both ends of the radius range `Radius` accepts (1e-100 to 1e100): a
+/// jittered lattice scaled by 2^-330 (about 4.6e-100) or 2^330 (about 2.2e99), `r` alike,
+/// gets the labels of the unscaled lattice. Scaling by a power of two is exact in floating
+/// point, so nothing but overflow or underflow inside a method could change a label.
+#[test]
+fn every_method_gives_the_same_labels_across_the_supported_radius_range() {
+    fn check<const D: usize>(rows: &[[f64; D]], r: f64)
+    where
+        ParticleSet<D>: Into<AnyParticleSet>,
+    {
+        for method in methods() {
+            let base = run(method, &set_of(rows), r).labels;
+            assert!(base.boundary_count() > 0 && base.boundary_count() < rows.len());
+            for power in [-330, 330] {
+                let s = 2f64.powi(power);
+                let scaled: Vec<[f64; D]> = rows.iter().map(|p| p.map(|c| c * s)).collect();
+                assert!((Radius::MIN..=Radius::MAX).contains(&(r * s)));
+                let got = run(method, &set_of(&scaled), r * s).labels;
+                assert_eq!(got, base, "{method} {D}D at scale 2^{power}");
+            }
+        }
+    }
+    check(&jittered_lattice::<2>(12, 0.25, 3), 0.85);
+    check(&jittered_lattice::<3>(7, 0.25, 4), 1.1);
+}
+
 #[test]
 fn labels_do_not_depend_on_the_thread_count_or_the_run() {
     let scenes = [
