@@ -310,23 +310,20 @@ impl BoundaryDetector for ExactDetector {
 
 /// Per-thread working memory.
 #[derive(Default)]
-struct Scratch<const D: usize, C> {
+struct Scratch<C> {
     cell: C,
-    /// The neighbours of the particle being classified: `(|p_j − p_i|², p_j)` for every other
-    /// particle within `2r(1 + 1e-9)` ([`NEAR_SLACK`]), exact duplicates of `p_i` left out.
-    near: Vec<(f64, Point<D>)>,
+    /// The neighbours of the particle being classified: `(|p_j − p_i|², j)` for every other
+    /// particle within `2r(1 + 1e-12)` ([`NEAR_SLACK`]), exact duplicates of `p_i` left out;
+    /// `j` indexes the positions passed along with the scratch.
+    near: Vec<(f64, usize)>,
 }
 
-/// Neighbours are gathered within `2r(1 + NEAR_SLACK)`: a superset of those whose exact
-/// distance is below `2r` despite the rounding of the query. The exact predicate drops the
-/// others exactly; the float cell and the certificates use those within `2r(1 + 1e-12)`
-/// ([`FLOAT_REACH`]).
-const NEAR_SLACK: f64 = 1e-9;
-
-/// The float cell and the certificates use the neighbours within `2r·FLOAT_REACH`: a little
-/// beyond `2r`, so that no neighbour whose exact distance is below `2r` is lost to rounding
-/// (a bisector just beyond `r` only trims the cell there: harmless).
-const FLOAT_REACH: f64 = 1.0 + 1e-12;
+/// Neighbours are gathered within `2r(1 + NEAR_SLACK)`: a little beyond `2r`, so that no
+/// neighbour whose exact distance is below `2r` is lost to the rounding of the query (the
+/// squared distances carry a relative error of a few `u`, far below `1e-12`). The float cell
+/// and the certificates use them all (a bisector just beyond `r` only trims the cell there:
+/// harmless); the exact predicate drops those at `2r` or more exactly.
+const NEAR_SLACK: f64 = 1e-12;
 
 /// What the float clipping says about one particle.
 struct FloatCell {
@@ -357,16 +354,16 @@ where
     let positions = set.positions();
     let results: Vec<(f64, bool, bool)> = (0..count)
         .into_par_iter()
-        .map_init(Scratch::<D, C>::default, |scratch, i| {
+        .map_init(Scratch::<C>::default, |scratch, i| {
             let p = positions[i];
             scratch.near.clear();
             grid.for_each_within(&p, 2.0 * r * (1.0 + NEAR_SLACK), |j, d2| {
                 // d2 == 0: `i` itself or an exact duplicate, which does not cover (crate docs).
                 if d2 > 0.0 {
-                    scratch.near.push((d2, positions[j]));
+                    scratch.near.push((d2, j));
                 }
             });
-            classify(&p, r, tie, scratch)
+            classify(&p, positions, r, tie, scratch)
         })
         .collect();
     let fallbacks = results.iter().filter(|x| x.2).count();
@@ -386,11 +383,12 @@ where
 /// decide (or a clip was near-degenerate), the two certificates; then the exact predicate.
 fn classify<const D: usize, C: ConvexCell<D> + Clone>(
     p: &Point<D>,
+    positions: &[Point<D>],
     r: f64,
     tie: f64,
-    scratch: &mut Scratch<D, C>,
+    scratch: &mut Scratch<C>,
 ) -> (f64, bool, bool) {
-    let cell = cell_margin(p, r, scratch);
+    let cell = cell_margin(p, positions, r, scratch);
     let margin = cell.margin * r;
     if tie > 0.0 {
         return (margin, margin > tie * r, false);
@@ -401,13 +399,13 @@ fn classify<const D: usize, C: ConvexCell<D> + Clone>(
     // Two certificates before the exact predicate (crate docs, "Certificates"): they settle
     // the clear-cut particles of perfect lattices, whose clips are flagged near-degenerate
     // although their margins are far from 0.
-    if cell.margin > CERTIFICATE_MIN_MARGIN && boundary_certificate(p, r, scratch) {
+    if cell.margin > CERTIFICATE_MIN_MARGIN && boundary_certificate(p, positions, r, scratch) {
         return (margin, true, false);
     }
-    if cell.margin < -CERTIFICATE_MIN_MARGIN && interior_certificate(p, r, scratch) {
+    if cell.margin < -CERTIFICATE_MIN_MARGIN && interior_certificate(p, positions, r, scratch) {
         return (margin, false, false);
     }
-    let others: Vec<Point<D>> = scratch.near.iter().map(|x| x.1).collect();
+    let others: Vec<Point<D>> = scratch.near.iter().map(|x| positions[x.1]).collect();
     (margin, exact_cover::sphere_uncovered(p, &others, r), true)
 }
 
@@ -458,15 +456,15 @@ fn sphere_uncovered<const D: usize, C: ConvexCell<D> + Default + Clone>(
     r: f64,
 ) -> bool {
     assert!(r > 0.0 && r.is_finite(), "r must be positive and finite");
-    let mut scratch = Scratch::<D, C>::default();
+    let mut scratch = Scratch::<C>::default();
     let reach2 = (2.0 * r * (1.0 + NEAR_SLACK)).powi(2);
-    for q in others {
+    for (j, q) in others.iter().enumerate() {
         let d2 = (q - centre).norm_squared();
         if d2 > 0.0 && d2 <= reach2 {
-            scratch.near.push((d2, *q));
+            scratch.near.push((d2, j));
         }
     }
-    classify(centre, r, 0.0, &mut scratch).1
+    classify(centre, others, r, 0.0, &mut scratch).1
 }
 
 /// The certificates are tried only on float margins at least this far from 0 (units of `r`):
@@ -486,8 +484,9 @@ const CERTIFICATE_SLACK: f64 = 1e-11;
 /// cell's topology is not trusted: only the point is checked, against every neighbour.
 fn boundary_certificate<const D: usize, C: ConvexCell<D>>(
     p: &Point<D>,
+    positions: &[Point<D>],
     r: f64,
-    scratch: &Scratch<D, C>,
+    scratch: &Scratch<C>,
 ) -> bool {
     // Candidates: the vertices beyond the sphere, farthest first (the farthest may be an
     // artefact of a near-degenerate clip; another one often proves the same).
@@ -500,7 +499,6 @@ fn boundary_certificate<const D: usize, C: ConvexCell<D>>(
         .collect();
     let norm2 = |v: &[f64; D]| v.iter().map(|x| x * x).sum::<f64>();
     candidates.sort_unstable_by(|a, b| norm2(b).total_cmp(&norm2(a)));
-    let reach2 = float_reach2(r);
     candidates.iter().take(8).any(|v| {
         let norm = norm2(v).sqrt();
         let lambda = (1.0 + 0.5 * (norm - 1.0)) / norm;
@@ -508,32 +506,18 @@ fn boundary_certificate<const D: usize, C: ConvexCell<D>>(
         if norm2(&x) <= 1.0 + CERTIFICATE_SLACK {
             return false;
         }
-        scratch
-            .near
-            .iter()
-            .filter(|(d2, _)| *d2 <= reach2)
-            .all(|(_, pj)| {
-                let q: [f64; D] = std::array::from_fn(|k| (pj[k] - p[k]) / r);
-                let len = q.iter().map(|a| a * a).sum::<f64>().sqrt();
-                let s: f64 = (0..D).map(|k| q[k] / len * x[k]).sum::<f64>() - 0.5 * len;
-                s < -CERTIFICATE_SLACK
-            })
+        scratch.near.iter().all(|&(_, j)| {
+            let q: [f64; D] = std::array::from_fn(|k| (positions[j][k] - p[k]) / r);
+            let len = q.iter().map(|a| a * a).sum::<f64>().sqrt();
+            let s: f64 = (0..D).map(|k| q[k] / len * x[k]).sum::<f64>() - 0.5 * len;
+            s < -CERTIFICATE_SLACK
+        })
     })
 }
 
-/// `(2r·FLOAT_REACH)²`: the float cell and the certificates use the neighbours within.
-fn float_reach2(r: f64) -> f64 {
-    (2.0 * r * FLOAT_REACH).powi(2)
-}
-
-/// Nearest first, ties by position (deterministic whatever order the grid gave).
-fn by_distance<const D: usize>(a: &(f64, Point<D>), b: &(f64, Point<D>)) -> std::cmp::Ordering {
-    a.0.total_cmp(&b.0).then_with(|| {
-        (0..D)
-            .map(|k| a.1[k].total_cmp(&b.1[k]))
-            .find(|o| o.is_ne())
-            .unwrap_or(std::cmp::Ordering::Equal)
-    })
+/// Nearest first, ties by index.
+fn by_distance(a: &(f64, usize), b: &(f64, usize)) -> std::cmp::Ordering {
+    a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
 }
 
 /// How far the interior certificate moves a bisector outward (units of `r`) when clipping by
@@ -553,19 +537,19 @@ const CERTIFICATE_SHIFTS: [f64; 4] = [0.0, 1e-9, 3.7e-9, 1.3e-8];
 /// predicate).
 fn interior_certificate<const D: usize, C: ConvexCell<D> + Clone>(
     p: &Point<D>,
+    positions: &[Point<D>],
     r: f64,
-    scratch: &mut Scratch<D, C>,
+    scratch: &mut Scratch<C>,
 ) -> bool {
     let near = &mut scratch.near;
     near.sort_unstable_by(by_distance);
-    let reach2 = float_reach2(r);
     let cell = &mut scratch.cell;
     cell.reset_box();
     let mut reach = (D as f64).sqrt();
     let mut rho0 = 1.0f64;
     let mut clips = 0usize;
-    for (_, pj) in near.iter().take_while(|(d2, _)| *d2 <= reach2) {
-        let q: [f64; D] = std::array::from_fn(|k| (pj[k] - p[k]) / r);
+    for &(_, j) in near.iter() {
+        let q: [f64; D] = std::array::from_fn(|k| (positions[j][k] - p[k]) / r);
         let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
         let offset = 0.5 * len;
         if offset >= reach {
@@ -608,8 +592,9 @@ fn float_bound(clips: usize, rho0: f64, reach: f64) -> f64 {
 /// with its error bound (crate docs).
 fn cell_margin<const D: usize, C: ConvexCell<D>>(
     p: &Point<D>,
+    positions: &[Point<D>],
     r: f64,
-    scratch: &mut Scratch<D, C>,
+    scratch: &mut Scratch<C>,
 ) -> FloatCell {
     let neighbours = &mut scratch.near;
     let first = FIRST_BATCH.min(neighbours.len());
@@ -617,7 +602,6 @@ fn cell_margin<const D: usize, C: ConvexCell<D>>(
         neighbours.select_nth_unstable_by(first, by_distance);
     }
     neighbours[..first].sort_unstable_by(by_distance);
-    let reach2 = float_reach2(r);
 
     let cell = &mut scratch.cell;
     cell.reset_box();
@@ -630,12 +614,8 @@ fn cell_margin<const D: usize, C: ConvexCell<D>>(
         if k == first {
             neighbours[first..].sort_unstable_by(by_distance);
         }
-        let (d2, pj) = neighbours[k];
-        if d2 > reach2 {
-            // Sorted: the rest lie beyond 2r too.
-            break;
-        }
-        let q: [f64; D] = std::array::from_fn(|k| (pj[k] - p[k]) / r);
+        let j = neighbours[k].1;
+        let q: [f64; D] = std::array::from_fn(|k| (positions[j][k] - p[k]) / r);
         let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
         let offset = 0.5 * len;
         if offset >= reach {
