@@ -13,7 +13,7 @@
 //! widest gap if there is one, else minus half the narrowest overlap.
 
 use crate::{Cap, SphereCover, U};
-use boundary_core::Point;
+use boundary_core::{Point, Radius};
 use std::f64::consts::{PI, TAU};
 
 /// The 2D covering test; holds the arcs of the current particle.
@@ -28,7 +28,7 @@ pub(crate) struct Arcs {
 const THIN_ARC: f64 = 1e-6;
 
 impl SphereCover<2> for Arcs {
-    fn exact(centre: &Point<2>, others: &[Point<2>], r: f64) -> bool {
+    fn exact(centre: &Point<2>, others: &[Point<2>], r: Radius) -> bool {
         boundary_exact::sphere_uncovered_2d(centre, others, r)
     }
 

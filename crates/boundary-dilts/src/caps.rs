@@ -12,7 +12,7 @@
 //! the circles do not meet (the caps are disjoint or nested).
 
 use crate::{Cap, SphereCover, TANGENT_TOLERANCE, U};
-use boundary_core::Point;
+use boundary_core::{Point, Radius};
 
 /// Size of the first subset of caps tried (the largest ones); it doubles until the question is
 /// settled. A jittered cubic lattice is covered by its 6 to 14 largest caps.
@@ -196,7 +196,7 @@ pub(crate) struct Caps {
 }
 
 impl SphereCover<3> for Caps {
-    fn exact(centre: &Point<3>, others: &[Point<3>], r: f64) -> bool {
+    fn exact(centre: &Point<3>, others: &[Point<3>], r: Radius) -> bool {
         boundary_exact::sphere_uncovered_3d(centre, others, r)
     }
 

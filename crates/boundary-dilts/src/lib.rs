@@ -344,7 +344,7 @@ pub(crate) trait SphereCover<const D: usize>: Default + Send {
     /// The exact label of the sphere of radius `r` around `centre` among `others` (a superset
     /// of the neighbours within `2r`), for the particles the float test leaves undecided:
     /// `exact`'s certified decision ([`boundary_exact::sphere_uncovered_2d`] and `_3d`).
-    fn exact(centre: &Point<D>, others: &[Point<D>], r: f64) -> bool;
+    fn exact(centre: &Point<D>, others: &[Point<D>], r: Radius) -> bool;
 }
 
 /// Per-thread working memory.
@@ -375,6 +375,7 @@ fn detect_with<const D: usize, C: SphereCover<D>>(
     r: Radius,
     tie: f64,
 ) -> Result<(Detection, usize), DetectError> {
+    let radius = r;
     let r = r.get();
     let grid = NeighbourGrid::new(set, 2.0 * r)?;
     let results: Vec<(bool, Option<f64>, bool)> = (0..count)
@@ -385,7 +386,7 @@ fn detect_with<const D: usize, C: SphereCover<D>>(
             match label {
                 Some(b) if !(twins && tie == 0.0) => (b, margin, false),
                 _ => (
-                    exact_label::<D, C>(set.positions(), &grid, i, r),
+                    exact_label::<D, C>(set.positions(), &grid, i, radius),
                     margin,
                     true,
                 ),
@@ -407,11 +408,11 @@ fn exact_label<const D: usize, C: SphereCover<D>>(
     positions: &[Point<D>],
     grid: &NeighbourGrid<D>,
     i: usize,
-    r: f64,
+    r: Radius,
 ) -> bool {
     let p = positions[i];
     let mut near: Vec<Point<D>> = Vec::new();
-    grid.for_each_within(&p, 2.0 * r * (1.0 + 1e-9), |j, _| {
+    grid.for_each_within(&p, 2.0 * r.get() * (1.0 + 1e-9), |j, _| {
         if j != i {
             near.push(positions[j]);
         }

@@ -227,7 +227,7 @@ where
                     .iter()
                     .map(|q| boundary_core::Point::<2>::from_fn(|k, _| q[k]))
                     .collect::<Vec<_>>(),
-                r,
+                Radius::new(r).unwrap(),
             ),
             _ => boundary_exact::sphere_uncovered_3d(
                 &boundary_core::Point::<3>::from_fn(|k, _| p[k]),
@@ -235,7 +235,7 @@ where
                     .iter()
                     .map(|q| boundary_core::Point::<3>::from_fn(|k, _| q[k]))
                     .collect::<Vec<_>>(),
-                r,
+                Radius::new(r).unwrap(),
             ),
         };
         assert_eq!(listed, truth, "D={D} particle {i}, list-based");
