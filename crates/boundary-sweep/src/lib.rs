@@ -62,7 +62,8 @@ impl MethodConfig {
 }
 
 /// Parameter grids swept besides the defaults: depth 1..8 for the interval methods (the JCP
-/// paper's Fig. 7 / thesis Fig. 27), a gamma grid for the visibility method, thresholds
+/// paper's Fig. 7 / thesis Fig. 27), a gamma grid, no cavity viewpoints and two viewpoint
+/// grids for the visibility method, thresholds
 /// around the default 0.375 for the colour field of `muller` (how sensitive M is to it), and the
 /// `svm` cascades `refine=exact|ge`.
 pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
@@ -84,6 +85,8 @@ pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
                 }
                 // The effect of the cavity viewpoints (thesis Eq. 2.3, Fig. 5).
                 out.push(MethodConfig::with(m, "cavity", "off"));
+                // A second viewpoint grid shifted by r (boundary when seen under both).
+                out.push(MethodConfig::with(m, "grids", "2"));
             }
             "muller" => {
                 for threshold in ["0.1", "0.2", "0.3", "0.5", "0.6"] {
