@@ -45,9 +45,10 @@ pub struct Viewpoint<const D: usize> {
     pub kind: ViewpointKind,
 }
 
-/// The global cell of a point: `floor(x_k / cell)` per axis.
-fn cell_of<const D: usize>(p: &Point<D>, cell: f64) -> [i64; D] {
-    std::array::from_fn(|k| (p[k] / cell).floor() as i64)
+/// The global cell of a point in the grid shifted by `shift` on every axis:
+/// `floor((x_k − shift) / cell)` per axis.
+fn cell_of<const D: usize>(p: &Point<D>, cell: f64, shift: f64) -> [i64; D] {
+    std::array::from_fn(|k| ((p[k] - shift) / cell).floor() as i64)
 }
 
 /// Calls `f` for each of the `3^D − 1` cells adjacent to `c`.
@@ -72,7 +73,8 @@ fn for_each_adjacent<const D: usize>(c: &[i64; D], mut f: impl FnMut([i64; D])) 
 /// All viewpoints of Alg. 1, in a deterministic order: empty-cell centres sorted by cell,
 /// then cavity viewpoints by particle index.
 ///
-/// `grid` is a neighbour grid over `set` (any cell size); `r` the resolution. With
+/// `grid` is a neighbour grid over `set` (any cell size); `r` the resolution; `shift` moves
+/// the cell grid by that much on every axis (0: anchored at the origin). With
 /// `cavity = false` only the empty-cell viewpoints are placed.
 ///
 /// Our reading of the cavity rule (the thesis leaves these open):
@@ -92,6 +94,7 @@ pub fn place_viewpoints<const D: usize>(
     grid: &NeighbourGrid<D>,
     r: f64,
     cavity: bool,
+    shift: f64,
 ) -> Vec<Viewpoint<D>> {
     let cell = 2.0 * r;
     let eps = CELL_TOLERANCE * r;
@@ -100,11 +103,11 @@ pub fn place_viewpoints<const D: usize>(
     for (i, p) in set.positions().iter().enumerate() {
         // The cell of p, and the cells whose closure lies within eps of p (p within eps of
         // a face, edge or corner): all of them are full.
-        let c = cell_of(p, cell);
+        let c = cell_of(p, cell, shift);
         near.clear();
         near.push(c);
         for k in 0..D {
-            let offset = p[k] - c[k] as f64 * cell;
+            let offset = (p[k] - shift) - c[k] as f64 * cell;
             let step = if offset <= eps {
                 -1
             } else if cell - offset <= eps {
@@ -141,7 +144,7 @@ pub fn place_viewpoints<const D: usize>(
     let mut out: Vec<Viewpoint<D>> = empty
         .iter()
         .map(|c| Viewpoint {
-            at: Point::<D>::from_fn(|k, _| (c[k] as f64 + 0.5) * cell),
+            at: Point::<D>::from_fn(|k, _| (c[k] as f64 + 0.5) * cell + shift),
             kind: ViewpointKind::EmptyCell,
         })
         .collect();
@@ -210,8 +213,10 @@ mod tests {
 
     #[test]
     fn cells_are_anchored_at_the_origin() {
-        assert_eq!(cell_of(&Point::<2>::new(0.0, -0.1), 2.0), [0, -1]);
-        assert_eq!(cell_of(&Point::<2>::new(2.0, 3.99), 2.0), [1, 1]);
+        assert_eq!(cell_of(&Point::<2>::new(0.0, -0.1), 2.0, 0.0), [0, -1]);
+        assert_eq!(cell_of(&Point::<2>::new(2.0, 3.99), 2.0, 0.0), [1, 1]);
+        // Shifted by half a cell: cell 0 is [1, 3).
+        assert_eq!(cell_of(&Point::<2>::new(0.99, 1.0), 2.0, 1.0), [-1, 0]);
     }
 
     #[test]
@@ -230,9 +235,16 @@ mod tests {
     fn one_particle_gets_eight_surrounding_viewpoints() {
         let set = ParticleSet::from_rows(&[[0.5, 0.5]]).unwrap();
         let grid = NeighbourGrid::new(&set, 2.0).unwrap();
-        let v = place_viewpoints(&set, &grid, 1.0, true);
+        let v = place_viewpoints(&set, &grid, 1.0, true, 0.0);
         assert_eq!(v.len(), 8);
         assert!(v.iter().all(|v| v.kind == ViewpointKind::EmptyCell));
         assert!(v.iter().any(|v| v.at == Point::<2>::new(-1.0, -1.0)));
+        // The grid shifted by r = 1: the particle's cell is [-1, 1)², centred at the origin;
+        // its neighbours' centres are 2 away on each axis.
+        let v = place_viewpoints(&set, &grid, 1.0, true, 1.0);
+        assert_eq!(v.len(), 8);
+        assert!(v.iter().any(|v| v.at == Point::<2>::new(-2.0, -2.0)));
+        assert!(v.iter().any(|v| v.at == Point::<2>::new(2.0, 0.0)));
+        assert!(!v.iter().any(|v| v.at == Point::<2>::new(0.0, 0.0)));
     }
 }

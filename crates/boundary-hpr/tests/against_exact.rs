@@ -74,11 +74,14 @@ fn lattice_balls_rim_and_core() {
 /// The thesis author's own 2D frames at the author's r = 0.022105 (shared data): at default
 /// parameters `hpr` finds every boundary particle (Rec = 1) with M at least that of the
 /// author's reference code (`boundary.py` of marcos-sandim/boundary-detection, which scores
-/// M = 1.0, 0.9582 and 0.9223 on frames 1, 50 and 100; issue 23). A missing data folder is a
-/// failure unless `BOUNDARY_ALLOW_MISSING_DATA=1`.
+/// M = 1.0, 0.9582 and 0.9223 on frames 1, 50 and 100; issue 23); so does `grids=2`, whose
+/// boundary is a subset of the default's. A missing data folder is a failure unless
+/// `BOUNDARY_ALLOW_MISSING_DATA=1`.
 #[test]
 fn sandim_vortex_frames_reach_the_authors_code_with_full_recall() {
     let d = HprDetector::default();
+    let mut two_grids = HprDetector::default();
+    two_grids.set_grids(2).unwrap();
     let goals = [
         ("sandim_vortex_001", 1.0),
         ("sandim_vortex_050", 0.9582),
@@ -95,15 +98,29 @@ fn sandim_vortex_frames_reach_the_authors_code_with_full_recall() {
         };
         let set = set.to_any();
         assert_eq!(set.len(), n);
-        let c = confusion(&labels(&d, &set, r), &labels_exact(&set, r));
-        eprintln!(
-            "{name}: {c:?} Rec {} FPR {} M {}",
-            c.recall(),
-            c.fpr(),
-            c.m()
+        let truth = labels_exact(&set, r);
+        let one = labels(&d, &set, r);
+        let two = labels(&two_grids, &set, r);
+        for (found, grids) in [(&one, 1), (&two, 2)] {
+            let c = confusion(found, &truth);
+            eprintln!(
+                "{name}, grids={grids}: {c:?} Rec {} FPR {} M {}",
+                c.recall(),
+                c.fpr(),
+                c.m()
+            );
+            assert_eq!(c.recall(), 1.0, "{name}, grids={grids}: {c:?}");
+            assert!(
+                c.m() >= goal,
+                "{name}, grids={grids}: M {} < {goal}: {c:?}",
+                c.m()
+            );
+        }
+        // Two grids keep what both grids see: a subset of the first grid's boundary.
+        assert!(
+            (0..n).all(|i| !two.is_boundary(i) || one.is_boundary(i)),
+            "{name}: grids=2 labels a particle the first grid does not see"
         );
-        assert_eq!(c.recall(), 1.0, "{name}: {c:?}");
-        assert!(c.m() >= goal, "{name}: M {} < {goal}: {c:?}", c.m());
         checked += 1;
     }
     assert!(
@@ -330,7 +347,15 @@ fn labels_do_not_depend_on_threads_or_decomposition() {
         return;
     };
     let r = Radius::new(0.022105).unwrap();
-    let d = HprDetector::default();
+    let mut two_grids = HprDetector::default();
+    two_grids.set_grids(2).unwrap();
+    for d in [HprDetector::default(), two_grids] {
+        same_labels_on_threads_and_subdomains(&d, &set, r);
+    }
+}
+
+fn same_labels_on_threads_and_subdomains(d: &HprDetector, set: &ParticleSet<2>, r: Radius) {
+    let set = set.clone();
     let global = d.detect_2d(&set, r).unwrap().labels;
     for threads in [1, 2] {
         let pool = rayon::ThreadPoolBuilder::new()

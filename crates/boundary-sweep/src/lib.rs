@@ -6,6 +6,7 @@
 //! turn rows into files. Scenes come from `fixtures/scenes.toml` (our generated scenes and
 //! references into `../shared/data`).
 
+pub mod failures;
 pub mod plots;
 pub mod published;
 pub mod report;
@@ -29,6 +30,8 @@ pub struct SceneSpec {
     pub expected_boundary: Option<usize>,
     /// `fixture` or `shared`.
     pub origin: String,
+    /// What the scene is: its generator and parameters, or its provenance (for the report).
+    pub about: String,
 }
 
 /// A detector with parameter values.
@@ -59,7 +62,8 @@ impl MethodConfig {
 }
 
 /// Parameter grids swept besides the defaults: depth 1..8 for the interval methods (the JCP
-/// paper's Fig. 7 / thesis Fig. 27), a gamma grid for the visibility method, thresholds
+/// paper's Fig. 7 / thesis Fig. 27), a gamma grid, no cavity viewpoints and two viewpoint
+/// grids for the visibility method, thresholds
 /// around the default 0.375 for the colour field of `muller` (how sensitive M is to it), and the
 /// `svm` cascades `refine=exact|ge`.
 pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
@@ -81,6 +85,8 @@ pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
                 }
                 // The effect of the cavity viewpoints (thesis Eq. 2.3, Fig. 5).
                 out.push(MethodConfig::with(m, "cavity", "off"));
+                // A second viewpoint grid shifted by r (boundary when seen under both).
+                out.push(MethodConfig::with(m, "grids", "2"));
             }
             "muller" => {
                 for threshold in ["0.1", "0.2", "0.3", "0.5", "0.6"] {
@@ -116,6 +122,10 @@ pub struct Row {
     pub params: String,
     /// Whether this row ran the method's default parameters.
     pub is_default: bool,
+    /// Whether the method promises no false negatives (`BoundaryDetector::certified`).
+    pub certified: bool,
+    /// Where the misses lie (default rows of methods without a certificate; see [`failures`]).
+    pub misses: Option<failures::MissProfile>,
     /// Confusion against `exact` (`None` if the detection failed).
     pub confusion: Option<Confusion>,
     /// Seconds on one thread (`None` when not measured).
@@ -155,6 +165,11 @@ pub struct Outcome {
     pub pictures: Vec<Picture>,
     /// Scenes whose exact boundary count differs from the expected one.
     pub count_mismatches: Vec<(String, usize, usize)>,
+    /// (scene, what it is), in run order.
+    pub about: Vec<(String, String)>,
+    /// Per method without a certificate, its worst scene (lowest M at default parameters, the
+    /// first on ties) with labels for the picture; none for a method without any miss.
+    pub failure_pictures: Vec<failures::FailurePicture>,
 }
 
 /// Options of a sweep run.
@@ -253,6 +268,8 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
             method: "exact".into(),
             params: String::new(),
             is_default: true,
+            certified: exact.certified(),
+            misses: None,
             confusion: Confusion::from_labels(truth.as_slice(), truth.as_slice()).ok(),
             seconds_1: t_one,
             seconds_all: t_all,
@@ -265,6 +282,9 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
             total,
             what: &format!("{} exact", scene.name),
         });
+        out.about.push((scene.name.clone(), scene.about.clone()));
+        // Classes of the particles for the miss profiles, computed once on first need.
+        let mut classes: Option<Result<failures::SceneClasses, String>> = None;
         let mut picture_methods = Vec::new();
         for config in &opts.configs {
             if config.method == "exact" && config.params.is_empty() {
@@ -288,6 +308,26 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
                     picture_methods.push((config.method.clone(), l.clone()));
                 }
             }
+            let certified = detector.certified();
+            let mut misses = None;
+            if let (Ok(l), Some(c), true) =
+                (&labels, confusion, config.params.is_empty() && !certified)
+            {
+                let classes =
+                    classes.get_or_insert_with(|| failures::scene_classes(&set, r, &truth));
+                if let Ok(classes) = classes {
+                    misses = failures::MissProfile::of(classes, l, &truth).ok();
+                }
+                keep_if_worst(
+                    &mut out.failure_pictures,
+                    &config.method,
+                    scene,
+                    &set,
+                    &truth,
+                    l,
+                    c.m(),
+                );
+            }
             let params = detector.params().to_string();
             done += 1;
             progress(Progress {
@@ -303,6 +343,8 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
                 method: config.method.clone(),
                 params,
                 is_default: config.params.is_empty(),
+                certified,
+                misses,
                 confusion,
                 seconds_1: t_one,
                 seconds_all: t_all,
@@ -333,4 +375,41 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
         }
     }
     Ok(out)
+}
+
+/// Makes (scene, labels) the failure picture of `method` when the method has a miss there and
+/// no earlier scene of lower or equal M.
+fn keep_if_worst(
+    pictures: &mut Vec<failures::FailurePicture>,
+    method: &str,
+    scene: &SceneSpec,
+    set: &AnyParticleSet,
+    truth: &Labels,
+    labels: &Labels,
+    m: f64,
+) {
+    if labels.as_slice() == truth.as_slice() {
+        return;
+    }
+    let slot = pictures.iter().position(|p| p.method == method);
+    if slot.is_some_and(|k| pictures[k].m <= m) {
+        return;
+    }
+    let coords = (0..set.len())
+        .flat_map(|i| set.coords(i).to_vec())
+        .collect();
+    let picture = failures::FailurePicture {
+        method: method.to_owned(),
+        scene: scene.name.clone(),
+        dim: set.dim(),
+        radius: scene.radius,
+        coords,
+        truth: truth.clone(),
+        labels: labels.clone(),
+        m,
+    };
+    match slot {
+        Some(k) => pictures[k] = picture,
+        None => pictures.push(picture),
+    }
 }

@@ -211,7 +211,18 @@ fn load_scenes(
                 }
             }
         }
+        let about = match (&entry.generator, &entry.params, &entry.provenance) {
+            (Some(g), Some(p), _) if entry.origin == boundary_scenes::Origin::Mesh => {
+                format!("{g} of {}: {p}", entry.file)
+            }
+            (Some(g), Some(p), _) => format!("{g}: {p}"),
+            (_, _, Some(p)) => p.clone(),
+            (Some(g), None, None) => g.clone(),
+            (None, Some(p), None) => p.clone(),
+            (None, None, None) => String::new(),
+        };
         scenes.push(SceneSpec {
+            about,
             name: entry.name,
             dim: entry.dim,
             path,

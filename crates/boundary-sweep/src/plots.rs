@@ -9,7 +9,12 @@
 //!   thesis Fig. 27).
 //! - `labels_<scene>`: for each 2D scene, each method's labels with false positives (red) and
 //!   false negatives (blue) highlighted (JCP Fig. 8).
+//! - `fail_<method>`: for each method without a certificate, its worst scene (lowest M) with
+//!   false negatives (blue) and false positives (red); a 3D scene is drawn as the 2r-thick
+//!   slab holding the most misses ([`FailurePicture::slab`]) beside the projection of every
+//!   particle along the slab's axis with all misses on top.
 
+use crate::failures::FailurePicture;
 use crate::{Outcome, Picture, Row};
 use boundary::Confusion;
 use plotters::coord::Shift;
@@ -425,6 +430,159 @@ where
     root.present().map_err(err)
 }
 
+/// Colours and sizes of the four label layers: interior, boundary, false positive, false
+/// negative.
+const LAYER_STYLES: [(RGBColor, i32); 4] = [
+    (RGBColor(205, 205, 205), 1),
+    (RGBColor(40, 150, 60), 2),
+    (RGBColor(220, 30, 30), 3),
+    (RGBColor(30, 60, 230), 3),
+];
+
+/// Layer of a particle: 0 interior, 1 boundary (both agree), 2 false positive, 3 false negative.
+fn layer_of(said: bool, truth: bool) -> usize {
+    match (said, truth) {
+        (false, false) => 0,
+        (true, true) => 1,
+        (true, false) => 2,
+        (false, true) => 3,
+    }
+}
+
+/// A square window (lo, hi) around the points, so that shapes are not distorted.
+fn square_window(points: impl Iterator<Item = (f64, f64)>) -> ((f64, f64), (f64, f64)) {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for (x, y) in points {
+        lo = [lo[0].min(x), lo[1].min(y)];
+        hi = [hi[0].max(x), hi[1].max(y)];
+    }
+    if !(lo[0] <= hi[0] && lo[1] <= hi[1]) {
+        return ((0.0, 1.0), (0.0, 1.0));
+    }
+    let half = 0.53 * (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-12);
+    let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+    ((c[0] - half, c[0] + half), (c[1] - half, c[1] + half))
+}
+
+fn scatter_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: String,
+    window: ((f64, f64), (f64, f64)),
+    layers: &[Vec<(f64, f64)>; 4],
+    sizes: [i32; 4],
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let ((x0, x1), (y0, y1)) = window;
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 15))
+        .margin(8)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(err)?;
+    for ((layer, (colour, _)), size) in layers.iter().zip(LAYER_STYLES).zip(sizes) {
+        chart
+            .draw_series(layer.iter().map(|&p| Circle::new(p, size, colour.filled())))
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+/// The picture of one method's worst scene (see the module docs).
+fn failure_plot<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    pic: &FailurePicture,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE).map_err(err)?;
+    let c = Confusion::from_labels(pic.labels.as_slice(), pic.truth.as_slice()).map_err(err)?;
+    let head = format!(
+        "{} on {} (M {:.4}): FN {} (blue), FP {} (red)",
+        pic.method, pic.scene, pic.m, c.fn_, c.fp
+    );
+    let root = root.titled(&head, ("sans-serif", 17)).map_err(err)?;
+    let n = pic.truth.len();
+    let layer = |i: usize| layer_of(pic.labels.is_boundary(i), pic.truth.is_boundary(i));
+    let sizes = LAYER_STYLES.map(|s| s.1);
+    match pic.slab() {
+        None => {
+            let xy = |i: usize| (pic.point(i)[0], pic.point(i)[1]);
+            let mut layers: [Vec<(f64, f64)>; 4] = Default::default();
+            for i in 0..n {
+                layers[layer(i)].push(xy(i));
+            }
+            let window = square_window((0..n).map(xy));
+            scatter_panel(&root, String::new(), window, &layers, sizes)?;
+        }
+        Some((axis, lo, hi)) => {
+            let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
+            let names = ["x", "y", "z"];
+            let xy = |i: usize| (pic.point(i)[a], pic.point(i)[b]);
+            let window = square_window((0..n).map(xy));
+            let panels = root.split_evenly((1, 2));
+            let mut slab: [Vec<(f64, f64)>; 4] = Default::default();
+            let mut all: [Vec<(f64, f64)>; 4] = Default::default();
+            let mut in_slab = 0;
+            for i in 0..n {
+                let t = pic.point(i)[axis];
+                let k = layer(i);
+                if (lo..=hi).contains(&t) {
+                    slab[k].push(xy(i));
+                    in_slab += usize::from(k >= 2);
+                }
+                // The projection: everything grey, the misses on top.
+                all[if k >= 2 { k } else { 0 }].push(xy(i));
+            }
+            scatter_panel(
+                &panels[0],
+                format!(
+                    "slab {lo:.4} <= {} <= {hi:.4} (2r): {in_slab} misses",
+                    names[axis]
+                ),
+                window,
+                &slab,
+                sizes,
+            )?;
+            scatter_panel(
+                &panels[1],
+                format!(
+                    "all particles projected along {} ({}, {} axes)",
+                    names[axis], names[a], names[b]
+                ),
+                window,
+                &all,
+                [1, 1, 2, 2],
+            )?;
+        }
+    }
+    root.present().map_err(err)
+}
+
+/// File name of the failure picture of `method` (`fail_<method>.<ext>`).
+pub fn failure_file(method: &str, ext: &str) -> String {
+    format!("fail_{}.{ext}", file_stem(method))
+}
+
+/// Writes the failure pictures (SVG and PNG) into `dir`; returns the files written.
+pub fn write_failures(pictures: &[FailurePicture], dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let mut written = Vec::new();
+    for pic in pictures {
+        let size = if pic.dim == 3 {
+            (1400, 720)
+        } else {
+            (720, 720)
+        };
+        let svg = dir.join(failure_file(&pic.method, "svg"));
+        failure_plot(SVGBackend::new(&svg, size).into_drawing_area(), pic)?;
+        let png = dir.join(failure_file(&pic.method, "png"));
+        failure_plot(BitMapBackend::new(&png, size).into_drawing_area(), pic)?;
+        written.extend([svg, png]);
+    }
+    Ok(written)
+}
+
 fn file_stem(scene: &str) -> String {
     scene
         .chars()
@@ -511,5 +669,6 @@ pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<PathBuf>, String> 
         )?;
         written.extend([svg, png]);
     }
+    written.extend(write_failures(&outcome.failure_pictures, dir)?);
     Ok(written)
 }

@@ -130,6 +130,22 @@ pub fn report_md(outcome: &Outcome, header: &str) -> String {
         md.push('\n');
     }
 
+    let pictures: Vec<(String, String)> = outcome
+        .failure_pictures
+        .iter()
+        .map(|p| {
+            (
+                p.method.clone(),
+                crate::plots::failure_file(&p.method, "png"),
+            )
+        })
+        .collect();
+    md.push_str(&crate::failures::section_md(
+        &outcome.rows,
+        &outcome.about,
+        &pictures,
+    ));
+
     let _ = writeln!(md, "## Timings (JCP Table 3 layout)\n");
     let _ = writeln!(
         md,
@@ -287,6 +303,8 @@ mod tests {
             method: method.into(),
             params: params.into(),
             is_default: params.is_empty() || params == "depth=6",
+            certified: method != "svm",
+            misses: None,
             confusion: Some(c),
             seconds_1: Some(t1),
             seconds_all: t,
