@@ -309,14 +309,23 @@ def test_the_gil_is_released_during_detection():
 
 
 def test_ctrl_c_interrupts_a_long_detection():
-    points = jittered_ball(70, 3)  # about 180k particles: seconds on one thread
-    timer = threading.Timer(0.2, lambda: os.kill(os.getpid(), signal.SIGINT))
-    timer.start()
-    start = time.monotonic()
-    with pytest.raises(KeyboardInterrupt):
-        boundary.detect(points, 1.0, "exact", threads=1)
-    interrupted_after = time.monotonic() - start
-    timer.join()
+    # About 170k particles at r = 1.8 (spacing 1: about 190 neighbours within 2r): over a
+    # second on one thread, far longer than the timer's delay.
+    points = jittered_ball(70, 3)
+    # Python installs its Ctrl-C handler only if SIGINT was not ignored when it started, and a
+    # shell starting a job in the background ignores it (a CI dry run under nohup did not
+    # raise): install it for this test, as an interactive interpreter has it.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    timer = threading.Timer(0.1, lambda: os.kill(os.getpid(), signal.SIGINT))
+    try:
+        timer.start()
+        start = time.monotonic()
+        with pytest.raises(KeyboardInterrupt):
+            boundary.detect(points, 1.8, "exact", threads=1)
+        interrupted_after = time.monotonic() - start
+        timer.join()
+    finally:
+        signal.signal(signal.SIGINT, previous)
     # The package still works after an interrupt.
     assert boundary.detect([[0.0, 0.0], [1.0, 0.0]], 1.0).all()
     print(f"interrupted after {interrupted_after:.3f} s")
