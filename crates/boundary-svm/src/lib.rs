@@ -137,7 +137,9 @@ pub use features::{
     compute_features, feature_reach, particle_features, Features, ParticleFeatures,
     CERTIFICATE_TOLERANCE, FEATURE_NAMES, FEATURE_VERSION, MARGIN_FEATURE, N_FEATURES,
 };
-pub use model::{exp_nonpositive, ModelError, PackedModel, SvmModel, MODEL_FORMAT};
+pub use model::{
+    exp_nonpositive, Kernel, ModelError, PackedModel, SvmModel, MAX_DEGREE, MODEL_FORMAT,
+};
 
 use boundary_core::{
     AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, ParamError, ParamInfo,
