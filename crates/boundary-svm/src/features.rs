@@ -126,6 +126,13 @@ impl ParticleFeatures {
     pub fn certified_boundary(&self, dim: usize) -> bool {
         self.distinct <= dim || self.features[MARGIN_FEATURE] > CERTIFICATE_TOLERANCE
     }
+
+    /// Whether the particle sits at a near tie: not certified in dimension `dim`, and a
+    /// sampled point of its sphere is within the rounding bound of being uncovered (cover
+    /// margin above `−`[`CERTIFICATE_TOLERANCE`]). The detector leaves these to `exact`.
+    pub fn near_tie(&self, dim: usize) -> bool {
+        !self.certified_boundary(dim) && self.features[MARGIN_FEATURE] > -CERTIFICATE_TOLERANCE
+    }
 }
 
 /// [`compute_features`] with the count of distinct neighbours.
