@@ -107,8 +107,9 @@
 //! **Speed.** The thesis' case for the SVM is speed, and here it is made in 3D. One thread,
 //! features included, the 1M-particle jittered ball of `benches/svm.rs`
 //! (`RAYON_NUM_THREADS=1 BOUNDARY_BENCH_N=1000000 cargo bench -p boundary-svm --
-//! 'jittered_ball/(svm|exact)$'`), one criterion run on a loaded 2-core machine: svm 8.61 s,
-//! `exact` 10.67 s per pass, **svm at 1.24x the speed of `exact`** (before the polynomial
+//! 'jittered_ball/(svm|exact)$'`), one criterion run on the shared 2-core machine: svm 3.95 s,
+//! `exact` 5.20 s per pass, **svm at 1.32x the speed of `exact`** (an earlier run with a first
+//! degree-2 model of the same cost, under heavier load: 8.61 s and 10.67 s, 1.24x; before the polynomial
 //! kernel and the chunked feature sums: 0.59x). The 3D model's decision is a quadratic form
 //! of the seven standardised features (56 multiply-adds); what remains is the feature pass:
 //! the neighbour query, the sums over the neighbours and the cover margin over 17 sample
