@@ -49,7 +49,7 @@
 
 use boundary_core::nalgebra::SMatrix;
 use boundary_core::{CoreError, NeighbourGrid, ParticleSet, Point, Radius};
-use boundary_sph::SymmetricEigen;
+use boundary_sph::SymmetricEigen; // the fallback of `extreme_eigen`
 use rayon::prelude::*;
 
 /// Number of features per particle.
@@ -126,6 +126,13 @@ impl ParticleFeatures {
     pub fn certified_boundary(&self, dim: usize) -> bool {
         self.distinct <= dim || self.features[MARGIN_FEATURE] > CERTIFICATE_TOLERANCE
     }
+
+    /// Whether the particle sits at a near tie: not certified in dimension `dim`, and a
+    /// sampled point of its sphere is within the rounding bound of being uncovered (cover
+    /// margin above `−`[`CERTIFICATE_TOLERANCE`]). The detector leaves these to `exact`.
+    pub fn near_tie(&self, dim: usize) -> bool {
+        !self.certified_boundary(dim) && self.features[MARGIN_FEATURE] > -CERTIFICATE_TOLERANCE
+    }
 }
 
 /// [`compute_features`] with the count of distinct neighbours.
@@ -146,7 +153,7 @@ pub fn particle_features<const D: usize>(
     let directions = sample_directions::<D>();
     Ok((0..count)
         .into_par_iter()
-        .map_init(Offsets::default, |buffer, i| {
+        .map_init(Offsets::<D>::default, |buffer, i| {
             one_particle(&grid, positions, i, r, reach, &directions, buffer)
         })
         .collect())
@@ -178,60 +185,137 @@ fn sample_directions<const D: usize>() -> Vec<Point<D>> {
     out
 }
 
-/// The Wendland C2 shape `f(q)` and `w(q) = −f'(q)/q`, for `q < 2`.
+/// The Wendland C2 shape `f(q)` and `w(q) = −f'(q)/q`, for `q <= 2` (both 0 at `q = 2`).
 fn wendland(q: f64) -> (f64, f64) {
     let t = 1.0 - 0.5 * q;
     let t3 = t * t * t;
     (t3 * t * (2.0 * q + 1.0), 5.0 * t3)
 }
 
-/// The distinct neighbours' offsets `d_j` (units of `r`), by coordinate, with `|d_j|²`, padded
-/// to whole chunks with far points (`|d|² = 1e300`) that cover nothing.
-#[derive(Default)]
-struct Offsets {
-    coords: Vec<[f64; CHUNK]>,
-    norms: Vec<[f64; CHUNK]>,
+/// The distinct neighbours' offsets `d_j` (units of `r`), by coordinate, with `|d_j|²` and
+/// whether `j` is within `2r`, in chunks padded with far points (`|d|² = 1e300`, outside)
+/// that cover nothing and weigh nothing. The neighbour query only fills this; the sums of the
+/// features then run over whole chunks, branch-free (they vectorise).
+struct Offsets<const D: usize> {
+    chunks: Vec<Chunk<D>>,
     len: usize,
+}
+
+impl<const D: usize> Default for Offsets<D> {
+    fn default() -> Self {
+        Offsets {
+            chunks: vec![],
+            len: 0,
+        }
+    }
 }
 
 /// Offsets per chunk of the cover search: branch-free inside a chunk (it vectorises), an
 /// early exit between chunks.
 const CHUNK: usize = 8;
 
-impl Offsets {
+/// [`CHUNK`] offsets, by coordinate.
+#[derive(Clone, Copy)]
+struct Chunk<const D: usize> {
+    coords: [[f64; CHUNK]; D],
+    norms: [f64; CHUNK],
+    /// 1 for a neighbour within `2r`, 0 for one only the certificate sees, and padding.
+    inside: [f64; CHUNK],
+}
+
+impl<const D: usize> Chunk<D> {
+    const FAR: Self = Chunk {
+        coords: [[0.0; CHUNK]; D],
+        norms: [1e300; CHUNK],
+        inside: [0.0; CHUNK],
+    };
+}
+
+/// The sums over the neighbours within `2r` (units of `r`): `Σ f(q)` (without `i`),
+/// `Σ w(q) d`, `Σ w(q) q²`, `Σ d`, `Σ d dᵀ`, the count.
+struct Sums<const D: usize> {
+    density: f64,
+    gradient: Point<D>,
+    divergence: f64,
+    first: Point<D>,
+    second: SMatrix<f64, D, D>,
+    count: usize,
+}
+
+impl<const D: usize> Offsets<D> {
     fn clear(&mut self) {
-        self.coords.clear();
-        self.norms.clear();
+        self.chunks.clear();
         self.len = 0;
     }
 
-    fn push<const D: usize>(&mut self, d: &Point<D>) {
-        let (chunk, lane) = (self.len / CHUNK, self.len % CHUNK);
+    fn push(&mut self, d: &Point<D>, inside: bool) {
+        let lane = self.len % CHUNK;
         if lane == 0 {
-            self.coords.extend(std::iter::repeat_n([0.0; CHUNK], D));
-            self.norms.push([1e300; CHUNK]);
+            self.chunks.push(Chunk::FAR);
         }
-        for k in 0..D {
-            self.coords[chunk * D + k][lane] = d[k];
+        if let Some(chunk) = self.chunks.last_mut() {
+            for k in 0..D {
+                chunk.coords[k][lane] = d[k];
+            }
+            chunk.norms[lane] = d.norm_squared();
+            chunk.inside[lane] = if inside { 1.0 } else { 0.0 };
         }
-        self.norms[chunk][lane] = d.norm_squared();
         self.len += 1;
+    }
+
+    /// The feature sums, lane by lane over whole chunks (padding and neighbours beyond `2r`
+    /// weigh 0), then across lanes.
+    fn sums(&self) -> Sums<D> {
+        let mut density = [0.0; CHUNK];
+        let mut divergence = [0.0; CHUNK];
+        let mut count = [0.0; CHUNK];
+        let mut gradient = [[0.0; CHUNK]; D];
+        let mut first = [[0.0; CHUNK]; D];
+        let mut second = [[[0.0; CHUNK]; D]; D];
+        for chunk in &self.chunks {
+            for lane in 0..CHUNK {
+                let m = chunk.inside[lane];
+                let q2 = chunk.norms[lane];
+                // Zero weights from q = 2 on (f(2) = w(2) = 0) and for padding.
+                let (f, w) = wendland(q2.sqrt().min(2.0));
+                let (f, w) = (m * f, m * w);
+                density[lane] += f;
+                divergence[lane] += w * q2;
+                count[lane] += m;
+                for a in 0..D {
+                    let da = chunk.coords[a][lane];
+                    gradient[a][lane] += w * da;
+                    first[a][lane] += m * da;
+                    for (b, sum) in second[a].iter_mut().enumerate().skip(a) {
+                        sum[lane] += m * da * chunk.coords[b][lane];
+                    }
+                }
+            }
+        }
+        let total = |v: &[f64; CHUNK]| v.iter().sum::<f64>();
+        Sums {
+            density: total(&density),
+            gradient: Point::<D>::from_fn(|a, _| total(&gradient[a])),
+            divergence: total(&divergence),
+            first: Point::<D>::from_fn(|a, _| total(&first[a])),
+            second: SMatrix::<f64, D, D>::from_fn(|a, b| total(&second[a.min(b)][a.max(b)])),
+            count: total(&count) as usize,
+        }
     }
 
     /// `min_j (|d_j − n|² − 1)`, computed as `|d_j|² − 2 d_j·n` (`|n| = 1` up to rounding,
     /// which [`CERTIFICATE_TOLERANCE`] covers), stopping after the first chunk that brings it
     /// to `floor` or below (the caller only needs to know whether it beats `floor`).
-    fn cover_value<const D: usize>(&self, n: &Point<D>, floor: f64) -> f64 {
+    fn cover_value(&self, n: &Point<D>, floor: f64) -> f64 {
         let mut lowest = f64::INFINITY;
-        for (c, norms) in self.norms.iter().enumerate() {
-            let coords = &self.coords[c * D..(c + 1) * D];
+        for chunk in &self.chunks {
             let mut chunk_min = f64::INFINITY;
             for lane in 0..CHUNK {
                 let mut dot = 0.0;
                 for k in 0..D {
-                    dot += coords[k][lane] * n[k];
+                    dot += chunk.coords[k][lane] * n[k];
                 }
-                chunk_min = chunk_min.min(norms[lane] - 2.0 * dot);
+                chunk_min = chunk_min.min(chunk.norms[lane] - 2.0 * dot);
             }
             lowest = lowest.min(chunk_min);
             if lowest <= floor {
@@ -242,6 +326,97 @@ impl Offsets {
     }
 }
 
+/// The smallest and largest eigenvalue of the symmetric `D × D` matrix `a` and a unit
+/// eigenvector of the smallest (or the zero vector where it is not well defined: a multiple
+/// smallest eigenvalue), in closed form for `D` = 2 and 3 (the trigonometric solution of
+/// the characteristic cubic: absolute error a few `ε |a|`), by [`SymmetricEigen`] otherwise
+/// and where the closed form's eigenvector would be ill-conditioned.
+fn extreme_eigen<const D: usize>(a: &SMatrix<f64, D, D>) -> (f64, f64, Point<D>) {
+    let jacobi = |a: &SMatrix<f64, D, D>| {
+        let e = SymmetricEigen::new(a);
+        (
+            e.values[0],
+            e.values[D - 1],
+            e.vectors.column(0).into_owned(),
+        )
+    };
+    match D {
+        2 => {
+            let (p, q, o) = (a[(0, 0)], a[(1, 1)], a[(0, 1)]);
+            let mid = 0.5 * (p + q);
+            let half = (0.25 * (p - q) * (p - q) + o * o).sqrt();
+            let (low, high) = (mid - half, mid + half);
+            // (A − low I) has rows (p − low, o) and (o, q − low); an eigenvector of `low` is
+            // orthogonal to the longer one.
+            let (r0, r1) = ([p - low, o], [o, q - low]);
+            let row = if r0[0] * r0[0] + r0[1] * r0[1] >= r1[0] * r1[0] + r1[1] * r1[1] {
+                r0
+            } else {
+                r1
+            };
+            let len = (row[0] * row[0] + row[1] * row[1]).sqrt();
+            let v = if len > 1e-8 * (p.abs() + q.abs() + o.abs()) && len > 0.0 {
+                Point::<D>::from_fn(|k, _| if k == 0 { -row[1] / len } else { row[0] / len })
+            } else {
+                Point::<D>::zeros()
+            };
+            (low, high, v)
+        }
+        3 => {
+            let off = a[(0, 1)] * a[(0, 1)] + a[(0, 2)] * a[(0, 2)] + a[(1, 2)] * a[(1, 2)];
+            let scale = a.norm();
+            if scale == 0.0 || !scale.is_finite() || off <= 1e-24 * scale * scale {
+                return jacobi(a);
+            }
+            let mean = (a[(0, 0)] + a[(1, 1)] + a[(2, 2)]) / 3.0;
+            let spread = ((a[(0, 0)] - mean).powi(2)
+                + (a[(1, 1)] - mean).powi(2)
+                + (a[(2, 2)] - mean).powi(2)
+                + 2.0 * off)
+                / 6.0;
+            let p = spread.sqrt();
+            let b =
+                |i: usize, j: usize| -> f64 { (a[(i, j)] - if i == j { mean } else { 0.0 }) / p };
+            let det = b(0, 0) * (b(1, 1) * b(2, 2) - b(1, 2) * b(2, 1))
+                - b(0, 1) * (b(1, 0) * b(2, 2) - b(1, 2) * b(2, 0))
+                + b(0, 2) * (b(1, 0) * b(2, 1) - b(1, 1) * b(2, 0));
+            let half_det: f64 = (0.5 * det).clamp(-1.0, 1.0);
+            let phi = half_det.acos() / 3.0;
+            let high = mean + 2.0 * p * phi.cos();
+            let low = mean + 2.0 * p * (phi + 2.0 * std::f64::consts::FRAC_PI_3).cos();
+            // An eigenvector of `low`: the longest cross product of two rows of A − low I.
+            let m = a - SMatrix::<f64, D, D>::identity() * low;
+            let row = |k: usize| -> [f64; 3] { [m[(k, 0)], m[(k, 1)], m[(k, 2)]] };
+            let cross = |u: [f64; 3], v: [f64; 3]| -> [f64; 3] {
+                [
+                    u[1] * v[2] - u[2] * v[1],
+                    u[2] * v[0] - u[0] * v[2],
+                    u[0] * v[1] - u[1] * v[0],
+                ]
+            };
+            let mut best = [0.0; 3];
+            let mut best2 = 0.0;
+            for (u, v) in [(0, 1), (0, 2), (1, 2)] {
+                let c = cross(row(u), row(v));
+                let c2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+                if c2 > best2 {
+                    best = c;
+                    best2 = c2;
+                }
+            }
+            // Rank below 2 up to rounding: `low` is (nearly) a double eigenvalue, whose
+            // eigenvector the closed form cannot resolve.
+            let gap = high - low;
+            if best2.is_nan() || best2 <= 1e-12 * gap.powi(4) {
+                return jacobi(a);
+            }
+            let len = best2.sqrt();
+            (low, high, Point::<D>::from_fn(|k, _| best[k] / len))
+        }
+        _ => jacobi(a),
+    }
+}
+
 fn one_particle<const D: usize>(
     grid: &NeighbourGrid<D>,
     positions: &[Point<D>],
@@ -249,52 +424,37 @@ fn one_particle<const D: usize>(
     r: f64,
     reach: f64,
     directions: &[Point<D>],
-    offsets: &mut Offsets,
+    offsets: &mut Offsets<D>,
 ) -> ParticleFeatures {
     let xi = positions[i];
     let inv_r = 1.0 / r;
     offsets.clear();
-    let mut density = 1.0; // f(0): the particle itself
-    let mut gradient = Point::<D>::zeros();
-    let mut divergence = 0.0;
-    let mut count = 0usize;
-    let mut distinct = 0usize;
-    // Moments of the neighbourhood relative to x_i (i itself contributes the zero vector),
-    // so that the covariance does not lose digits far from the origin.
-    let mut first = Point::<D>::zeros();
-    let mut second = SMatrix::<f64, D, D>::zeros();
+    let mut duplicates = 0usize;
     let inside2 = 4.0 * r * r;
+    // The query only gathers the offsets; the sums run over them afterwards.
     grid.for_each_within(&xi, reach, |j, dist2| {
         if j == i {
             return;
         }
         if dist2 == 0.0 {
             // A duplicate: a neighbour with density f(0) = 1 that covers nothing.
-            count += 1;
-            density += 1.0;
+            duplicates += 1;
             return;
         }
-        let d = (positions[j] - xi) * inv_r;
-        offsets.push(&d);
-        if dist2 > inside2 {
-            return; // only for the certificate
-        }
-        count += 1;
-        distinct += 1;
-        first += d;
-        second += d * d.transpose();
-        let q = dist2.sqrt() * inv_r;
-        if q < 2.0 {
-            let (f, w) = wendland(q);
-            density += f;
-            gradient += d * w;
-            divergence += w * q * q;
-        }
+        offsets.push(&((positions[j] - xi) * inv_r), dist2 <= inside2);
     });
+    let sums = offsets.sums();
+    let distinct = sums.count;
+    let count = distinct + duplicates;
+    // f(0) = 1 for the particle itself and for each duplicate.
+    let density = 1.0 + duplicates as f64 + sums.density;
+    let gradient = sums.gradient;
+    // Moments of the neighbourhood relative to x_i (i itself contributes the zero vector),
+    // so that the covariance does not lose digits far from the origin.
     let k = (count + 1) as f64;
-    let mean = first / k;
-    let covariance = second / k - mean * mean.transpose();
-    let eigen = SymmetricEigen::new(&covariance);
+    let mean = sums.first / k;
+    let covariance = sums.second / k - mean * mean.transpose();
+    let (low, high, low_vector) = extreme_eigen(&covariance);
 
     let margin = if offsets.len == 0 {
         1.0
@@ -312,10 +472,9 @@ fn one_particle<const D: usize>(
         if g > 0.0 {
             try_direction(-gradient / g);
         }
-        let e: Point<D> = eigen.vectors.column(0).into_owned();
-        if e.norm_squared() > 0.5 {
-            try_direction(e);
-            try_direction(-e);
+        if low_vector.norm_squared() > 0.5 {
+            try_direction(low_vector);
+            try_direction(-low_vector);
         }
         for n in directions {
             try_direction(*n);
@@ -326,11 +485,11 @@ fn one_particle<const D: usize>(
         features: [
             density,
             gradient.norm(),
-            divergence / density,
+            sums.divergence / density,
             count as f64,
             // Rounding can make a zero eigenvalue slightly negative; the covariance is PSD.
-            eigen.values[0].max(0.0),
-            eigen.values[D - 1].max(0.0),
+            low.max(0.0),
+            high.max(0.0),
             margin,
         ],
         distinct,
@@ -392,6 +551,57 @@ mod tests {
                 assert!(interior <= CERTIFICATE_TOLERANCE, "r={r}: {interior}");
             }
         }
+    }
+
+    /// The closed-form extreme eigenpairs against the Jacobi solver of boundary-sph, on
+    /// random symmetric matrices and the shapes the covariance takes (sheet: one small
+    /// eigenvalue; filament: a double small one; isotropic; diagonal).
+    #[test]
+    fn extreme_eigen_matches_jacobi() {
+        fn check<const D: usize>(a: &SMatrix<f64, D, D>) {
+            let (low, high, v) = extreme_eigen(a);
+            let e = SymmetricEigen::new(a);
+            let scale = a.norm().max(1e-300);
+            assert!((low - e.values[0]).abs() <= 1e-12 * scale, "{a}: {low}");
+            assert!(
+                (high - e.values[D - 1]).abs() <= 1e-12 * scale,
+                "{a}: {high}"
+            );
+            // A unit eigenvector of `low`, or zero where the solver gives none.
+            if v.norm_squared() > 0.5 {
+                assert!((v.norm() - 1.0).abs() < 1e-12);
+                let residual = (a * v - v * low).norm();
+                assert!(residual <= 1e-9 * scale, "{a}: residual {residual}");
+            }
+        }
+        let mut seed = 12345u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for _ in 0..2000 {
+            let b = SMatrix::<f64, 3, 3>::from_fn(|_, _| next());
+            check(&(b * b.transpose()));
+            let c = SMatrix::<f64, 2, 2>::from_fn(|_, _| next());
+            check(&(c * c.transpose()));
+            // Sheet-like and filament-like: rank-deficient plus a little noise.
+            let u = Point::<3>::from_fn(|_, _| next());
+            let w = Point::<3>::from_fn(|_, _| next());
+            let eps = 1e-6 * next().abs();
+            check(
+                &(u * u.transpose() + w * w.transpose() + SMatrix::<f64, 3, 3>::identity() * eps),
+            );
+            check(&(u * u.transpose() + SMatrix::<f64, 3, 3>::identity() * eps));
+        }
+        check(&SMatrix::<f64, 3, 3>::identity());
+        check(&SMatrix::<f64, 3, 3>::from_diagonal(&Point::<3>::new(
+            3.0, 1.0, 2.0,
+        )));
+        check(&SMatrix::<f64, 3, 3>::zeros());
+        check(&SMatrix::<f64, 2, 2>::identity());
+        check(&SMatrix::<f64, 2, 2>::zeros());
     }
 
     #[test]

@@ -2,9 +2,18 @@
 //!
 //! A model is plain data: the standardisation of the features (`z = (f − mean) / scale`),
 //! the support vectors (standardised), their signed dual coefficients `α_k y_k`, the bias and
-//! the RBF width `γ`. The decision value of a feature vector is
+//! the kernel: RBF of width `γ` or polynomial of degree `p` (LIBSVM's conventions). The
+//! decision value of a feature vector is
 //!
-//! `d(f) = Σ_k coef_k · exp(−γ |z − s_k|²) + bias`,
+//! `d(f) = Σ_k coef_k · K(z, s_k) + bias`, with `K(z, s) = exp(−γ |z − s|²)` (RBF) or
+//! `K(z, s) = (γ z·s + coef0)^p` (polynomial, `p` = 1, 2 or 3).
+//!
+//! **Evaluation cost.** An RBF model costs one exponential and one distance per support
+//! vector. A polynomial model costs nothing per support vector: expanding the power,
+//! `Σ_k coef_k (γ z·s_k + c)^p` is a polynomial of degree `p` in `z` whose monomial weights
+//! (`Σ_k coef_k s_k ⊗ … ⊗ s_k`, a vector, a matrix and a 3-tensor) [`SvmModel::packed`]
+//! computes once; a decision is then at most `7 + 7² + 7³` multiply-adds, whatever the
+//! number of support vectors (the explicit feature map of a low-degree kernel).
 //!
 //! and the particle is boundary iff `d(f) >= 0` (a tie counts as boundary, the safe side of a
 //! filter whose misses cannot be recovered by the cascade). This is the decision function of
@@ -22,7 +31,22 @@ use std::fmt;
 /// The value of [`SvmModel::format`].
 pub const MODEL_FORMAT: &str = "boundary-svm model";
 
-/// A trained RBF SVM over the particle features. See the module documentation.
+/// The kernel of a model (JSON: `"rbf"` or `"polynomial"`; absent means RBF).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Kernel {
+    /// `exp(−γ |z − s|²)`.
+    #[default]
+    Rbf,
+    /// `(γ z·s + coef0)^degree`.
+    Polynomial,
+}
+
+/// The largest polynomial degree a model may have (the packed evaluation expands it).
+pub const MAX_DEGREE: u32 = 3;
+
+/// A trained SVM (RBF or polynomial kernel) over the particle features. See the module
+/// documentation.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SvmModel {
     /// Always [`MODEL_FORMAT`]: tells a model file from any other JSON.
@@ -31,8 +55,18 @@ pub struct SvmModel {
     pub feature_version: u32,
     /// Dimension of the particle sets it classifies (2 or 3).
     pub dim: usize,
-    /// RBF width `γ` in `exp(−γ |z − s|²)`, in standardised feature units.
+    /// The kernel.
+    #[serde(default)]
+    pub kernel: Kernel,
+    /// RBF width `γ` in `exp(−γ |z − s|²)`, or the scale `γ` in `(γ z·s + coef0)^degree`,
+    /// in standardised feature units.
     pub gamma: f64,
+    /// Polynomial kernel: its degree (1 to [`MAX_DEGREE`]); unused by RBF.
+    #[serde(default)]
+    pub degree: u32,
+    /// Polynomial kernel: its constant; unused by RBF.
+    #[serde(default)]
+    pub coef0: f64,
     /// The soft-margin constant `C` it was trained with (informative).
     pub c: f64,
     /// Added to the kernel sum (LIBSVM's `−ρ`).
@@ -112,6 +146,17 @@ impl SvmModel {
         if !(self.gamma.is_finite() && self.gamma > 0.0) {
             return fail(format!("gamma {} is not positive and finite", self.gamma));
         }
+        if self.kernel == Kernel::Polynomial {
+            if !(1..=MAX_DEGREE).contains(&self.degree) {
+                return fail(format!(
+                    "polynomial degree {} (expected 1 to {MAX_DEGREE})",
+                    self.degree
+                ));
+            }
+            if !self.coef0.is_finite() {
+                return fail("coef0 is not finite".into());
+            }
+        }
         if !self.bias.is_finite() {
             return fail("bias is not finite".into());
         }
@@ -156,18 +201,60 @@ impl SvmModel {
 
     /// The model laid out for fast evaluation.
     pub fn packed(&self) -> PackedModel {
+        let kind = match self.kernel {
+            Kernel::Rbf => Packed::Rbf {
+                support_vectors: self
+                    .support_vectors
+                    .iter()
+                    .map(|s| std::array::from_fn(|k| if k < N_FEATURES { s[k] } else { 0.0 }))
+                    .collect(),
+                coefficients: self.coefficients.clone(),
+                neg_gamma: -self.gamma,
+            },
+            Kernel::Polynomial => Packed::Polynomial(Box::new(self.monomials())),
+        };
         PackedModel {
             mean: self.feature_mean,
             scale: self.feature_scale,
-            support_vectors: self
-                .support_vectors
-                .iter()
-                .map(|s| std::array::from_fn(|k| if k < N_FEATURES { s[k] } else { 0.0 }))
-                .collect(),
-            coefficients: self.coefficients.clone(),
-            neg_gamma: -self.gamma,
+            kind,
             bias: self.bias,
         }
+    }
+
+    /// The polynomial kernel's decision function as weights of the monomials of `z`:
+    /// `(γ z·s + c)^p = Σ_m C(p, m) c^(p−m) γ^m (z·s)^m`, and `Σ_k coef_k (z·s_k)^m` is the
+    /// contraction of `z ⊗ … ⊗ z` with `Σ_k coef_k s_k ⊗ … ⊗ s_k`.
+    fn monomials(&self) -> Monomials {
+        let p = self.degree.min(MAX_DEGREE);
+        let (g, c) = (self.gamma, self.coef0);
+        // Weight of the degree-m part: C(p, m) c^(p−m) γ^m (zero above p).
+        let weight = |m: u32| -> f64 {
+            if m > p {
+                return 0.0;
+            }
+            let binomial = (0..m).fold(1.0, |b, t| b * f64::from(p - t) / f64::from(t + 1));
+            binomial * c.powi((p - m) as i32) * g.powi(m as i32)
+        };
+        let (w0, w1, w2, w3) = (weight(0), weight(1), weight(2), weight(3));
+        let mut out = Monomials {
+            constant: 0.0,
+            linear: [0.0; N_FEATURES],
+            quadratic: [[0.0; N_FEATURES]; N_FEATURES],
+            cubic: [[[0.0; N_FEATURES]; N_FEATURES]; N_FEATURES],
+        };
+        for (s, &a) in self.support_vectors.iter().zip(&self.coefficients) {
+            out.constant += a * w0;
+            for i in 0..N_FEATURES {
+                out.linear[i] += a * w1 * s[i];
+                for j in 0..N_FEATURES {
+                    out.quadratic[i][j] += a * w2 * s[i] * s[j];
+                    for k in 0..N_FEATURES {
+                        out.cubic[i][j][k] += a * w3 * s[i] * s[j] * s[k];
+                    }
+                }
+            }
+        }
+        out
     }
 }
 
@@ -175,15 +262,34 @@ impl SvmModel {
 /// that the distance loop vectorises.
 const LANES: usize = N_FEATURES.div_ceil(4) * 4;
 
-/// An [`SvmModel`] laid out for evaluation: padded support vectors and the kernel's
-/// exponential by [`exp_nonpositive`].
+/// A polynomial model's decision function, `constant + Σ linear_i z_i + Σ quadratic_ij z_i
+/// z_j + Σ cubic_ijk z_i z_j z_k` (the bias apart).
+#[derive(Debug, Clone, PartialEq)]
+struct Monomials {
+    constant: f64,
+    linear: [f64; N_FEATURES],
+    quadratic: [[f64; N_FEATURES]; N_FEATURES],
+    cubic: [[[f64; N_FEATURES]; N_FEATURES]; N_FEATURES],
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum Packed {
+    Rbf {
+        support_vectors: Vec<[f64; LANES]>,
+        coefficients: Vec<f64>,
+        neg_gamma: f64,
+    },
+    Polynomial(Box<Monomials>),
+}
+
+/// An [`SvmModel`] laid out for evaluation: for RBF, padded support vectors and the
+/// kernel's exponential by [`exp_nonpositive`]; for a polynomial kernel, the weights of the
+/// monomials of the standardised features (see the module documentation).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PackedModel {
     mean: Features,
     scale: Features,
-    support_vectors: Vec<[f64; LANES]>,
-    coefficients: Vec<f64>,
-    neg_gamma: f64,
+    kind: Packed,
     bias: f64,
 }
 
@@ -197,28 +303,61 @@ impl PackedModel {
                 0.0
             }
         });
-        const CHUNK: usize = 8;
-        let mut sum = self.bias;
-        let mut arg = [0.0; CHUNK];
-        for (svs, coefs) in self
-            .support_vectors
-            .chunks(CHUNK)
-            .zip(self.coefficients.chunks(CHUNK))
-        {
-            for (a, s) in arg.iter_mut().zip(svs) {
-                let mut d2 = 0.0;
-                for k in 0..LANES {
-                    let t = z[k] - s[k];
-                    d2 += t * t;
+        match &self.kind {
+            Packed::Rbf {
+                support_vectors,
+                coefficients,
+                neg_gamma,
+            } => rbf_sum(self.bias, &z, support_vectors, coefficients, *neg_gamma),
+            Packed::Polynomial(m) => {
+                // Horner over the degrees: z_i (linear_i + z_j (quadratic_ij + z_k cubic_ijk)).
+                let mut sum = 0.0;
+                for ((zi, linear), (quadratic, cubic)) in z
+                    .iter()
+                    .zip(&m.linear)
+                    .zip(m.quadratic.iter().zip(&m.cubic))
+                {
+                    let mut inner_i = *linear;
+                    for ((zj, q), cubic) in z.iter().zip(quadratic).zip(cubic) {
+                        let inner_j = q + cubic.iter().zip(&z).map(|(c, zk)| c * zk).sum::<f64>();
+                        inner_i += inner_j * zj;
+                    }
+                    sum += inner_i * zi;
                 }
-                *a = self.neg_gamma * d2;
-            }
-            for (a, c) in arg.iter().zip(coefs) {
-                sum += c * exp_nonpositive(*a);
+                self.bias + m.constant + sum
             }
         }
-        sum
     }
+}
+
+/// `bias + Σ_k coef_k exp(neg_gamma |z − s_k|²)`, summed in stored order from the bias.
+fn rbf_sum(
+    bias: f64,
+    z: &[f64; LANES],
+    support_vectors: &[[f64; LANES]],
+    coefficients: &[f64],
+    neg_gamma: f64,
+) -> f64 {
+    const CHUNK: usize = 8;
+    let mut sum = bias;
+    let mut arg = [0.0; CHUNK];
+    for (svs, coefs) in support_vectors
+        .chunks(CHUNK)
+        .zip(coefficients.chunks(CHUNK))
+    {
+        for (a, s) in arg.iter_mut().zip(svs) {
+            let mut d2 = 0.0;
+            for k in 0..LANES {
+                let t = z[k] - s[k];
+                d2 += t * t;
+            }
+            *a = neg_gamma * d2;
+        }
+        for (a, c) in arg.iter().zip(coefs) {
+            sum += c * exp_nonpositive(*a);
+        }
+    }
+    sum
 }
 
 /// `e^x` for `x <= 0` (and `x` not NaN), within 2 ulps of the true value: `x = k ln 2 + t`
@@ -268,6 +407,9 @@ mod tests {
             format: MODEL_FORMAT.into(),
             feature_version: FEATURE_VERSION,
             dim: 2,
+            kernel: Kernel::Rbf,
+            degree: 0,
+            coef0: 0.0,
             gamma: 0.5,
             c: 1.0,
             bias: -0.25,
@@ -285,6 +427,49 @@ mod tests {
         // f = mean gives z = 0: d = 1·e^0 − 0.5·e^{−0.5} − 0.25.
         let d = m.decision(&[1.0; N_FEATURES]);
         assert!((d - (0.75 - 0.5 * (-0.5f64).exp())).abs() < 1e-15);
+    }
+
+    /// The expanded polynomial decision against the kernel sum written out, for each degree,
+    /// on a model of three support vectors and a few feature vectors.
+    #[test]
+    fn polynomial_expansion_matches_the_kernel_sum() {
+        let mut m = tiny();
+        m.kernel = Kernel::Polynomial;
+        m.gamma = 0.7;
+        m.coef0 = 1.3;
+        m.support_vectors = vec![
+            [0.5, -1.0, 0.25, 2.0, -0.5, 1.5, -2.0],
+            [-1.5, 0.75, 1.0, -0.25, 0.5, 0.0, 1.0],
+            [0.1, 0.2, -0.3, 0.4, -0.5, 0.6, -0.7],
+        ];
+        m.coefficients = vec![0.8, -1.1, 0.45];
+        for degree in 1..=MAX_DEGREE {
+            m.degree = degree;
+            m.validate().unwrap();
+            for f in [
+                [1.0; N_FEATURES],
+                [3.0, -1.0, 0.5, 7.0, 2.0, -4.0, 0.25],
+                [-2.0, 5.0, 1.5, 0.0, -3.0, 1.0, 2.5],
+            ] {
+                let z = m.standardise(&f);
+                let direct = m.bias
+                    + m.support_vectors
+                        .iter()
+                        .zip(&m.coefficients)
+                        .map(|(s, a)| {
+                            let dot: f64 = s.iter().zip(&z).map(|(s, z)| s * z).sum();
+                            a * (m.gamma * dot + m.coef0).powi(degree as i32)
+                        })
+                        .sum::<f64>();
+                let packed = m.decision(&f);
+                assert!(
+                    (packed - direct).abs() <= 1e-12 * (1.0 + direct.abs()),
+                    "degree {degree}: {packed} vs {direct}"
+                );
+            }
+        }
+        m.degree = MAX_DEGREE + 1;
+        assert!(m.validate().unwrap_err().0.contains("polynomial degree"));
     }
 
     /// The fast exponential against the library's, over the whole range it serves.
