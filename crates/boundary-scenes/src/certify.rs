@@ -116,18 +116,7 @@ pub fn hard_cases() -> Vec<Case> {
 /// `k = 1..5`, and `±1..4` ulps around the float tie radius (41 cases, small enough for every
 /// depth of a certified method).
 pub fn near_tie_cases() -> Vec<Case> {
-    let near = |tie: f64| -> Vec<f64> {
-        let mut radii = vec![tie];
-        for k in 1..=5 {
-            radii.push(tie * (1.0 + k as f64 * 1e-10));
-            radii.push(tie * (1.0 - k as f64 * 1e-10));
-        }
-        for k in 1..=4 {
-            radii.push(ulps(tie, k));
-            radii.push(ulps(tie, -k));
-        }
-        radii
-    };
+    let near = near_tie_radii;
     let mut cases = Vec::new();
     let square = square_lattice(7, 1.0);
     for r in near(std::f64::consts::FRAC_1_SQRT_2) {
@@ -148,8 +137,23 @@ pub fn near_tie_cases() -> Vec<Case> {
     cases
 }
 
+/// The radii around a tie radius `tie`: `tie` itself, `tie·(1 ± k·1e-10)` for `k = 1..5`, and
+/// `±1..4` ulps (19 radii), where the exact labels of a lattice flip.
+pub fn near_tie_radii(tie: f64) -> Vec<f64> {
+    let mut radii = vec![tie];
+    for k in 1..=5 {
+        radii.push(tie * (1.0 + k as f64 * 1e-10));
+        radii.push(tie * (1.0 - k as f64 * 1e-10));
+    }
+    for k in 1..=4 {
+        radii.push(ulps(tie, k));
+        radii.push(ulps(tie, -k));
+    }
+    radii
+}
+
 /// `x` moved by `k` units in the last place.
-fn ulps(x: f64, k: i64) -> f64 {
+pub fn ulps(x: f64, k: i64) -> f64 {
     let mut y = x;
     for _ in 0..k.unsigned_abs() {
         y = if k > 0 { y.next_up() } else { y.next_down() };

@@ -12,31 +12,9 @@ use boundary::{
     ParticleSet, Point, Radius,
 };
 use boundary_scenes::brute::{lattice_labels_near_tie, uncovered_by_enumeration};
+use boundary_scenes::certify::{near_tie_radii as near, ulps};
 use boundary_scenes::{cubic_lattice, square_lattice};
 use rand::{rngs::StdRng, Rng, SeedableRng};
-
-/// `x` moved by `k` ulps.
-fn ulps(x: f64, k: i64) -> f64 {
-    let mut y = x;
-    for _ in 0..k.unsigned_abs() {
-        y = if k > 0 { y.next_up() } else { y.next_down() };
-    }
-    y
-}
-
-/// The radii around a tie: `tie·(1 ± k·1e-10)`, `k = 1..5`, and `±1..4` ulps.
-fn near(tie: f64) -> Vec<f64> {
-    let mut radii = vec![tie];
-    for k in 1..=5 {
-        radii.push(tie * (1.0 + k as f64 * 1e-10));
-        radii.push(tie * (1.0 - k as f64 * 1e-10));
-    }
-    for k in 1..=4 {
-        radii.push(ulps(tie, k));
-        radii.push(ulps(tie, -k));
-    }
-    radii
-}
 
 /// The two exact methods: the name and the labels with the number of exact-predicate calls.
 type Counting = fn(&AnyParticleSet, Radius) -> (Vec<bool>, usize);
