@@ -66,6 +66,10 @@ use num_traits::{Signed, ToPrimitive, Zero};
 /// are ignored, exactly. Callers pass the particles a grid query within a little more than
 /// `2r` returned, so that no neighbour whose exact distance is below `2r` is missed.
 ///
+/// # Panics
+/// If `r` is not positive and finite (callers pass the value of a [`crate::Radius`]), or if
+/// `D` is not 2 or 3.
+///
 /// ```
 /// use boundary_core::{exact_cover::sphere_uncovered, Point};
 ///

@@ -4,6 +4,7 @@
 
 use boundary_core::{AnyParticleSet, BoundaryDetector, Confusion, ParticleSet, Point, Radius};
 use boundary_exact::ExactDetector;
+use boundary_scenes::certify::ulps;
 use boundary_scenes::{jittered_lattice_ball, jittered_lattice_disc, shared_set};
 use boundary_svm::{compute_features, particle_features, shipped_model, SvmDetector, SvmModel};
 
@@ -184,18 +185,16 @@ fn perfect_lattices_have_no_false_negative() {
     where
         AnyParticleSet: From<ParticleSet<D>>,
     {
-        let ulps = |k: i64| f64::from_bits((tie.to_bits() as i64 + k) as u64);
-        for r in [ulps(-4), tie, ulps(4)] {
+        let labels = |r: f64| {
+            let set = AnyParticleSet::from(set.clone());
             let r = Radius::new(r).unwrap();
-            let truth = ExactDetector
-                .detect(&AnyParticleSet::from(set.clone()), r)
-                .unwrap()
-                .labels;
-            let svm = SvmDetector::default()
-                .detect(&AnyParticleSet::from(set.clone()), r)
-                .unwrap()
-                .labels;
-            assert_eq!(svm, truth, "{D}D lattice at r = {:e}", r.get());
+            let truth = ExactDetector.detect(&set, r).unwrap().labels;
+            let svm = SvmDetector::default().detect(&set, r).unwrap().labels;
+            (svm, truth)
+        };
+        for r in [ulps(tie, -4), tie, ulps(tie, 4)] {
+            let (svm, truth) = labels(r);
+            assert_eq!(svm, truth, "{D}D lattice at r = {r:e}");
         }
         for r in [
             0.6,
@@ -208,17 +207,9 @@ fn perfect_lattices_have_no_false_negative() {
             1.5,
             2.0,
         ] {
-            let r = Radius::new(r).unwrap();
-            let truth = ExactDetector
-                .detect(&AnyParticleSet::from(set.clone()), r)
-                .unwrap()
-                .labels;
-            let svm = SvmDetector::default()
-                .detect(&AnyParticleSet::from(set.clone()), r)
-                .unwrap()
-                .labels;
+            let (svm, truth) = labels(r);
             let c = score(svm.as_slice(), truth.as_slice());
-            assert_eq!(c.fn_, 0, "{D}D lattice, r = {}: {c:?}", r.get());
+            assert_eq!(c.fn_, 0, "{D}D lattice, r = {r}: {c:?}");
         }
     }
     let square: Vec<[f64; 2]> = (0..144)
