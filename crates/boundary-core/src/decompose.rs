@@ -24,15 +24,8 @@ pub struct Subdomain {
 impl Subdomain {
     /// The local particle set: owned particles first (in `owned` order), then ghosts.
     pub fn particles<const D: usize>(&self, set: &ParticleSet<D>) -> ParticleSet<D> {
-        let p = set.positions();
-        ParticleSet {
-            positions: self
-                .owned
-                .iter()
-                .chain(&self.ghosts)
-                .map(|&i| p[i])
-                .collect(),
-        }
+        let order: Vec<usize> = self.owned.iter().chain(&self.ghosts).copied().collect();
+        set.subset(&order)
     }
 }
 

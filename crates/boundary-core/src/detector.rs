@@ -180,6 +180,17 @@ pub enum DetectError {
         /// The dimension asked for.
         dim: usize,
     },
+    /// The method does not support per-particle radii (see [`ParticleSet::with_radii`]).
+    #[error(
+        "method '{method}' does not support per-particle radii: {reason}; use exact, dilts, \
+         ia or ge, or a uniform radius"
+    )]
+    PerParticleRadii {
+        /// Method name.
+        method: &'static str,
+        /// Why the method has no faithful generalisation.
+        reason: &'static str,
+    },
     /// A method-specific failure, described.
     #[error("method '{method}': {message}")]
     Method {
@@ -191,6 +202,19 @@ pub enum DetectError {
 }
 
 impl DetectError {
+    /// `Ok` for a set without per-particle radii, else [`DetectError::PerParticleRadii`]: what a
+    /// method that supports only a uniform radius calls first.
+    pub fn check_uniform<const D: usize>(
+        method: &'static str,
+        reason: &'static str,
+        set: &ParticleSet<D>,
+    ) -> Result<(), Self> {
+        match set.radii() {
+            None => Ok(()),
+            Some(_) => Err(DetectError::PerParticleRadii { method, reason }),
+        }
+    }
+
     /// `Ok` if `owned <= len`, else the error [`BoundaryDetector::detect_owned`] returns for
     /// more owned particles than the set holds.
     pub fn check_owned(method: &'static str, owned: usize, len: usize) -> Result<(), Self> {

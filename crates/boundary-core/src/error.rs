@@ -22,6 +22,31 @@ pub enum CoreError {
          up to 4r² must stay normal floating-point numbers); rescale the coordinates"
     )]
     RadiusOutOfRange(f64),
+    /// A per-particle radius is not a positive finite number.
+    #[error("particle {index}: radius must be positive and finite, got {value}")]
+    InvalidParticleRadius {
+        /// Index of the particle in input order.
+        index: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// A per-particle radius (after scaling by `r`) lies outside
+    /// [`crate::Radius::MIN`]`..=`[`crate::Radius::MAX`].
+    #[error("particle {index}: radius {value:e} is outside the supported range 1e-100..=1e100")]
+    ParticleRadiusOutOfRange {
+        /// Index of the particle in input order.
+        index: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// The radii do not match the particles one to one.
+    #[error("{radii} radii for {particles} particles (one radius per particle)")]
+    RadiiLengthMismatch {
+        /// Number of particles.
+        particles: usize,
+        /// Number of radii given.
+        radii: usize,
+    },
     /// The neighbour grid cannot index this scene at this cell size.
     #[error("neighbour grid: extent {extent:e} is too large for cell size {cell:e}")]
     GridTooFine {

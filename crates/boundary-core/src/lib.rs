@@ -11,7 +11,8 @@
 //! - [`ParticleSet`]: validated positions (finite `f64`), generic over the dimension `D` (2 or 3),
 //!   and [`AnyParticleSet`] for code that learns the dimension at run time (file readers, the CLI).
 //! - [`Radius`]: a positive, finite resolution `r`.
-//! - [`NeighbourGrid`]: a uniform grid for fixed-radius neighbour queries.
+//! - [`NeighbourGrid`]: a uniform grid for fixed-radius neighbour queries; [`RadiusGrid`] for
+//!   sets with a radius per particle ([`ParticleSet::with_radii`]).
 //! - [`BoundaryDetector`]: the trait every method implements, returning a [`Detection`].
 //! - [`median_nearest_neighbour_distance`]: the particle spacing, to estimate `r`.
 //! - [`Confusion`]: accuracy metrics (Rec, FPR, M = Rec·(1−FPR), precision, F1).
@@ -37,6 +38,7 @@ pub mod exact_cover;
 mod grid;
 mod metrics;
 mod particles;
+pub mod radius_grid;
 mod spacing;
 
 pub use detector::{
@@ -46,6 +48,7 @@ pub use error::CoreError;
 pub use grid::NeighbourGrid;
 pub use metrics::Confusion;
 pub use particles::{AnyParticleSet, ParticleSet, Point, Radius};
+pub use radius_grid::RadiusGrid;
 pub use spacing::median_nearest_neighbour_distance;
 
 /// Re-export of the linear-algebra crate used in public signatures.

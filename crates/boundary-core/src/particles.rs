@@ -42,14 +42,27 @@ impl std::fmt::Display for Radius {
     }
 }
 
-/// Particle positions in `D` dimensions (`D` = 2 or 3), every coordinate finite.
+/// Particle positions in `D` dimensions (`D` = 2 or 3), every coordinate finite, and
+/// optionally a radius per particle (adaptive resolution).
 ///
 /// The empty set is valid. Duplicated positions are allowed (they are part of the problem:
 /// coincident duplicates do not cover each other). At most `u32::MAX` particles, so that
 /// indices fit the compact neighbour structures.
+///
+/// # Per-particle radii
+/// A set built with [`ParticleSet::with_radii`] gives particle `i` its own radius factor
+/// `s_i`; a detector called with resolution `r` then uses `r_i = r·s_i` (rounded once), so
+/// `r = 1` takes the radii as they are and any other `r` scales them all (the CLI's
+/// `--radius-scale`). Particle `i` is interior iff `S_i` (radius `r_i`) is covered by the
+/// closed balls of radius `r_j` of the other particles (those with `|p_i − p_j| <= r_i + r_j`;
+/// coincident duplicates still do not cover each other, whatever their radii). With every
+/// `s_i = 1` this is the uniform definition at `r`. A set without radii is the uniform case
+/// and costs nothing extra. Methods that do not support per-particle radii return
+/// [`crate::DetectError::PerParticleRadii`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParticleSet<const D: usize> {
     pub(crate) positions: Vec<Point<D>>,
+    pub(crate) radii: Option<Vec<f64>>,
 }
 
 impl<const D: usize> ParticleSet<D> {
@@ -68,7 +81,78 @@ impl<const D: usize> ParticleSet<D> {
                 }
             }
         }
-        Ok(ParticleSet { positions })
+        Ok(ParticleSet {
+            positions,
+            radii: None,
+        })
+    }
+
+    /// Gives every particle its own radius factor `s_i` (see the type's docs): one per
+    /// particle, each finite, positive and within [`Radius::MIN`]`..=`[`Radius::MAX`]. The
+    /// error names the first offending particle by its index in input order.
+    ///
+    /// ```
+    /// use boundary_core::ParticleSet;
+    ///
+    /// let set = ParticleSet::<2>::from_rows(&[[0.0, 0.0], [1.0, 0.0]]).unwrap();
+    /// let set = set.with_radii(vec![0.5, 1.0]).unwrap();
+    /// assert_eq!(set.radii(), Some(&[0.5, 1.0][..]));
+    /// let bad = ParticleSet::<2>::from_rows(&[[0.0, 0.0]]).unwrap().with_radii(vec![-1.0]);
+    /// assert_eq!(bad.unwrap_err().to_string(), "particle 0: radius must be positive and finite, got -1");
+    /// ```
+    pub fn with_radii(mut self, radii: Vec<f64>) -> Result<Self, CoreError> {
+        if radii.len() != self.positions.len() {
+            return Err(CoreError::RadiiLengthMismatch {
+                particles: self.positions.len(),
+                radii: radii.len(),
+            });
+        }
+        for (index, &value) in radii.iter().enumerate() {
+            check_particle_radius(index, value)?;
+        }
+        self.radii = Some(radii);
+        Ok(self)
+    }
+
+    /// The per-particle radius factors, if the set has them.
+    pub fn radii(&self) -> Option<&[f64]> {
+        self.radii.as_deref()
+    }
+
+    /// Removes the per-particle radii: the uniform set of the same positions.
+    pub fn without_radii(mut self) -> Self {
+        self.radii = None;
+        self
+    }
+
+    /// The radius of every particle at resolution `r`, `r_i = r·s_i`, or `None` for a set
+    /// without radii (every particle has radius `r`). Fails, naming the particle, when a
+    /// product leaves [`Radius::MIN`]`..=`[`Radius::MAX`].
+    pub fn resolved_radii(&self, r: Radius) -> Result<Option<Vec<f64>>, CoreError> {
+        let Some(radii) = &self.radii else {
+            return Ok(None);
+        };
+        radii
+            .iter()
+            .enumerate()
+            .map(|(index, &s)| {
+                let value = r.get() * s;
+                check_particle_radius(index, value).map(|()| value)
+            })
+            .collect::<Result<Vec<f64>, CoreError>>()
+            .map(Some)
+    }
+
+    /// A set of some of the particles (`indices`, in that order, repeats allowed), keeping
+    /// their radii. Panics if an index is out of range.
+    pub fn subset(&self, indices: &[usize]) -> ParticleSet<D> {
+        ParticleSet {
+            positions: indices.iter().map(|&i| self.positions[i]).collect(),
+            radii: self
+                .radii
+                .as_ref()
+                .map(|s| indices.iter().map(|&i| s[i]).collect()),
+        }
     }
 
     /// Builds a set from coordinate rows, validated as in [`ParticleSet::new`].
@@ -112,6 +196,7 @@ impl<const D: usize> ParticleSet<D> {
                     .zip(copy(1))
                     .map(|(x, y)| Point::<2>::new(x, y))
                     .collect(),
+                radii: self.radii.clone(),
             }),
             _ => AnyParticleSet::D3(ParticleSet {
                 positions: self
@@ -119,13 +204,25 @@ impl<const D: usize> ParticleSet<D> {
                     .iter()
                     .map(|p| Point::<3>::new(p[0], p[1], p[2]))
                     .collect(),
+                radii: self.radii.clone(),
             }),
         }
     }
 
-    /// Consumes the set, returning the positions.
+    /// Consumes the set, returning the positions (the radii, if any, are dropped).
     pub fn into_positions(self) -> Vec<Point<D>> {
         self.positions
+    }
+}
+
+/// A particle's radius must be finite, positive and within the range of [`Radius`].
+fn check_particle_radius(index: usize, value: f64) -> Result<(), CoreError> {
+    if !(value.is_finite() && value > 0.0) {
+        Err(CoreError::InvalidParticleRadius { index, value })
+    } else if !(Radius::MIN..=Radius::MAX).contains(&value) {
+        Err(CoreError::ParticleRadiusOutOfRange { index, value })
+    } else {
+        Ok(())
     }
 }
 
@@ -158,6 +255,22 @@ impl AnyParticleSet {
     /// Whether the set holds no particle.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+
+    /// The per-particle radius factors, if the set has them (see [`ParticleSet::with_radii`]).
+    pub fn radii(&self) -> Option<&[f64]> {
+        match self {
+            AnyParticleSet::D2(s) => s.radii(),
+            AnyParticleSet::D3(s) => s.radii(),
+        }
+    }
+
+    /// Gives every particle its own radius factor ([`ParticleSet::with_radii`]).
+    pub fn with_radii(self, radii: Vec<f64>) -> Result<Self, CoreError> {
+        Ok(match self {
+            AnyParticleSet::D2(s) => AnyParticleSet::D2(s.with_radii(radii)?),
+            AnyParticleSet::D3(s) => AnyParticleSet::D3(s.with_radii(radii)?),
+        })
     }
 
     /// Coordinates of particle `i` as a slice of length `dim()`.
