@@ -202,14 +202,16 @@ pub enum DetectError {
 }
 
 impl DetectError {
-    /// `Ok` for a set without per-particle radii, else [`DetectError::PerParticleRadii`]: what a
-    /// method that supports only a uniform radius calls first.
-    pub fn check_uniform<const D: usize>(
+    /// `Ok` for a set without per-particle radii (`radii` is the set's
+    /// [`ParticleSet::radii`] or [`AnyParticleSet::radii`]), else
+    /// [`DetectError::PerParticleRadii`]: what a method that supports only a uniform radius
+    /// calls first.
+    pub fn check_uniform(
         method: &'static str,
         reason: &'static str,
-        set: &ParticleSet<D>,
+        radii: Option<&[f64]>,
     ) -> Result<(), Self> {
-        match set.radii() {
+        match radii {
             None => Ok(()),
             Some(_) => Err(DetectError::PerParticleRadii { method, reason }),
         }

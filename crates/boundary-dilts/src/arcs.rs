@@ -21,6 +21,8 @@ use std::f64::consts::{PI, TAU};
 pub(crate) struct Arcs {
     /// `(start, end)` with `start ∈ [0, 2π]` and `end = start + 2α`.
     arcs: Vec<(f64, f64)>,
+    /// Extra absolute error of every `cos α` (per-particle radii; 0 at a uniform radius).
+    slack: f64,
 }
 
 /// In the exact mode, arcs with `sin α` below this (neighbours within about `1e-12·r` of `2r`)
@@ -30,6 +32,14 @@ const THIN_ARC: f64 = 1e-6;
 impl SphereCover<2> for Arcs {
     fn exact(centre: &Point<2>, others: &[Point<2>], r: Radius) -> bool {
         boundary_exact::sphere_uncovered_2d(centre, others, r)
+    }
+
+    fn exact_power(centre: &Point<2>, r: f64, others: &[(Point<2>, f64)]) -> bool {
+        boundary_exact::sphere_uncovered_power_2d(centre, r, others)
+    }
+
+    fn set_slack(&mut self, slack: f64) {
+        self.slack = slack;
     }
 
     fn classify(&mut self, caps: &[Cap<2>], tol: f64) -> (Option<bool>, Option<f64>) {
@@ -49,7 +59,7 @@ impl SphereCover<2> for Arcs {
         }
         // Exact mode: every arc end is within `E` of its exact value (crate docs "Exactness"),
         // so the half gap is within `E` of the exact one.
-        let e = 64.0 * U + 8.0 * U / sin_min.max(f64::MIN_POSITIVE);
+        let e = 64.0 * U + (8.0 * U + self.slack) / sin_min.max(f64::MIN_POSITIVE);
         if sin_min < THIN_ARC || margin.abs() <= 2.0 * e {
             (None, Some(margin))
         } else {

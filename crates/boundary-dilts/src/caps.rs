@@ -193,11 +193,21 @@ pub(crate) struct Caps {
     caps: Vec<Cap3>,
     /// Whether each circle of the current subset meets another circle of the subset.
     crossed: Vec<bool>,
+    /// Extra absolute error of every `cos α` (per-particle radii; 0 at a uniform radius).
+    slack: f64,
 }
 
 impl SphereCover<3> for Caps {
     fn exact(centre: &Point<3>, others: &[Point<3>], r: Radius) -> bool {
         boundary_exact::sphere_uncovered_3d(centre, others, r)
+    }
+
+    fn exact_power(centre: &Point<3>, r: f64, others: &[(Point<3>, f64)]) -> bool {
+        boundary_exact::sphere_uncovered_power_3d(centre, r, others)
+    }
+
+    fn set_slack(&mut self, slack: f64) {
+        self.slack = slack;
     }
 
     fn classify(&mut self, caps: &[Cap<3>], tol: f64) -> (Option<bool>, Option<f64>) {
@@ -229,7 +239,7 @@ impl SphereCover<3> for Caps {
         let n = self.caps.len();
         let mut m = FIRST_LEVEL.min(n);
         loop {
-            match check_subset(&self.caps, m, &mut self.crossed, tol) {
+            match check_subset(&self.caps, m, &mut self.crossed, tol, self.slack) {
                 Outcome::Covered => return (Some(false), None),
                 Outcome::Uncovered => return (Some(true), None),
                 Outcome::Ambiguous => return (None, None),
@@ -247,7 +257,9 @@ impl SphereCover<3> for Caps {
 /// `tol > 0`: the tolerant mode (covering tolerance `tol`, ties resolved by [`step_off`]).
 /// `tol == 0`: the exact mode: a point is decided only when every cap value `x·u_l − c_l` is
 /// farther from 0 than the point's error bound `err`; otherwise [`Outcome::Ambiguous`].
-fn check_subset(caps: &[Cap3], m: usize, crossed: &mut Vec<bool>, tol: f64) -> Outcome {
+/// `slack`: the extra absolute error of every `c` (per-particle radii, crate docs); it widens
+/// every band, to first order as the points' bounds scale with the error of `c`.
+fn check_subset(caps: &[Cap3], m: usize, crossed: &mut Vec<bool>, tol: f64, slack: f64) -> Outcome {
     let strict = tol == 0.0;
     let (inner, outer) = caps.split_at(m);
     crossed.clear();
@@ -257,7 +269,7 @@ fn check_subset(caps: &[Cap3], m: usize, crossed: &mut Vec<bool>, tol: f64) -> O
     // Exact mode: `x` lies on the circles of `j` and `k` (equal for (c)), within `err`.
     let mut strict_probe = |x: &Point<3>, j: usize, k: usize, err: f64| -> Option<Outcome> {
         // x·u − c carries the point's error, plus a few u for the dot product and c.
-        let band = err + 16.0 * U;
+        let band = err + 16.0 * U + slack;
         let value = |cap: &Cap3| x.dot(&cap.u) - cap.c;
         let third = |(l, cap): (usize, &Cap3)| l != j && l != k && value(cap) > band;
         if inner.iter().enumerate().any(third) {
@@ -290,6 +302,8 @@ fn check_subset(caps: &[Cap3], m: usize, crossed: &mut Vec<bool>, tol: f64) -> O
                     Meeting::Points(points, _, err) => {
                         crossed[j] = true;
                         crossed[k] = true;
+                        // The point's bound scales with the error of the inputs (8u each).
+                        let err = err * (1.0 + slack / (8.0 * U));
                         for x in &points {
                             if let Some(outcome) = strict_probe(x, j, k, err) {
                                 return outcome;
@@ -301,7 +315,8 @@ fn check_subset(caps: &[Cap3], m: usize, crossed: &mut Vec<bool>, tol: f64) -> O
         }
         for j in 0..m {
             if !crossed[j] {
-                if let Some(outcome) = strict_probe(&inner[j].point_on_circle(), j, j, 16.0 * U) {
+                let err = 16.0 * U + 2.0 * slack / inner[j].s;
+                if let Some(outcome) = strict_probe(&inner[j].point_on_circle(), j, j, err) {
                     return outcome;
                 }
             }

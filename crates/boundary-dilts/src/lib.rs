@@ -184,7 +184,7 @@ mod caps;
 
 use boundary_core::{
     AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, NeighbourGrid, ParamError,
-    ParamInfo, Params, ParticleSet, Point, Radius,
+    ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid,
 };
 use rayon::prelude::*;
 
@@ -345,6 +345,14 @@ pub(crate) trait SphereCover<const D: usize>: Default + Send {
     /// of the neighbours within `2r`), for the particles the float test leaves undecided:
     /// `exact`'s certified decision ([`boundary_exact::sphere_uncovered_2d`] and `_3d`).
     fn exact(centre: &Point<D>, others: &[Point<D>], r: Radius) -> bool;
+
+    /// The exact label with a radius per ball: `exact`'s certified decision
+    /// ([`boundary_exact::sphere_uncovered_power_2d`] and `_3d`).
+    fn exact_power(centre: &Point<D>, r: f64, others: &[(Point<D>, f64)]) -> bool;
+
+    /// Sets the extra absolute error of every cap's `cos α` for the next [`Self::classify`]
+    /// calls (0 at a uniform radius; per-particle radii, crate docs).
+    fn set_slack(&mut self, slack: f64);
 }
 
 /// Per-thread working memory.
@@ -375,6 +383,9 @@ fn detect_with<const D: usize, C: SphereCover<D>>(
     r: Radius,
     tie: f64,
 ) -> Result<(Detection, usize), DetectError> {
+    if let Some(radii) = set.resolved_radii(r)? {
+        return detect_radii::<D, C>(set, count, &radii, tie);
+    }
     let radius = r;
     let r = r.get();
     let grid = NeighbourGrid::new(set, 2.0 * r)?;
@@ -475,4 +486,99 @@ fn gather_caps<const D: usize, C>(
         });
     }
     dropped_twin
+}
+
+/// Caps of one particle closer than this to a hemisphere or larger (`cos α <= RHO_MIN`: a
+/// larger neighbour whose ball nearly holds `p_i`) send the particle to `exact`'s decision,
+/// which handles power cells that do not contain `p_i`.
+const RHO_MIN: f64 = 1e-3;
+
+/// [`detect_with`] for a set with a radius per particle (crate docs, "A radius per particle").
+fn detect_radii<const D: usize, C: SphereCover<D>>(
+    set: &ParticleSet<D>,
+    count: usize,
+    radii: &[f64],
+    tie: f64,
+) -> Result<(Detection, usize), DetectError> {
+    let grid = RadiusGrid::new(set, radii)?;
+    let positions = set.positions();
+    let results: Vec<(bool, Option<f64>, bool)> = (0..count)
+        .into_par_iter()
+        .map_init(Scratch::<D, C>::default, |scratch, i| {
+            let r = radii[i];
+            let p = positions[i];
+            let near = &mut scratch.neighbours;
+            near.clear();
+            grid.for_each_reaching(&p, r, |j, d2| {
+                // d2 == 0: `i` itself or an exact duplicate, which does not cover S_i.
+                if d2 > 0.0 {
+                    near.push((d2, j));
+                }
+            });
+            near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let exact = |near: &[(f64, usize)]| {
+                let others: Vec<(Point<D>, f64)> = near
+                    .iter()
+                    .map(|&(_, j)| (positions[j], radii[j]))
+                    .collect();
+                C::exact_power(&p, r, &others)
+            };
+            // The cap of j on S_i (units of r): x·u >= h = (d² + 1 − s²)/(2d), s = r_j/r.
+            // With s == 1 exactly, h = d/2 as at a uniform radius, with no extra error.
+            let caps = &mut scratch.caps;
+            caps.clear();
+            let mut slack = 0.0f64;
+            let mut general = false;
+            let mut twins = false;
+            let mut last: Option<(Point<D>, f64)> = None;
+            for &(_, j) in near.iter() {
+                let q = (positions[j] - p) / r;
+                let d = q.norm();
+                let s = radii[j] / r;
+                if last == Some((q, s)) {
+                    // An exact copy of the previous neighbour (position and radius) adds nothing.
+                    continue;
+                }
+                if last.is_some_and(|(ql, _)| (q - ql).norm() <= TWIN_TOLERANCE) {
+                    twins = true;
+                }
+                last = Some((q, s));
+                let h = 0.5 * d + 0.5 * ((1.0 - s * s) / d);
+                let err = if s == 1.0 {
+                    0.0
+                } else {
+                    8.0 * U * (d + (1.0 + s * s) / d)
+                };
+                if h - err > 1.0 {
+                    // The ball misses S_i (or touches it at one point): it covers nothing of
+                    // the open uncovered set.
+                    continue;
+                }
+                if !(h > RHO_MIN && h.is_finite()) {
+                    general = true;
+                    break;
+                }
+                slack = slack.max(err);
+                caps.push(Cap {
+                    u: q / d,
+                    half_distance: h.min(1.0),
+                });
+            }
+            if general || (twins && tie == 0.0) {
+                return (exact(near), None, true);
+            }
+            // Largest caps first, as at a uniform radius.
+            caps.sort_unstable_by(|a, b| a.half_distance.total_cmp(&b.half_distance));
+            scratch.cover.set_slack(slack);
+            let (label, margin) = scratch.cover.classify(caps, tie);
+            match label {
+                Some(b) => (b, margin.map(|m| m * r), false),
+                None => (exact(near), margin.map(|m| m * r), true),
+            }
+        })
+        .collect();
+    let fallbacks = results.iter().filter(|x| x.2).count();
+    let labels = results.iter().map(|x| x.0).collect::<Labels>();
+    let margin = results.iter().map(|x| x.1).collect::<Option<Vec<f64>>>();
+    Ok((Detection { labels, margin }, fallbacks))
 }

@@ -164,6 +164,7 @@
 //! ```
 
 mod cell;
+mod power;
 
 use boundary_core::exact_cover;
 use boundary_core::{
@@ -243,8 +244,8 @@ impl ExactDetector {
         r: Radius,
     ) -> Result<(Detection, usize), DetectError> {
         match set {
-            AnyParticleSet::D2(s) => detect_with::<2, Polygon>(s, s.len(), r, self.tie),
-            AnyParticleSet::D3(s) => detect_with::<3, Polyhedron>(s, s.len(), r, self.tie),
+            AnyParticleSet::D2(s) => dispatch::<2, Polygon>(s, s.len(), r, self.tie),
+            AnyParticleSet::D3(s) => dispatch::<3, Polyhedron>(s, s.len(), r, self.tie),
         }
     }
 }
@@ -285,11 +286,11 @@ impl BoundaryDetector for ExactDetector {
     }
 
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(detect_with::<2, Polygon>(set, set.len(), r, self.tie)?.0)
+        Ok(dispatch::<2, Polygon>(set, set.len(), r, self.tie)?.0)
     }
 
     fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(detect_with::<3, Polyhedron>(set, set.len(), r, self.tie)?.0)
+        Ok(dispatch::<3, Polyhedron>(set, set.len(), r, self.tie)?.0)
     }
 
     /// Classifies only the owned particles; the ghosts serve as neighbours only. A halo of
@@ -302,8 +303,8 @@ impl BoundaryDetector for ExactDetector {
     ) -> Result<Detection, DetectError> {
         DetectError::check_owned("exact", owned, set.len())?;
         Ok(match set {
-            AnyParticleSet::D2(s) => detect_with::<2, Polygon>(s, owned, r, self.tie)?.0,
-            AnyParticleSet::D3(s) => detect_with::<3, Polyhedron>(s, owned, r, self.tie)?.0,
+            AnyParticleSet::D2(s) => dispatch::<2, Polygon>(s, owned, r, self.tie)?.0,
+            AnyParticleSet::D3(s) => dispatch::<3, Polyhedron>(s, owned, r, self.tie)?.0,
         })
     }
 }
@@ -337,8 +338,26 @@ struct FloatCell {
     degenerate: bool,
 }
 
-/// Classifies the first `count` particles of `set` (all of them are neighbours); also returns
-/// the number of particles decided by the exact fallback.
+/// Classifies the first `count` particles of `set` (all of them are neighbours): Voronoi cells
+/// at a uniform radius, power cells for a set with a radius per particle. Also returns the
+/// number of particles decided by the exact fallback.
+fn dispatch<const D: usize, C>(
+    set: &ParticleSet<D>,
+    count: usize,
+    r: Radius,
+    tie: f64,
+) -> Result<(Detection, usize), DetectError>
+where
+    C: ConvexCell<D> + Default + Send + Clone,
+{
+    match set.resolved_radii(r)? {
+        None => detect_with::<D, C>(set, count, r, tie),
+        Some(radii) => power::detect_power::<D, C>(set, count, &radii, tie),
+    }
+}
+
+/// Classifies the first `count` particles of `set` (all of them are neighbours) at the uniform
+/// radius `r`; also returns the number of particles decided by the exact fallback.
 fn detect_with<const D: usize, C>(
     set: &ParticleSet<D>,
     count: usize,
@@ -450,6 +469,29 @@ pub fn sphere_uncovered_2d(centre: &Point<2>, others: &[Point<2>], r: Radius) ->
 /// ```
 pub fn sphere_uncovered_3d(centre: &Point<3>, others: &[Point<3>], r: Radius) -> bool {
     sphere_uncovered::<3, Polyhedron>(centre, others, r.get())
+}
+
+/// [`sphere_uncovered_2d`] with a radius per ball: whether the circle of radius `r` around
+/// `centre` is **not** covered by the closed discs `others` (centre, radius), decided exactly
+/// as `exact` decides a particle of a set with per-particle radii (crate docs, "A radius per
+/// particle"). `others` may be any superset of the discs reaching the circle; copies of
+/// `centre` are ignored whatever their radius. Every radius must be positive and finite.
+///
+/// ```
+/// use boundary_core::Point;
+///
+/// // A unit circle inside a disc of radius 2 centred 0.5 away is covered; radius 1.4 is not.
+/// let c = Point::<2>::new(0.0, 0.0);
+/// assert!(!boundary_exact::sphere_uncovered_power_2d(&c, 1.0, &[(Point::<2>::new(0.5, 0.0), 2.0)]));
+/// assert!(boundary_exact::sphere_uncovered_power_2d(&c, 1.0, &[(Point::<2>::new(0.5, 0.0), 1.4)]));
+/// ```
+pub fn sphere_uncovered_power_2d(centre: &Point<2>, r: f64, others: &[(Point<2>, f64)]) -> bool {
+    power::sphere_uncovered::<2, Polygon>(centre, r, others)
+}
+
+/// [`sphere_uncovered_power_2d`] in 3D.
+pub fn sphere_uncovered_power_3d(centre: &Point<3>, r: f64, others: &[(Point<3>, f64)]) -> bool {
+    power::sphere_uncovered::<3, Polyhedron>(centre, r, others)
 }
 
 fn sphere_uncovered<const D: usize, C: ConvexCell<D> + Default + Clone>(

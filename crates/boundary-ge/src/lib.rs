@@ -109,7 +109,7 @@ mod slab;
 
 use boundary_core::{
     AnyParticleSet, BoundaryDetector, CoreError, DetectError, Detection, Labels, NeighbourGrid,
-    ParamError, ParamInfo, Params, ParticleSet, Point, Radius,
+    ParamError, ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid,
 };
 use rayon::prelude::*;
 use slab::{Arc, Element, Triangle};
@@ -224,14 +224,22 @@ fn detect_with<const D: usize, E: Element<D> + Send + Sync>(
     r: Radius,
     depth: u32,
 ) -> Result<Detection, CoreError> {
-    let r = r.get();
-    let grid = NeighbourGrid::new(set, 2.0 * r)?;
     let positions = set.positions();
     let first = E::first_level();
+    let radii = set.resolved_radii(r)?;
+    let r = r.get();
+    let grids = match &radii {
+        None => (Some(NeighbourGrid::new(set, 2.0 * r)?), None),
+        Some(radii) => (None, Some(RadiusGrid::new(set, radii)?)),
+    };
     let labels: Labels = (0..count)
         .into_par_iter()
         .map_init(Scratch::<D, E>::default, |scratch, i| {
-            scratch.gather(positions, &grid, i, r);
+            match &grids {
+                (Some(grid), _) => scratch.gather(positions, grid, i, r),
+                (_, Some(grid)) => scratch.gather_radii(positions, grid, i),
+                (None, None) => unreachable!("one grid is built"),
+            }
             scratch.is_boundary(&first, depth)
         })
         .collect::<Vec<bool>>()
@@ -265,7 +273,9 @@ struct Node<E> {
 struct Scratch<const D: usize, E> {
     /// Neighbour centres `q_j = (p_j − p_i)/r`, nearest first.
     centres: Vec<Point<D>>,
-    order: Vec<(f64, Point<D>)>,
+    /// Their squared radii in units of `r_i²` (all 1 at a uniform radius).
+    radius2: Vec<f64>,
+    order: Vec<(f64, Point<D>, f64)>,
     /// Arena of neighbour index lists, shared by sibling elements.
     candidates: Vec<u32>,
     stack: Vec<Node<E>>,
@@ -278,6 +288,7 @@ impl<const D: usize, E> Default for Scratch<D, E> {
     fn default() -> Self {
         Scratch {
             centres: Vec::new(),
+            radius2: Vec::new(),
             order: Vec::new(),
             candidates: Vec::new(),
             stack: Vec::new(),
@@ -287,16 +298,18 @@ impl<const D: usize, E> Default for Scratch<D, E> {
     }
 }
 
-/// The label of one slab against one ball of radius 1 at `q`: `Some(true)` if every vertex is
-/// inside (with [`COVER_MARGIN`]), `Some(false)` if every vertex is outside, `None` otherwise.
+/// The label of one slab against one ball of squared radius `s2` at `q` (1 at a uniform
+/// radius): `Some(true)` if every vertex is inside (with [`COVER_MARGIN`]`·max(1, s2)`),
+/// `Some(false)` if every vertex is outside, `None` otherwise.
 #[inline]
-fn against_ball<const D: usize>(slab: &[Point<D>], q: &Point<D>) -> Option<bool> {
+fn against_ball<const D: usize>(slab: &[Point<D>], q: &Point<D>, s2: f64) -> Option<bool> {
     let (mut inside, mut outside) = (false, false);
+    let inner = s2 - COVER_MARGIN * s2.max(1.0);
     for v in slab {
         let d2 = (v - q).norm_squared();
-        if d2 <= 1.0 - COVER_MARGIN {
+        if d2 <= inner {
             inside = true;
-        } else if d2 > 1.0 {
+        } else if d2 > s2 {
             outside = true;
         } else {
             return None; // on the sphere (within the margin): neither
@@ -316,12 +329,35 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
         order.clear();
         grid.for_each_within(&p, 2.0 * r, |j, d2| {
             if d2 > 0.0 {
-                order.push((d2, (positions[j] - p) / r));
+                order.push((d2, (positions[j] - p) / r, 1.0));
             }
         });
+        self.finish_gather();
+    }
+
+    /// [`Self::gather`] with a radius per particle: centres and radii in units of `r_i`,
+    /// ordered by how far each ball reaches past `p_i` (`d_j − r_j`, the likeliest cover first).
+    fn gather_radii(&mut self, positions: &[Point<D>], grid: &RadiusGrid<D>, i: usize) {
+        let p = positions[i];
+        let r = grid.radius(i);
+        let order = &mut self.order;
+        order.clear();
+        grid.for_each_reaching(&p, r, |j, d2| {
+            if d2 > 0.0 {
+                let s = grid.radius(j) / r;
+                order.push((d2.sqrt() / r - s, (positions[j] - p) / r, s * s));
+            }
+        });
+        self.finish_gather();
+    }
+
+    fn finish_gather(&mut self) {
+        let order = &mut self.order;
         order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
         self.centres.clear();
-        self.centres.extend(order.iter().map(|&(_, q)| q));
+        self.centres.extend(order.iter().map(|&(_, q, _)| q));
+        self.radius2.clear();
+        self.radius2.extend(order.iter().map(|&(_, _, s2)| s2));
         self.last_cover = usize::MAX;
     }
 
@@ -337,16 +373,23 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
         // The ball that covered the previous element first: consecutive elements of the
         // depth-first order are neighbours on S_i, often inside the same ball.
         if let Some(q) = self.centres.get(self.last_cover) {
-            if against_ball(slab, q) == Some(true) {
+            if against_ball(slab, q, self.radius2[self.last_cover]) == Some(true) {
                 return Label::Covered;
             }
         }
         let (centre, reach) = node.element.reach();
-        let far = (1.0 + reach) * (1.0 + reach);
         let mut nearest = (f64::INFINITY, usize::MAX);
         for k in node.start..node.start + node.len {
             let j = self.candidates[k];
             let d2 = (self.centres[j as usize] - centre).norm_squared();
+            let s2 = self.radius2[j as usize];
+            // At a uniform radius s = 1 exactly: the test of the paper, (1 + reach)².
+            let far = if s2 == 1.0 {
+                (1.0 + reach) * (1.0 + reach)
+            } else {
+                let s = s2.sqrt() * (1.0 + 1e-12);
+                (s + reach) * (s + reach)
+            };
             if d2 <= far {
                 if d2 < nearest.0 {
                     nearest = (d2, self.candidates.len());
@@ -362,7 +405,7 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
         let mut label = Label::Uncovered;
         for k in list_start..self.candidates.len() {
             let j = self.candidates[k] as usize;
-            match against_ball(slab, &self.centres[j]) {
+            match against_ball(slab, &self.centres[j], self.radius2[j]) {
                 Some(true) => {
                     self.last_cover = j;
                     return Label::Covered;
@@ -422,11 +465,17 @@ mod tests {
     #[test]
     fn a_ball_covers_a_slab_only_with_every_vertex_inside() {
         let slab = [Point::<2>::new(0.0, 0.0), Point::<2>::new(0.5, 0.0)];
-        assert_eq!(against_ball(&slab, &Point::<2>::new(0.25, 0.0)), Some(true));
-        assert_eq!(against_ball(&slab, &Point::<2>::new(5.0, 0.0)), Some(false));
-        assert_eq!(against_ball(&slab, &Point::<2>::new(1.2, 0.0)), None);
+        assert_eq!(
+            against_ball(&slab, &Point::<2>::new(0.25, 0.0), 1.0),
+            Some(true)
+        );
+        assert_eq!(
+            against_ball(&slab, &Point::<2>::new(5.0, 0.0), 1.0),
+            Some(false)
+        );
+        assert_eq!(against_ball(&slab, &Point::<2>::new(1.2, 0.0), 1.0), None);
         // A vertex exactly on the sphere is not inside (margin), nor outside.
-        assert_eq!(against_ball(&slab, &Point::<2>::new(1.0, 0.0)), None);
+        assert_eq!(against_ball(&slab, &Point::<2>::new(1.0, 0.0), 1.0), None);
     }
 
     #[test]

@@ -179,6 +179,9 @@ use rayon::prelude::*;
 use viewpoint::{place_viewpoints, ViewpointKind};
 use visibility::{visible_from_origin, HullOutcome};
 
+/// Why `hpr` rejects per-particle radii ([`DetectError::PerParticleRadii`]).
+const NO_RADII: &str = "the HPR visibility test (thesis ch. 2, Alg. 1) places its viewpoints and flips with one radius";
+
 /// The thesis' flipping exponent (Sec. 2.2: "γ = 1.3 in our implementation").
 pub const DEFAULT_GAMMA: f64 = 1.3;
 /// Radius of the local visibility test, in units of `r` (Sec. 2.3.2).
@@ -505,6 +508,7 @@ impl BoundaryDetector for HprDetector {
     }
 
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
+        DetectError::check_uniform("hpr", NO_RADII, set.radii())?;
         let (labels, _) = self.detect_first(set, set.len(), r)?;
         Ok(Detection {
             labels,
@@ -513,6 +517,7 @@ impl BoundaryDetector for HprDetector {
     }
 
     fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
+        DetectError::check_uniform("hpr", NO_RADII, set.radii())?;
         let (labels, _) = self.detect_first(set, set.len(), r)?;
         Ok(Detection {
             labels,
@@ -533,6 +538,7 @@ impl BoundaryDetector for HprDetector {
         owned: usize,
         r: Radius,
     ) -> Result<Detection, DetectError> {
+        DetectError::check_uniform("hpr", NO_RADII, set.radii())?;
         DetectError::check_owned(METHOD, owned, set.len())?;
         let (labels, _) = match set {
             AnyParticleSet::D2(s) => self.detect_first(s, owned, r)?,

@@ -91,7 +91,7 @@
 
 use boundary_core::{
     AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, NeighbourGrid, ParamError,
-    ParamInfo, Params, ParticleSet, Point, Radius,
+    ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid,
 };
 use rayon::prelude::*;
 
@@ -202,13 +202,21 @@ fn detect_with<const D: usize>(
     r: Radius,
     depth: u32,
 ) -> Result<Detection, boundary_core::CoreError> {
-    let r = r.get();
-    let grid = NeighbourGrid::new(set, 2.0 * r)?;
     let positions = set.positions();
+    let radii = set.resolved_radii(r)?;
+    let r = r.get();
+    let grids = match &radii {
+        None => (Some(NeighbourGrid::new(set, 2.0 * r)?), None),
+        Some(radii) => (None, Some(RadiusGrid::new(set, radii)?)),
+    };
     let labels: Labels = (0..count)
         .into_par_iter()
         .map_init(Scratch::<D>::default, |scratch, i| {
-            scratch.gather(positions, &grid, i, r);
+            match &grids {
+                (Some(grid), _) => scratch.gather(positions, grid, i, r),
+                (_, Some(grid)) => scratch.gather_radii(positions, grid, i),
+                (None, None) => unreachable!("one grid is built"),
+            }
             scratch.is_boundary(depth)
         })
         .collect::<Vec<bool>>()
@@ -236,8 +244,11 @@ struct QueryBox<const D: usize> {
 struct Scratch<const D: usize> {
     /// Neighbour centres `q_j = (p_j − p_i)/r`, nearest first.
     centres: Vec<Point<D>>,
-    /// Squared distances for sorting.
-    order: Vec<(f64, Point<D>)>,
+    /// Per neighbour: its squared radius in units of `r_i²` (1 at a uniform radius) and the
+    /// bound on the rounding of its box images ([`IMAGE_ERROR`] at a uniform radius).
+    balls: Vec<(f64, f64)>,
+    /// Sort keys (squared distances at a uniform radius) with centre and ball.
+    order: Vec<(f64, Point<D>, (f64, f64))>,
     /// Arena of neighbour index lists, shared by sibling boxes.
     candidates: Vec<u32>,
     stack: Vec<QueryBox<D>>,
@@ -251,6 +262,7 @@ impl<const D: usize> Default for Scratch<D> {
     fn default() -> Self {
         Scratch {
             centres: Vec::new(),
+            balls: Vec::new(),
             order: Vec::new(),
             candidates: Vec::new(),
             stack: Vec::new(),
@@ -281,16 +293,18 @@ enum Relation {
     Straddles,
 }
 
-/// The image of `f(x) = |x − c|² − 1` over the box, classified (Appendix, Algorithm 4).
+/// The image of `f(x) = |x − c|² − s²` over the box, classified (Appendix, Algorithm 4);
+/// `ball = (s², rounding bound)`.
 #[inline]
-fn relation<const D: usize>(lo: &Point<D>, size: f64, c: &Point<D>) -> Relation {
-    classify(image(lo, size, c))
+fn relation<const D: usize>(lo: &Point<D>, size: f64, c: &Point<D>, ball: (f64, f64)) -> Relation {
+    classify(image(lo, size, c, ball.0), ball.1)
 }
 
-/// The image `[min, max]` of `f(x) = |x − c|² − 1` over the box (Appendix, Algorithm 4).
+/// The image `[min, max]` of `f(x) = |x − c|² − s2` over the box (Appendix, Algorithm 4;
+/// `s2 = 1` at a uniform radius).
 #[inline]
-fn image<const D: usize>(lo: &Point<D>, size: f64, c: &Point<D>) -> (f64, f64) {
-    let (mut min, mut max) = (-1.0, -1.0);
+fn image<const D: usize>(lo: &Point<D>, size: f64, c: &Point<D>, s2: f64) -> (f64, f64) {
+    let (mut min, mut max) = (-s2, -s2);
     for a in 0..D {
         let (s_min, s_max) = square(lo[a], lo[a] + size, c[a]);
         min += s_min;
@@ -305,14 +319,26 @@ fn image<const D: usize>(lo: &Point<D>, size: f64, c: &Point<D>) -> (f64, f64) {
 /// within a relative `7u` of `(lo − c_true)²` (at most 9 in magnitude), and the sum of `D + 1`
 /// terms adds `(D + 1)u` of at most `9D + 1`: below `(9D + 1)·(7u + 4u) <= 28·11u` in 3D.
 /// Taken as `512u ≈ 5.7e-14`.
+///
+/// With a radius per particle the ball of `j` has radius `s = r_j/r_i` and its centre lies
+/// within `1 + s`: each square is at most `(2 + s)²`, `s²` carries `3u` of rounding (`s` itself
+/// `u`), so the bound is `11u·(D(2 + s)² + s²)`, taken with a factor 1.5 and never below
+/// `IMAGE_ERROR` ([`image_error`]).
 const IMAGE_ERROR: f64 = 512.0 * (f64::EPSILON / 2.0);
 
+/// The rounding bound of a ball of radius `s` (units of `r_i`); [`IMAGE_ERROR`] for `s <= 1`.
+fn image_error(dim: usize, s: f64) -> f64 {
+    let u = f64::EPSILON / 2.0;
+    IMAGE_ERROR.max(1.5 * 11.0 * u * (dim as f64 * (2.0 + s) * (2.0 + s) + s * s))
+}
+
 /// The relation of a box to a ball from the image of `f` over the box. *Inside* needs
-/// `max <= −IMAGE_ERROR`: outward rounding, so that a box counted covered is covered in exact
-/// arithmetic for the given input (no false negative from rounding).
+/// `max <= −error` (the ball's rounding bound): outward rounding, so that a box counted
+/// covered is covered in exact arithmetic for the given input (no false negative from
+/// rounding).
 #[inline]
-fn classify((min, max): (f64, f64)) -> Relation {
-    if max <= -IMAGE_ERROR {
+fn classify((min, max): (f64, f64), error: f64) -> Relation {
+    if max <= -error {
         Relation::Inside
     } else if min > 0.0 {
         Relation::Outside
@@ -357,12 +383,36 @@ impl<const D: usize> Scratch<D> {
         order.clear();
         grid.for_each_within(&p, 2.0 * r, |j, d2| {
             if d2 > 0.0 {
-                order.push((d2, (positions[j] - p) / r));
+                order.push((d2, (positions[j] - p) / r, (1.0, IMAGE_ERROR)));
             }
         });
+        self.finish_gather();
+    }
+
+    /// [`Self::gather`] with a radius per particle: centres and radii in units of `r_i`,
+    /// ordered by how far each ball reaches past `p_i` (`d_j − r_j`, the likeliest cover first).
+    fn gather_radii(&mut self, positions: &[Point<D>], grid: &RadiusGrid<D>, i: usize) {
+        let p = positions[i];
+        let r = grid.radius(i);
+        let order = &mut self.order;
+        order.clear();
+        grid.for_each_reaching(&p, r, |j, d2| {
+            if d2 > 0.0 {
+                let s = grid.radius(j) / r;
+                let ball = (s * s, image_error(D, s));
+                order.push((d2.sqrt() / r - s, (positions[j] - p) / r, ball));
+            }
+        });
+        self.finish_gather();
+    }
+
+    fn finish_gather(&mut self) {
+        let order = &mut self.order;
         order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
         self.centres.clear();
-        self.centres.extend(order.iter().map(|&(_, q)| q));
+        self.centres.extend(order.iter().map(|&(_, q, _)| q));
+        self.balls.clear();
+        self.balls.extend(order.iter().map(|&(_, _, ball)| ball));
         self.last_cover = usize::MAX;
     }
 
@@ -385,7 +435,7 @@ impl<const D: usize> Scratch<D> {
             // order are neighbours, often inside the same ball. Only the order of the tests
             // changes, never the label (covered if any ball covers).
             if let Some(c) = self.centres.get(self.last_cover) {
-                if relation(&q.lo, q.size, c) == Relation::Inside {
+                if relation(&q.lo, q.size, c, self.balls[self.last_cover]) == Relation::Inside {
                     continue; // R2
                 }
             }
@@ -394,8 +444,9 @@ impl<const D: usize> Scratch<D> {
             self.keyed.clear();
             for k in q.start..q.start + q.len {
                 let j = self.candidates[k];
-                let f = image(&q.lo, q.size, &self.centres[j as usize]);
-                match classify(f) {
+                let ball = self.balls[j as usize];
+                let f = image(&q.lo, q.size, &self.centres[j as usize], ball.0);
+                match classify(f, ball.1) {
                     Relation::Inside => {
                         covered = true;
                         self.last_cover = j as usize;
@@ -470,20 +521,20 @@ mod tests {
     fn relation_of_boxes_to_the_unit_ball() {
         let o = Point::<2>::zeros();
         assert_eq!(
-            relation(&Point::<2>::new(-0.5, -0.5), 1.0, &o),
+            relation(&Point::<2>::new(-0.5, -0.5), 1.0, &o, (1.0, IMAGE_ERROR)),
             Relation::Inside
         );
         assert_eq!(
-            relation(&Point::<2>::new(1.0, 1.0), 1.0, &o),
+            relation(&Point::<2>::new(1.0, 1.0), 1.0, &o, (1.0, IMAGE_ERROR)),
             Relation::Outside
         );
         assert_eq!(
-            relation(&Point::<2>::new(0.5, 0.5), 1.0, &o),
+            relation(&Point::<2>::new(0.5, 0.5), 1.0, &o, (1.0, IMAGE_ERROR)),
             Relation::Straddles
         );
         // Touching from outside at one point: (1, 0) is in the closed ball.
         assert_eq!(
-            relation(&Point::<2>::new(1.0, -0.5), 1.0, &o),
+            relation(&Point::<2>::new(1.0, -0.5), 1.0, &o, (1.0, IMAGE_ERROR)),
             Relation::Straddles
         );
     }

@@ -107,6 +107,9 @@ use boundary_sph::{Kernel, SphContext, SphKernel, SymmetricEigen, SUPPORT_FACTOR
 use rayon::prelude::*;
 use scan::ScanRegion;
 
+/// Why `marrone` rejects per-particle radii ([`DetectError::PerParticleRadii`]).
+const NO_RADII: &str = "the renormalisation matrix and the scan cone (Marrone et al. 2010) assume one smoothing length";
+
 /// Default `lambda_surface` (M2): the paper's threshold for surely free-surface particles.
 pub const DEFAULT_LAMBDA_SURFACE: f64 = 0.2;
 /// Default `lambda_interior` (M2): the paper's threshold for surely interior particles.
@@ -348,10 +351,12 @@ impl BoundaryDetector for MarroneDetector {
     }
 
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
+        DetectError::check_uniform("marrone", NO_RADII, set.radii())?;
         Ok(self.detect_first(set, set.len(), r)?)
     }
 
     fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
+        DetectError::check_uniform("marrone", NO_RADII, set.radii())?;
         Ok(self.detect_first(set, set.len(), r)?)
     }
 
@@ -368,6 +373,7 @@ impl BoundaryDetector for MarroneDetector {
         owned: usize,
         r: Radius,
     ) -> Result<Detection, DetectError> {
+        DetectError::check_uniform("marrone", NO_RADII, set.radii())?;
         DetectError::check_owned(METHOD, owned, set.len())?;
         Ok(match set {
             AnyParticleSet::D2(s) => self.detect_first(s, owned, r)?,

@@ -110,6 +110,9 @@ use boundary_core::{
 use boundary_sph::{Kernel, SphContext, SphKernel, SUPPORT_FACTOR};
 use rayon::prelude::*;
 
+/// Why `muller` rejects per-particle radii ([`DetectError::PerParticleRadii`]).
+const NO_RADII: &str = "the colour field (Müller et al. 2003) assumes one smoothing length";
+
 /// Default dimensionless threshold on `|∇c|·h` (see the crate documentation for how it was
 /// chosen).
 pub const DEFAULT_THRESHOLD: f64 = 0.375;
@@ -330,10 +333,12 @@ impl BoundaryDetector for MullerDetector {
     }
 
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
+        DetectError::check_uniform("muller", NO_RADII, set.radii())?;
         Ok(self.detect_first(set, set.len(), r)?)
     }
 
     fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
+        DetectError::check_uniform("muller", NO_RADII, set.radii())?;
         Ok(self.detect_first(set, set.len(), r)?)
     }
 
@@ -350,6 +355,7 @@ impl BoundaryDetector for MullerDetector {
         owned: usize,
         r: Radius,
     ) -> Result<Detection, DetectError> {
+        DetectError::check_uniform("muller", NO_RADII, set.radii())?;
         DetectError::check_owned(METHOD, owned, set.len())?;
         Ok(match set {
             AnyParticleSet::D2(s) => self.detect_first(s, owned, r)?,

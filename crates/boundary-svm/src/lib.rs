@@ -204,6 +204,9 @@ use boundary_ge::GeDetector;
 use rayon::prelude::*;
 use std::sync::{Arc, OnceLock};
 
+/// Why `svm` rejects per-particle radii ([`DetectError::PerParticleRadii`]).
+const NO_RADII: &str = "its models were trained on features of uniform-radius sets";
+
 const METHOD: &str = "svm";
 const KEYS: [&str; 2] = ["refine", "model"];
 
@@ -461,10 +464,12 @@ impl BoundaryDetector for SvmDetector {
     }
 
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
+        DetectError::check_uniform("svm", NO_RADII, set.radii())?;
         self.detect_first(set, set.len(), r)
     }
 
     fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
+        DetectError::check_uniform("svm", NO_RADII, set.radii())?;
         self.detect_first(set, set.len(), r)
     }
 
@@ -480,6 +485,7 @@ impl BoundaryDetector for SvmDetector {
         owned: usize,
         r: Radius,
     ) -> Result<Detection, DetectError> {
+        DetectError::check_uniform("svm", NO_RADII, set.radii())?;
         DetectError::check_owned(METHOD, owned, set.len())?;
         match set {
             AnyParticleSet::D2(s) => self.detect_first(s, owned, r),
