@@ -54,11 +54,7 @@ impl<const D: usize> RadiusGrid<D> {
             .map(|index| {
                 let r_max = index.iter().map(|&i| radii[i]).fold(0.0, f64::max);
                 let grid = NeighbourGrid::new(&set.subset(&index), r_max)?;
-                Ok(Level {
-                    r_max,
-                    grid,
-                    index,
-                })
+                Ok(Level { r_max, grid, index })
             })
             .collect::<Result<Vec<_>, CoreError>>()?;
         Ok(RadiusGrid {
@@ -122,7 +118,10 @@ mod tests {
         let radii: Vec<f64> = (0..n).map(|_| 0.01 * 1000f64.powf(next())).collect();
         let set = ParticleSet::<3>::from_rows(&pts).unwrap();
         let grid = RadiusGrid::new(&set, &radii).unwrap();
-        assert!(grid.levels.len() >= 9, "radii over a factor 1000 make ten levels");
+        assert!(
+            grid.levels.len() >= 9,
+            "radii over a factor 1000 make ten levels"
+        );
         for i in 0..n {
             let mut got = Vec::new();
             grid.for_each_reaching(&set.positions()[i], radii[i], |j, _| got.push(j));
