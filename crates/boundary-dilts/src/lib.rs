@@ -109,6 +109,23 @@
 //! arithmetic, in generic position (no point on three circles: that would put a cap value
 //! inside the band), where it is exact (proof above).
 //!
+//! # A radius per particle (ours)
+//! With per-particle radii ([`boundary_core::ParticleSet::with_radii`]) the ball of `j`
+//! (radius `r_j`, `s = r_j/r_i`) covers the cap `x·u_j >= h_j = (d_j² + 1 − s²)/(2d_j)` of the
+//! unit sphere `S_i` (units of `r_i`); at `s = 1` exactly, `h_j = d_j/2` as above. The criterion
+//! (a)–(c) holds for any caps; what changes:
+//! - a cap with `h_j − err_j > 1` misses `S_i` (or touches it at one point) and is dropped;
+//! - a cap with `h_j <= 1e-3` (a hemisphere or more: a larger neighbour whose ball nearly holds
+//!   `p_i`) sends the particle to `exact`'s decision
+//!   ([`boundary_exact::sphere_uncovered_power_2d`] and `_3d`), as do near-twin neighbours;
+//! - every bound above widens by the rounding of `h_j`, `err_j = 8u·(d_j + (1 + s²)/d_j)` (the
+//!   largest over the caps): 2D arc ends by `err/sin α`, 3D intersection points in proportion
+//!   (`× (1 + err/8u)`), probe bands and isolated-circle points by `err` and `2err/sin α`.
+//!
+//! Neighbours come from [`boundary_core::RadiusGrid`]. Tested in
+//! `crates/boundary/tests/radii.rs` (labels equal `exact`'s on two-level sets with radius
+//! ratios 2, 4 and 100, which a sampled oracle with a Lipschitz bound confirms).
+//!
 //! # Policy: tolerances, ties, duplicates, degenerate input
 //! - **Ties.** A tie (a point of `S_i` at exactly `r` from the neighbours whose circles pass
 //!   through it) is interior, decided exactly. Perfect lattices at the float tie radius:

@@ -3,7 +3,7 @@
 //! Basri (2007) with exponential flipping, applied locally from viewpoints placed on a grid,
 //! after M. Sandim, *On the boundary detection for particle-based methods*, PhD thesis, USP
 //! 2020, ch. 2 (Sandim et al. 2016), Alg. 1; method name `hpr`. The JCP 2020 paper (Table 1,
-//! "Sandim et al. [10]") and the thesis (Table 2) report M between 0.92 and 0.995 for it.
+//! "Sandim et al. \[10\]") and the thesis (Table 2) report M between 0.92 and 0.995 for it.
 //!
 //! # Method (Alg. 1)
 //! 1. **Viewpoints** ([`viewpoint`]). A uniform grid of cells of side `2r`; a viewpoint at
@@ -139,6 +139,10 @@
 //!   visible partner, as an exact duplicate does); exact duplicates as `exact`.
 //! - Jittered lattices: in 2D up to 12 false negatives of 88, in 3D 16 false positives;
 //!   unchanged by scale from 1e-9 to 1e9 and by offsets 1e6 and 1e9. Empty input: empty labels.
+//!
+//! # Per-particle radii
+//! `hpr` refuses sets with per-particle radii (`DetectError::PerParticleRadii`): Alg. 1 places its
+//! viewpoint grid and flips with one radius, and a generalisation would be a new method, not HPR.
 //!
 //! # Example
 //! ```

@@ -73,6 +73,11 @@
 //!   in 3D, at most 1 false positive; the same counts at every scale from 1e-9 to 1e9 and at
 //!   offsets 1e6 and 1e9 (the method is scale-free). Empty input: empty labels.
 //!
+//! # Per-particle radii
+//! `marrone` refuses sets with per-particle radii (`DetectError::PerParticleRadii`): the
+//! renormalisation matrix and the scan cone of Marrone et al. (2010) assume one smoothing length;
+//! variable-`h` SPH would need its own criterion.
+//!
 //! # Example
 //! ```
 //! use boundary_core::{BoundaryDetector, ParticleSet, Radius};

@@ -83,6 +83,10 @@
 //!
 //! Empty input: empty labels.
 //!
+//! # Per-particle radii
+//! `muller` refuses sets with per-particle radii (`DetectError::PerParticleRadii`): the colour
+//! field of Müller et al. (2003) and its threshold assume one smoothing length.
+//!
 //! # Example
 //! ```
 //! use boundary_core::{BoundaryDetector, ParticleSet, Radius};

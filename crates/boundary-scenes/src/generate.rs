@@ -106,6 +106,15 @@ fn set<const D: usize>(points: Vec<Point<D>>) -> AnyParticleSet {
         .to_any()
 }
 
+/// A set of `coarse` particles (radius factor 2) and `fine` ones (factor 1).
+fn graded<const D: usize>(coarse: Vec<Point<D>>, fine: Vec<Point<D>>) -> AnyParticleSet {
+    let radii = [vec![2.0; coarse.len()], vec![1.0; fine.len()]].concat();
+    ParticleSet::new([coarse, fine].concat())
+        .and_then(|s| s.with_radii(radii))
+        .expect("generated coordinates and radii are valid")
+        .to_any()
+}
+
 fn rows<const D: usize>(rows: &[[f64; D]]) -> Vec<Point<D>> {
     rows.iter().map(|r| Point::<D>::from(*r)).collect()
 }
@@ -288,6 +297,56 @@ pub fn all_scenes() -> Vec<Scene> {
         radius: 0.012,
         generator: "ball_offset",
         params: "ball R=0.08, h=0.01, jitter=0.1h, translated by (1e6,-1e6,1e6), seed=6".into(),
+    });
+    // --- Graded resolution (per-particle radii): coarse particles (spacing 2h, radius factor
+    // 2) under a refined zone (spacing h, factor 1) at the free surface, plus a fine droplet.
+    let mut rng = StdRng::seed_from_u64(7);
+    let coarse = fill([0.0, 0.0], [0.3, 0.145], 2.0 * H2, 0.05, &mut rng, |_| true);
+    let fine = fill([0.0, 0.15], [0.3, 0.25], H2, 0.05, &mut rng, |_| true);
+    let drop_c = Point::<2>::new(0.15, 0.3);
+    let drop = fill([0.12, 0.27], [0.18, 0.33], H2, 0.05, &mut rng, |p| {
+        (p - drop_c).norm() <= 0.02
+    });
+    scenes.push(Scene {
+        name: "graded_column2d".into(),
+        set: graded(coarse, [fine, drop].concat()),
+        radius: R_OVER_H * H2,
+        generator: "graded",
+        params: format!(
+            "h={H2}: spacing 2h, radius factor 2 for y<0.15; spacing h, factor 1 up to y=0.25; \
+             droplet R=0.02 at (0.15,0.3); jitter=0.05h, seed=7"
+        ),
+    });
+    let mut rng = StdRng::seed_from_u64(8);
+    let coarse = fill([0.0; 3], [0.2, 0.2, 0.09], 2.0 * H3, 0.05, &mut rng, |_| {
+        true
+    });
+    let fine = fill(
+        [0.0, 0.0, 0.1],
+        [0.2, 0.2, 0.15],
+        H3,
+        0.05,
+        &mut rng,
+        |_| true,
+    );
+    let drop_c = Point::<3>::new(0.1, 0.1, 0.21);
+    let drop = fill(
+        [0.06, 0.06, 0.17],
+        [0.14, 0.14, 0.25],
+        H3,
+        0.05,
+        &mut rng,
+        |p| (p - drop_c).norm() <= 0.035,
+    );
+    scenes.push(Scene {
+        name: "graded_pool3d".into(),
+        set: graded(coarse, [fine, drop].concat()),
+        radius: R_OVER_H * H3,
+        generator: "graded",
+        params: format!(
+            "h={H3}: spacing 2h, radius factor 2 for z<0.1; spacing h, factor 1 up to z=0.15; \
+             droplet R=0.035 at (0.1,0.1,0.21); jitter=0.05h, seed=8"
+        ),
     });
     scenes.push(Scene {
         name: "tiny2d".into(),

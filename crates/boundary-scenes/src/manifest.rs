@@ -1,7 +1,7 @@
 //! The scene manifest `fixtures/scenes.toml`.
 
 use boundary_core::AnyParticleSet;
-use boundary_io::{read_particles, ReadOptions};
+use boundary_io::{read_particle_file, read_particles, Attribute, AttributeValues, ReadOptions};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -34,6 +34,10 @@ pub struct SceneEntry {
     pub radius: f64,
     /// Particle count.
     pub n: usize,
+    /// The point attribute holding each particle's radius factor (per-particle radii: particle
+    /// `i` has radius `radius · attribute[i]`), if the scene has one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius_attribute: Option<String>,
     /// Independently known boundary count at `radius` (shared data README), if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub expected_boundary: Option<usize>,
@@ -68,7 +72,29 @@ impl SceneEntry {
                     dim: Some(self.dim),
                     ..Default::default()
                 };
-                read_particles(&path, &options).map_err(|e| e.to_string())
+                let Some(name) = &self.radius_attribute else {
+                    return read_particles(&path, &options).map_err(|e| e.to_string());
+                };
+                let file = read_particle_file(&path, &options).map_err(|e| e.to_string())?;
+                let radii = match file.attributes.iter().find(|a| &a.name == name) {
+                    Some(Attribute {
+                        values: AttributeValues::Float(v),
+                        ..
+                    }) => v.clone(),
+                    Some(Attribute {
+                        values: AttributeValues::Int(v),
+                        ..
+                    }) => v.iter().map(|&x| x as f64).collect(),
+                    None => {
+                        return Err(format!(
+                            "{}: no attribute '{name}' for the radii",
+                            path.display()
+                        ))
+                    }
+                };
+                file.set
+                    .with_radii(radii)
+                    .map_err(|e| format!("{}: {e}", path.display()))
             }
         }
     }
@@ -327,6 +353,7 @@ mod tests {
                 file: "x.csv".into(),
                 radius: 0.5,
                 n: 10,
+                radius_attribute: None,
                 expected_boundary: Some(4),
                 generator: None,
                 params: None,

@@ -184,6 +184,7 @@ mod tests {
             file: "gone.csv".into(),
             radius: 1.0,
             n: 1,
+            radius_attribute: None,
             expected_boundary: None,
             generator: None,
             params: None,

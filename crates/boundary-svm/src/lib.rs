@@ -163,6 +163,11 @@
 //!   misses of 38 in 2D); offsets of 1e6 and 1e9: the labels of `exact`.
 //!   Empty input: empty labels.
 //!
+//! # Per-particle radii
+//! `svm` refuses sets with per-particle radii (`DetectError::PerParticleRadii`): its models were
+//! trained on features of uniform-radius sets, and a model for graded sets would need its own
+//! training data.
+//!
 //! # Example
 //! ```
 //! use boundary_core::{BoundaryDetector, ParticleSet, Radius};

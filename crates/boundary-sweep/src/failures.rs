@@ -572,6 +572,7 @@ mod tests {
             seconds_all: 0.1,
             threads: 1,
             error: None,
+            unsupported: false,
         }
     }
 

@@ -11,7 +11,7 @@ pub mod plots;
 pub mod published;
 pub mod report;
 
-use boundary::{AnyParticleSet, BoundaryDetector, Confusion, Labels, Radius};
+use boundary::{AnyParticleSet, BoundaryDetector, Confusion, DetectError, Labels, Radius};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -136,6 +136,9 @@ pub struct Row {
     pub threads: usize,
     /// The error, when the detection failed.
     pub error: Option<String>,
+    /// The method does not apply to the scene (per-particle radii it does not support): not a
+    /// failure; `error` says why.
+    pub unsupported: bool,
 }
 
 /// Labels of one 2D scene for the pictures: positions, exact labels, each default method's.
@@ -208,11 +211,11 @@ fn timed(
     set: &AnyParticleSet,
     r: Radius,
     pool: &rayon::ThreadPool,
-) -> (Result<Labels, String>, f64) {
+) -> (Result<Labels, DetectError>, f64) {
     let start = Instant::now();
     let result = pool.install(|| detector.detect(set, r));
     let seconds = start.elapsed().as_secs_f64();
-    (result.map(|d| d.labels).map_err(|e| e.to_string()), seconds)
+    (result.map(|d| d.labels), seconds)
 }
 
 /// Runs the sweep. Failures of one scene or one detector are recorded, never fatal.
@@ -275,6 +278,7 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
             seconds_all: t_all,
             threads,
             error: None,
+            unsupported: false,
         });
         done += 1;
         progress(Progress {
@@ -301,8 +305,9 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
                     Confusion::from_labels(l.as_slice(), truth.as_slice()).ok(),
                     None,
                 ),
-                Err(e) => (None, Some(e.clone())),
+                Err(e) => (None, Some(e.to_string())),
             };
+            let unsupported = matches!(labels, Err(DetectError::PerParticleRadii { .. }));
             if config.params.is_empty() {
                 if let (Ok(l), AnyParticleSet::D2(_)) = (&labels, &set) {
                     picture_methods.push((config.method.clone(), l.clone()));
@@ -350,6 +355,7 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
                 seconds_all: t_all,
                 threads,
                 error,
+                unsupported,
             });
         }
         if let AnyParticleSet::D2(s) = &set {

@@ -237,7 +237,11 @@ pub fn report_md(outcome: &Outcome, header: &str) -> String {
             );
         }
     }
-    let failures: Vec<&Row> = outcome.rows.iter().filter(|r| r.error.is_some()).collect();
+    let failures: Vec<&Row> = outcome
+        .rows
+        .iter()
+        .filter(|r| r.error.is_some() && !r.unsupported)
+        .collect();
     if !failures.is_empty() {
         let _ = writeln!(md, "\n## Failed runs\n");
         for row in failures {
@@ -269,6 +273,10 @@ fn accuracy_line(row: &Row) -> String {
             c.fp,
             c.fn_,
             row.seconds_all
+        ),
+        (None, _) if row.unsupported => format!(
+            "| {} | n/a: no per-particle radii | | | | | | | |",
+            label(row)
         ),
         (None, error) => format!(
             "| {} | failed: {} | | | | | | | |",
@@ -310,6 +318,7 @@ mod tests {
             seconds_all: t,
             threads: 2,
             error: None,
+            unsupported: false,
         }
     }
 

@@ -1,7 +1,7 @@
 //! Regenerates `fixtures/` (the generated scenes as CSV) and `fixtures/scenes.toml` (those
 //! scenes plus the public ones). Run by `cargo xtask fixtures`; deterministic.
 
-use boundary_io::{write_particles, Format};
+use boundary_io::{write_particles, Column, Format};
 use boundary_scenes::mesh::{sample_obj, MESH_SCENES};
 use boundary_scenes::{
     all_scenes, data_dir, fixtures_dir, Manifest, Origin, SceneEntry, SHARED_SCENES,
@@ -21,7 +21,10 @@ fn run() -> Result<(), String> {
     for scene in all_scenes() {
         let file = format!("{}.csv", scene.name);
         let path = dir.join(&file);
-        write_particles(&path, Some(Format::Csv), &scene.set, &[]).map_err(|e| e.to_string())?;
+        // Per-particle radii (factors of `radius`) go in a column the manifest names.
+        let radii = scene.set.radii().map(|r| ("radius", Column::Float(r)));
+        write_particles(&path, Some(Format::Csv), &scene.set, radii.as_slice())
+            .map_err(|e| e.to_string())?;
         eprintln!("{}: {} particles", path.display(), scene.set.len());
         manifest.scene.push(SceneEntry {
             name: scene.name,
@@ -30,6 +33,7 @@ fn run() -> Result<(), String> {
             file,
             radius: scene.radius,
             n: scene.set.len(),
+            radius_attribute: scene.set.radii().map(|_| "radius".to_owned()),
             expected_boundary: None,
             generator: Some(scene.generator.to_owned()),
             params: Some(scene.params),
@@ -44,6 +48,7 @@ fn run() -> Result<(), String> {
             file: file.to_owned(),
             radius,
             n,
+            radius_attribute: None,
             expected_boundary: Some(expected),
             generator: None,
             params: None,
@@ -63,6 +68,7 @@ fn run() -> Result<(), String> {
             file: file.to_owned(),
             radius,
             n: set.len(),
+            radius_attribute: None,
             expected_boundary: None,
             generator: Some("mesh_volume_sample".to_owned()),
             params: Some(params.to_owned()),
