@@ -132,17 +132,24 @@
 //!   (the moved term is exactly 0), so a set whose radii are all equal gets the uniform labels
 //!   (tested).
 //! - A larger neighbour whose ball nearly holds `p_i` (a plane offset below `1e-3·r_i`: `p_i`
-//!   near or outside its own power cell, which happens next to coarser particles) and any
-//!   particle inside the float bound go to
-//!   [`exact_cover::sphere_uncovered_power`], which decides the claim exactly (including the
-//!   minimum and a flat cell). A ball holding all of `S_i` (`|q_j| + r_i <= r_j`, with `1e-12`
-//!   of slack) settles the particle first: interior. Margins are the float margins, `0` for
-//!   particles the exact predicate decided without a float cell.
+//!   near or outside its own power cell, which happens next to coarser particles) takes the
+//!   general float test: the same error bound taken about an interior point `o` of the float
+//!   cell (its vertex centroid, checked `1e-6` inside every plane), which proves interior when
+//!   the cell lies within the ball (`max |v| < 1 − τ`) or outside it (a separating direction
+//!   bounds `min |y| > 1 + τ`), and boundary with two points strictly inside every plane, one
+//!   beyond `S_i` and one within it (the segment between them crosses `S_i` inside the cell).
+//!   What it cannot prove (mostly power cells empty within the box: fine particles wholly
+//!   covered by coarser balls, where no interior point exists to bound the error about) goes
+//!   to [`exact_cover::sphere_uncovered_power`], which decides the claim exactly (including
+//!   the minimum and a flat cell). A ball holding all of `S_i` (`|q_j| + r_i <= r_j`, with
+//!   `1e-12` of slack) settles the particle first: interior. Margins are the float margins
+//!   (`min(max |v| − 1, 1 − min |y|)·r_i` in the general case), `0` where the exact predicate
+//!   decided without a float cell.
 //! - Neighbours come from [`boundary_core::RadiusGrid`] (one grid per radius level, so radii
 //!   100x apart cost no more than the neighbours that really reach). How often the exact
-//!   predicate decides (`cargo run --release -p boundary-dilts --example fallbacks`): 61 of
-//!   1,794 particles of `graded_column2d`, 289 of 1,567 of `graded_pool3d` (the fine particles
-//!   next to coarse ones).
+//!   predicate decides (`cargo run --release -p boundary-dilts --example fallbacks`): 33 of
+//!   1,794 particles of `graded_column2d`, 96 of 1,567 of `graded_pool3d` (61 and 289
+//!   without the general float test).
 //!
 //! # Policy: ties, duplicates, degenerate input
 //! - **Ties.** A cell that reaches exactly to `r` touches `S_i` only at points equidistant from

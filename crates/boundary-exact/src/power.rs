@@ -127,8 +127,10 @@ fn classify<const D: usize, C: ConvexCell<D>>(
     planes.sort_unstable_by(|a, b| a.offset.total_cmp(&b.offset));
     let rho0 = planes.first().map_or(1.0, |pl| pl.offset.min(1.0));
     if !(rho0 > RHO_MIN && delta < 0.25 * rho0) {
-        // p_i near or outside its power cell: only the exact predicate decides (with `tie`
-        // too: there is no float margin to compare). Margin 0: not measured.
+        // p_i near or outside its power cell: the general test, then the exact predicate.
+        if let Some((margin, label)) = general_cell(scratch, delta, tie) {
+            return (margin * r, label, false);
+        }
         return exact(p, r, positions, radii, scratch, 0.0);
     }
     let cell = &mut scratch.cell;
@@ -159,6 +161,161 @@ fn classify<const D: usize, C: ConvexCell<D>>(
         return (margin * r, margin > 0.0, false);
     }
     exact(p, r, positions, radii, scratch, margin * r)
+}
+
+/// Slack of the general case's point certificates (units of `r_i`): far above the rounding of
+/// a point's plane values (a few hundred `u` for points and planes of norm at most 4).
+const POINT_SLACK: f64 = 1e-11;
+
+/// An interior point of the float cell is used as the centre of the error bound only if every
+/// plane keeps it at least this far (units of `r_i`).
+const CENTRE_MIN: f64 = 1e-6;
+
+/// The general case (some power plane near or beyond `p_i`, crate docs "A radius per
+/// particle"): `i` is boundary iff the power cell `C` is full-dimensional with
+/// `max_C |y| > 1 > min_C |y|` (units of `r_i`). Decided from the float cell `F` where that is
+/// proven, `None` otherwise:
+/// - *error bound about an interior point.* `o`, the centroid of `F`'s vertices, is checked
+///   against every plane; if each keeps it `s_o >= CENTRE_MIN` inside, the scaling sandwich
+///   of the crate docs ("Exactness") holds about `o` with `ρ0 = s_o − δ`: `C` and `F` differ
+///   by at most `β·R` in `|y|` (`R` the largest `|v − o|`), so `max_F |v| < 1 − τ` proves
+///   interior (the cell within the ball);
+/// - *outside the ball:* a unit `w` with `w·v >= t` for every vertex bounds `min_F |y| >= t`
+///   (the vertices span `F`); `w` points at the nearest candidate (vertices, and the foot
+///   `offset_j·n_j` of each plane that excludes `p_i`); `t − τ > 1` proves interior;
+/// - *boundary:* two points strictly inside every plane (by `POINT_SLACK` plus the plane's
+///   rounding), one beyond `S_i` and one within it: the segment between them lies in the
+///   interior of `C` and crosses `S_i` there.
+///
+/// Returns `(margin, label)`, the margin `min(max_F |v| − 1, 1 − min bound)`.
+fn general_cell<const D: usize, C: ConvexCell<D>>(
+    scratch: &mut Scratch<C, D>,
+    delta: f64,
+    tie: f64,
+) -> Option<(f64, bool)> {
+    let planes = &scratch.planes;
+    let cell = &mut scratch.cell;
+    cell.reset_box();
+    let mut reach = (D as f64).sqrt();
+    let mut clips = 0usize;
+    for pl in planes.iter() {
+        if pl.offset >= reach {
+            break;
+        }
+        cell.clip(&pl.n, pl.offset);
+        clips += 1;
+        let m = cell.max_norm2();
+        if m == 0.0 && cell.vertices().is_empty() {
+            break;
+        }
+        reach = m.sqrt();
+    }
+    let verts = cell.vertices();
+    if cell.degenerate() || verts.len() <= D {
+        return None;
+    }
+    let norm = |v: &[f64; D]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let mut o = [0.0; D];
+    for v in verts {
+        for k in 0..D {
+            o[k] += v[k] / verts.len() as f64;
+        }
+    }
+    let value = |pl: &Plane<D>, x: &[f64; D]| -> f64 {
+        (0..D).map(|k| pl.n[k] * x[k]).sum::<f64>() - pl.offset
+    };
+    // Every half-space of the float cell keeps `o` inside: the planes and the box.
+    let s_o = planes
+        .iter()
+        .map(|pl| -value(pl, &o))
+        .chain(o.iter().map(|x| 1.0 - x.abs()))
+        .fold(f64::INFINITY, f64::min);
+    // The normal's error acts over |x − o| <= 4 (the box has diameter 2√3 < 4).
+    let delta = delta + 32.0 * U;
+    if !(s_o >= CENTRE_MIN) {
+        return None;
+    }
+    let rho0 = s_o - delta;
+    let beta = (delta + clips as f64 * (64.0 * U + cell::PLANE_EPS)) / rho0;
+    let spread = verts
+        .iter()
+        .map(|v| norm(&std::array::from_fn(|k| v[k] - o[k])))
+        .fold(0.0, f64::max);
+    let tau = 2.0 * (2.0 * beta * spread * (1.0 + beta) + 8.0 * U);
+    let max = verts.iter().map(norm).fold(0.0, f64::max);
+    // A lower bound on min_F |y|: 0 if p_i satisfies every plane, else a separating direction.
+    let min = if planes.iter().all(|pl| pl.offset >= 0.0) {
+        0.0
+    } else {
+        let mut nearest = *verts
+            .iter()
+            .min_by(|a, b| norm(a).total_cmp(&norm(b)))
+            .expect("the cell has vertices");
+        for pl in planes.iter().filter(|pl| pl.offset < 0.0) {
+            let foot: [f64; D] = std::array::from_fn(|k| pl.n[k] * pl.offset);
+            if norm(&foot) < norm(&nearest) && planes.iter().all(|q| value(q, &foot) <= POINT_SLACK)
+            {
+                nearest = foot;
+            }
+        }
+        let len = norm(&nearest);
+        if len == 0.0 {
+            0.0
+        } else {
+            let w: [f64; D] = std::array::from_fn(|k| nearest[k] / len);
+            verts
+                .iter()
+                .map(|v| (0..D).map(|k| w[k] * v[k]).sum::<f64>())
+                .fold(f64::INFINITY, f64::min)
+                .max(0.0)
+        }
+    };
+    let margin = (max - 1.0).min(1.0 - min);
+    if tie > 0.0 {
+        return Some((margin, margin > tie));
+    }
+    if max < 1.0 - tau || min > 1.0 + tau {
+        return Some((margin, false));
+    }
+    // Boundary: a point beyond S_i and one within it, each strictly inside every plane.
+    let inside = |x: &[f64; D]| {
+        planes
+            .iter()
+            .all(|pl| value(pl, x) < -(POINT_SLACK + delta))
+    };
+    let toward_o = |v: &[f64; D], lambda: f64| -> [f64; D] {
+        std::array::from_fn(|k| o[k] + lambda * (v[k] - o[k]))
+    };
+    let lambdas = [0.999, 0.99, 0.9, 0.5];
+    let beyond = verts.iter().filter(|v| norm(v) > 1.0 + 1e-9).any(|v| {
+        lambdas.iter().any(|&l| {
+            let x = toward_o(v, l);
+            norm(&x) > 1.0 + POINT_SLACK && inside(&x)
+        })
+    });
+    if !beyond {
+        return None;
+    }
+
+    // Within: `o`, or a vertex or the foot of a plane excluding p_i, inside the ball, pulled
+    // toward `o`.
+    let feet = planes
+        .iter()
+        .filter(|pl| pl.offset < 0.0)
+        .map(|pl| -> [f64; D] { std::array::from_fn(|k| pl.n[k] * pl.offset) });
+    let within = (norm(&o) < 1.0 - POINT_SLACK && inside(&o))
+        || verts
+            .iter()
+            .copied()
+            .chain(feet)
+            .filter(|v| norm(v) < 1.0 - 1e-9)
+            .any(|v| {
+                lambdas.iter().any(|&l| {
+                    let x = toward_o(&v, l);
+                    norm(&x) < 1.0 - POINT_SLACK && inside(&x)
+                })
+            });
+    within.then_some((margin, true))
 }
 
 /// The exact predicate's label, with the float margin `margin` (0 where none was measured).
