@@ -94,6 +94,170 @@ pub fn uncovered_by_enumeration<const D: usize>(
     }
 }
 
+/// The power-diagram oracle for per-particle radii: whether the sphere of radius `r` around
+/// `centre` is **not** covered by the closed balls `others` (centre, radius), in exact
+/// rationals, by brute force. Coincident balls (`p_j == centre`) are ignored.
+///
+/// In coordinates `y = x − centre` the power cell is `K = {2q_j·y <= |q_j|² + r² − r_j²}` over
+/// the balls reaching the sphere (`|q_j| < r + r_j`), cut by the box `|y_k| <= 2r`. A point of
+/// the sphere is uncovered iff it lies in the interior of `K`, so the particle is boundary iff
+/// `K` is full-dimensional, has a point beyond `r` and a point within `r` (its interior is
+/// connected). All three from brute force: the vertices of `K` (every `D`-subset of planes
+/// solved, kept if feasible) decide the first two (the affine rank of the vertices, the
+/// largest `|v|`); `min_K |y|` is attained at the projection of the origin onto the affine
+/// hull of some face, i.e. the least-norm solution of some subset of at most `D` planes taken
+/// as equations, so every such subset is solved and its point kept if feasible. Cost
+/// `O(m^(D+1))` rational operations for `m` planes: only for a handful of balls.
+pub fn power_uncovered_by_enumeration<const D: usize>(
+    centre: [f64; D],
+    r: f64,
+    others: &[([f64; D], f64)],
+) -> bool {
+    let rc = rational(r);
+    let c: Vec<BigRational> = centre.iter().map(|&x| rational(x)).collect();
+    let two = BigRational::from_integer(BigInt::from(2));
+    let mut planes: Vec<(Vec<BigRational>, BigRational)> = Vec::new();
+    for axis in 0..D {
+        for sign in [1, -1] {
+            let a: Vec<BigRational> = (0..D)
+                .map(|k| {
+                    if k == axis {
+                        BigRational::from_integer(BigInt::from(sign))
+                    } else {
+                        BigRational::zero()
+                    }
+                })
+                .collect();
+            planes.push((a, &two * &rc));
+        }
+    }
+    let r2 = &rc * &rc;
+    for (p, rj) in others {
+        let rj = rational(*rj);
+        let q: Vec<BigRational> = (0..D).map(|k| rational(p[k]) - &c[k]).collect();
+        let d2: BigRational = q.iter().map(|x| x * x).sum();
+        let reach = &rc + &rj;
+        if d2.is_zero() || d2 >= &reach * &reach {
+            continue;
+        }
+        // |y|² − r² <= |y − q|² − r_j²  <=>  q·y <= (|q|² + r² − r_j²)/2.
+        let b = (d2 + &r2 - &rj * &rj) / &two;
+        planes.push((q, b));
+    }
+    let feasible = |x: &[BigRational]| {
+        planes.iter().all(|(a, b)| {
+            let s: BigRational = a.iter().zip(x).map(|(u, v)| u * v).sum();
+            s <= *b
+        })
+    };
+    let norm2 = |x: &[BigRational]| -> BigRational { x.iter().map(|v| v * v).sum() };
+    let m = planes.len();
+    // Vertices.
+    let mut vertices: Vec<Vec<BigRational>> = Vec::new();
+    for ids in subsets(m, D) {
+        if let Some(x) = solve(&planes, &ids) {
+            if feasible(&x) {
+                vertices.push(x);
+            }
+        }
+    }
+    if affine_rank(&vertices) < D || !vertices.iter().any(|v| norm2(v) > r2) {
+        return false;
+    }
+    // A point of K within the sphere: the least-norm point of some subset of the planes.
+    (0..=D).any(|k| {
+        subsets(m, k)
+            .into_iter()
+            .any(|ids| least_norm(&planes, &ids).is_some_and(|x| norm2(&x) < r2 && feasible(&x)))
+    })
+}
+
+/// Every `k`-subset of `0..m`, in lexicographic order.
+fn subsets(m: usize, k: usize) -> Vec<Vec<usize>> {
+    let mut out = Vec::new();
+    if k > m {
+        return out;
+    }
+    let mut ids: Vec<usize> = (0..k).collect();
+    loop {
+        out.push(ids.clone());
+        let Some(pos) = (0..k).rev().find(|&p| ids[p] < m - k + p) else {
+            return out;
+        };
+        ids[pos] += 1;
+        for l in pos + 1..k {
+            ids[l] = ids[l - 1] + 1;
+        }
+    }
+}
+
+/// The least-norm solution of the planes `ids` taken as equations `a·x = b`:
+/// `x = Aᵀz` with `(AAᵀ)z = b`; `None` if the rows are dependent. The empty subset gives 0.
+fn least_norm(
+    planes: &[(Vec<BigRational>, BigRational)],
+    ids: &[usize],
+) -> Option<Vec<BigRational>> {
+    let d = planes.first().map_or(0, |p| p.0.len());
+    if ids.is_empty() {
+        return Some(vec![BigRational::zero(); d]);
+    }
+    let dot = |a: &[BigRational], b: &[BigRational]| -> BigRational {
+        a.iter().zip(b).map(|(u, v)| u * v).sum()
+    };
+    let gram: Vec<(Vec<BigRational>, BigRational)> = ids
+        .iter()
+        .map(|&i| {
+            let row = ids
+                .iter()
+                .map(|&j| dot(&planes[i].0, &planes[j].0))
+                .collect();
+            (row, planes[i].1.clone())
+        })
+        .collect();
+    let all: Vec<usize> = (0..ids.len()).collect();
+    let z = solve(&gram, &all)?;
+    Some(
+        (0..d)
+            .map(|k| {
+                ids.iter()
+                    .zip(&z)
+                    .map(|(&i, zi)| &planes[i].0[k] * zi)
+                    .sum()
+            })
+            .collect(),
+    )
+}
+
+/// The dimension of the affine hull of `points` (`-1` as 0 for none).
+fn affine_rank(points: &[Vec<BigRational>]) -> usize {
+    let Some(first) = points.first() else {
+        return 0;
+    };
+    let mut rows: Vec<Vec<BigRational>> = points[1..]
+        .iter()
+        .map(|p| p.iter().zip(first).map(|(a, b)| a - b).collect())
+        .collect();
+    let d = first.len();
+    let mut rank = 0;
+    for col in 0..d {
+        let Some(pivot) = (rank..rows.len()).find(|&r| !rows[r][col].is_zero()) else {
+            continue;
+        };
+        rows.swap(rank, pivot);
+        let pivot_row = rows[rank].clone();
+        for (i, row) in rows.iter_mut().enumerate() {
+            if i != rank && !row[col].is_zero() {
+                let f = &row[col] / &pivot_row[col];
+                for (x, p) in row.iter_mut().zip(&pivot_row) {
+                    *x = &*x - &f * p;
+                }
+            }
+        }
+        rank += 1;
+    }
+    rank
+}
+
 /// Gaussian elimination with exact pivoting on the rows `ids`; `None` if singular.
 fn solve(planes: &[(Vec<BigRational>, BigRational)], ids: &[usize]) -> Option<Vec<BigRational>> {
     let d = ids.len();
@@ -155,6 +319,46 @@ pub fn lattice_labels_near_tie(d: usize, n: usize, a: f64, r: f64) -> Vec<bool> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// With equal radii the power oracle is the Voronoi oracle; a ball holding the sphere
+    /// covers it, a ball that leaves a sliver does not, coincident balls never cover.
+    #[test]
+    fn power_oracle_agrees_with_the_voronoi_oracle_and_closed_forms() {
+        let axes = [[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]];
+        for r in [0.7, 0.5f64.sqrt(), 0.75] {
+            let balls: Vec<([f64; 2], f64)> = axes.iter().map(|&p| (p, r)).collect();
+            assert_eq!(
+                power_uncovered_by_enumeration([0.0, 0.0], r, &balls),
+                uncovered_by_enumeration([0.0, 0.0], &axes, r),
+                "r = {r}"
+            );
+        }
+        let one =
+            |d: f64, rj: f64| power_uncovered_by_enumeration([0.0, 0.0], 1.0, &[([d, 0.0], rj)]);
+        assert!(!one(0.5, 2.0), "held");
+        assert!(
+            !one(0.5, 1.5),
+            "touching from inside: covered by the closed ball"
+        );
+        assert!(
+            one(0.5, 1.5f64.next_down()),
+            "one ulp smaller: a sliver is uncovered"
+        );
+        assert!(one(0.0, 5.0), "coincident: ignored");
+        assert!(one(3.0, 1.0), "a ball too far: uncovered");
+        // Flat cell: balls at (±0.75, 0) of radius 1.25 have the same power plane y_x = 0, so K
+        // is a segment through the origin; (0, ±1) lie on both spheres: covered (a tie). One
+        // ulp smaller, they are uncovered.
+        let flat = |rj: f64| {
+            power_uncovered_by_enumeration(
+                [0.0, 0.0],
+                1.0,
+                &[([0.75, 0.0], rj), ([-0.75, 0.0], rj)],
+            )
+        };
+        assert!(!flat(1.25));
+        assert!(flat(1.25f64.next_down()));
+    }
 
     #[test]
     fn four_axis_neighbours_cover_from_the_tie_up() {

@@ -383,3 +383,150 @@ fn methods_without_support_refuse_radii_by_name() {
         );
     }
 }
+
+/// The label of particle 0 of `centre` + `balls` by `method`, at scale 1.
+fn label_of_centre<const D: usize>(method: &str, r: f64, balls: &[([f64; D], f64)]) -> bool {
+    let mut rows = vec![[0.0; D]];
+    rows.extend(balls.iter().map(|b| b.0));
+    let mut radii = vec![r];
+    radii.extend(balls.iter().map(|b| b.1));
+    let set = ParticleSet::<D>::from_rows(&rows)
+        .unwrap()
+        .with_radii(radii)
+        .unwrap()
+        .to_any();
+    labels(method, &set, 1.0)[0]
+}
+
+/// Near-ties against the exact-rational power-diagram oracle of `boundary_scenes::brute`
+/// (vertex and face enumeration, sharing no code with the detectors): arrangements whose
+/// uncovered region closes at a triple point of `S_i` (two neighbour spheres meeting on it),
+/// with one radius moved by −4..=4 ulps, and a larger neighbour touching `S_i` from inside.
+#[test]
+fn near_ties_match_the_exact_rational_power_oracle() {
+    use boundary_scenes::brute::power_uncovered_by_enumeration as oracle;
+    use boundary_scenes::certify::ulps;
+    let mut cases: Vec<(String, Vec<([f64; 2], f64)>)> = Vec::new();
+    // 2D: neighbours at (±2, 0) and (0, ±3); their circles meet on the unit circle at 50°
+    // when rho1² = 5 − 4cos θ and rho2² = 10 − 6 sin θ.
+    let t = 50f64.to_radians();
+    let (rho1, rho2) = ((5.0 - 4.0 * t.cos()).sqrt(), (10.0 - 6.0 * t.sin()).sqrt());
+    for k in -4..=4 {
+        let balls = vec![
+            ([2.0, 0.0], ulps(rho1, k)),
+            ([-2.0, 0.0], rho1),
+            ([0.0, 3.0], rho2),
+            ([0.0, -3.0], rho2),
+        ];
+        cases.push((format!("triple point, rho1 {k:+} ulps"), balls));
+        // A larger ball nearly holding the centre, touching S_i from inside at (−1, 0).
+        cases.push((
+            format!("touching, {k:+} ulps"),
+            vec![([0.5, 0.0], ulps(1.5, k))],
+        ));
+    }
+    let mut both = [0usize; 2];
+    for (what, balls) in &cases {
+        let truth = oracle([0.0, 0.0], 1.0, balls);
+        both[usize::from(truth)] += 1;
+        for method in ["exact", "dilts"] {
+            assert_eq!(
+                label_of_centre(method, 1.0, balls),
+                truth,
+                "{method}: {what}"
+            );
+        }
+        for method in ["ia", "ge"] {
+            assert!(
+                !truth || label_of_centre(method, 1.0, balls),
+                "{method}: {what}: false negative"
+            );
+        }
+    }
+    assert!(
+        both[0] > 0 && both[1] > 0,
+        "both labels occur among the near-ties: {both:?}"
+    );
+    // 3D: the same triple-point construction around the x axis (neighbours on ±y, ±z at 3).
+    let mut both = [0usize; 2];
+    for k in -4..=4 {
+        let balls = [
+            ([2.0, 0.0, 0.0], ulps(rho1, k)),
+            ([-2.0, 0.0, 0.0], rho1),
+            ([0.0, 3.0, 0.0], rho2),
+            ([0.0, -3.0, 0.0], rho2),
+            ([0.0, 0.0, 3.0], rho2),
+            ([0.0, 0.0, -3.0], rho2),
+        ];
+        let truth = oracle([0.0; 3], 1.0, &balls);
+        both[usize::from(truth)] += 1;
+        for method in ["exact", "dilts"] {
+            assert_eq!(
+                label_of_centre(method, 1.0, &balls),
+                truth,
+                "{method}: 3D {k:+} ulps"
+            );
+        }
+    }
+    assert!(
+        both[0] > 0 && both[1] > 0,
+        "3D: both labels occur: {both:?}"
+    );
+}
+
+/// Random small arrangements with radii 0.25..4 (many with a larger neighbour near the
+/// centre, so that the centre lies outside its own power cell) against the same oracle.
+#[test]
+fn random_arrangements_match_the_exact_rational_power_oracle() {
+    use boundary_scenes::brute::power_uncovered_by_enumeration as oracle;
+    let mut rng = StdRng::seed_from_u64(21);
+    let mut seen = [0usize; 2];
+    for case in 0..160 {
+        let ball = |rng: &mut StdRng| {
+            let rj = [0.25, 0.5, 1.0, 2.0, 4.0][rng.gen_range(0..5)] * rng.gen_range(0.8..1.2);
+            let d = rng.gen_range(0.05..1.0) * (1.0 + rj);
+            (d, rj)
+        };
+        if case % 2 == 0 {
+            let balls: Vec<([f64; 2], f64)> = (0..rng.gen_range(3..9))
+                .map(|_| {
+                    let (d, rj) = ball(&mut rng);
+                    let a = rng.gen_range(0.0..std::f64::consts::TAU);
+                    ([d * a.cos(), d * a.sin()], rj)
+                })
+                .collect();
+            let truth = oracle([0.0, 0.0], 1.0, &balls);
+            seen[usize::from(truth)] += 1;
+            for method in ["exact", "dilts"] {
+                assert_eq!(
+                    label_of_centre(method, 1.0, &balls),
+                    truth,
+                    "{method}: 2D case {case}"
+                );
+            }
+        } else {
+            let balls: Vec<([f64; 3], f64)> = (0..rng.gen_range(4..10))
+                .map(|_| {
+                    let (d, rj) = ball(&mut rng);
+                    let z: f64 = rng.gen_range(-1.0..1.0);
+                    let a = rng.gen_range(0.0..std::f64::consts::TAU);
+                    let s = (1.0 - z * z).sqrt();
+                    ([d * s * a.cos(), d * s * a.sin(), d * z], rj)
+                })
+                .collect();
+            let truth = oracle([0.0; 3], 1.0, &balls);
+            seen[usize::from(truth)] += 1;
+            for method in ["exact", "dilts"] {
+                assert_eq!(
+                    label_of_centre(method, 1.0, &balls),
+                    truth,
+                    "{method}: 3D case {case}"
+                );
+            }
+        }
+    }
+    assert!(
+        seen[0] >= 20 && seen[1] >= 20,
+        "both labels occur: {seen:?}"
+    );
+}
