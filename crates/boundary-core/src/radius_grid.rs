@@ -142,7 +142,7 @@ mod tests {
         assert_eq!(grid.levels.len(), 1);
         let mut got = Vec::new();
         grid.for_each_reaching(&set.positions()[1], 0.5, |j, d2| got.push((j, d2)));
-        got.sort_by(|a, b| a.0.cmp(&b.0));
+        got.sort_by_key(|x| x.0);
         assert_eq!(got, vec![(0, 1.0), (1, 0.0)]);
     }
 }

@@ -232,7 +232,7 @@ fn general_cell<const D: usize, C: ConvexCell<D>>(
         .fold(f64::INFINITY, f64::min);
     // The normal's error acts over |x − o| <= 4 (the box has diameter 2√3 < 4).
     let delta = delta + 32.0 * U;
-    if !(s_o >= CENTRE_MIN) {
+    if s_o.is_nan() || s_o < CENTRE_MIN {
         return None;
     }
     let rho0 = s_o - delta;

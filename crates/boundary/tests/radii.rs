@@ -165,12 +165,12 @@ fn check_against_oracle<const D: usize>(set: ParticleSet<D>, what: &str) {
     let exact = labels("exact", &any, 1.0);
     let mut decided = 0;
     let mut boundary = 0;
-    for i in 0..set.len() {
+    for (i, &label) in exact.iter().enumerate() {
         if let Some(b) = oracle(&set, 1.0, i, &dirs, h) {
             decided += 1;
             boundary += usize::from(b);
             assert_eq!(
-                exact[i], b,
+                label, b,
                 "{what}: exact disagrees with the oracle at particle {i}"
             );
         }
@@ -406,15 +406,17 @@ fn label_of_centre<const D: usize>(method: &str, r: f64, balls: &[([f64; D], f64
 fn near_ties_match_the_exact_rational_power_oracle() {
     use boundary_scenes::brute::power_uncovered_by_enumeration as oracle;
     use boundary_scenes::certify::ulps;
-    let mut cases: Vec<(String, Vec<([f64; 2], f64)>)> = Vec::new();
-    // 2D: neighbours at (±2, 0) and (0, ±3); their circles meet on the unit circle at 50°
-    // when rho1² = 5 − 4cos θ and rho2² = 10 − 6 sin θ.
+    type Balls = Vec<([f64; 2], f64)>;
+    let mut cases: Vec<(String, Balls)> = Vec::new();
+    // 2D: neighbours at (±2, 0) and (0, ±3); the circles of (2, 0) and (0, ±3) meet on the
+    // unit circle at ±50° when rho1² = 5 − 4cos θ and rho2² = 10 − 6 sin θ (the ball at
+    // (−2, 0) is a little larger, so that only the triple points at +x decide).
     let t = 50f64.to_radians();
     let (rho1, rho2) = ((5.0 - 4.0 * t.cos()).sqrt(), (10.0 - 6.0 * t.sin()).sqrt());
     for k in -4..=4 {
         let balls = vec![
             ([2.0, 0.0], ulps(rho1, k)),
-            ([-2.0, 0.0], rho1),
+            ([-2.0, 0.0], rho1 + 0.01),
             ([0.0, 3.0], rho2),
             ([0.0, -3.0], rho2),
         ];
@@ -447,16 +449,19 @@ fn near_ties_match_the_exact_rational_power_oracle() {
         both[0] > 0 && both[1] > 0,
         "both labels occur among the near-ties: {both:?}"
     );
-    // 3D: the same triple-point construction around the x axis (neighbours on ±y, ±z at 3).
+    // 3D: neighbours at (±2, 0, 0) and at 3 on ±y, ±z; the spheres of the x, y and z balls
+    // meet on S_i at x = (cos θ, sin θ/√2, sin θ/√2) when rho1² = 5 − 4cos θ and
+    // rho3² = 10 − 6 sin θ/√2 (the caps of ±y, ±z overlap, 57° each, 90° apart).
+    let rho3 = (10.0 - 6.0 * t.sin() / 2f64.sqrt()).sqrt();
     let mut both = [0usize; 2];
     for k in -4..=4 {
         let balls = [
             ([2.0, 0.0, 0.0], ulps(rho1, k)),
-            ([-2.0, 0.0, 0.0], rho1),
-            ([0.0, 3.0, 0.0], rho2),
-            ([0.0, -3.0, 0.0], rho2),
-            ([0.0, 0.0, 3.0], rho2),
-            ([0.0, 0.0, -3.0], rho2),
+            ([-2.0, 0.0, 0.0], rho1 + 0.01),
+            ([0.0, 3.0, 0.0], rho3),
+            ([0.0, -3.0, 0.0], rho3),
+            ([0.0, 0.0, 3.0], rho3),
+            ([0.0, 0.0, -3.0], rho3),
         ];
         let truth = oracle([0.0; 3], 1.0, &balls);
         both[usize::from(truth)] += 1;
