@@ -26,9 +26,15 @@ Conventions shared by every function:
   the background until it ends (it cannot be cancelled midway), and its result is discarded.
 - Method parameters are keyword arguments, exactly as ``--set KEY=VALUE`` on the command line
   (``detect(points, r, "ge", depth=4)``); ``True``/``False`` become ``true``/``false``.
-- Errors raise ``ValueError`` (bad shape, non-finite coordinate, ``r <= 0``, unknown method or
-  parameter, malformed file) or ``OSError`` (a file that cannot be opened or written), with
-  the message the ``boundary`` command prints.
+- A radius per particle (adaptive resolution): ``radii`` is an ``(n,)`` array-like of radius
+  factors ``s_i`` (converted like ``points``); particle *i* then has radius ``r_i = r * s_i``,
+  and ``r`` defaults to 1 (the radii as given; the CLI's ``--radius-attribute`` with
+  ``--radius-scale r``). Without ``radii``, ``r`` is required. Particle *i* is interior iff
+  its sphere of radius ``r_i`` is covered by the balls of radius ``r_j`` of the others. A
+  method without per-particle support raises ``ValueError`` saying so.
+- Errors raise ``ValueError`` (bad shape, non-finite coordinate, ``r <= 0``, a bad radius,
+  naming the particle, unknown method or parameter, malformed file) or ``OSError`` (a file
+  that cannot be opened or written), with the message the ``boundary`` command prints.
 """
 
 from os import PathLike
@@ -69,58 +75,90 @@ class Score(TypedDict):
 @overload
 def detect(
     points: ArrayLike,
-    r: float,
+    r: Optional[float] = None,
     method: str = "exact",
     threads: Optional[int] = None,
     margin: Literal[False] = False,
+    radii: Optional[ArrayLike] = None,
     **params: _Param,
 ) -> NDArray[np.bool_]: ...
 @overload
 def detect(
     points: ArrayLike,
-    r: float,
+    r: Optional[float] = None,
     method: str = "exact",
     threads: Optional[int] = None,
     *,
     margin: Literal[True],
+    radii: Optional[ArrayLike] = None,
     **params: _Param,
 ) -> Tuple[NDArray[np.bool_], Optional[NDArray[np.float64]]]: ...
 def detect(
     points: ArrayLike,
-    r: float,
+    r: Optional[float] = None,
     method: str = "exact",
     threads: Optional[int] = None,
     margin: bool = False,
+    radii: Optional[ArrayLike] = None,
     **params: _Param,
 ) -> Union[NDArray[np.bool_], Tuple[NDArray[np.bool_], Optional[NDArray[np.float64]]]]:
     """Labels every particle: ``True`` on the boundary, ``False`` inside.
 
     Args:
         points: ``(n, 2)`` or ``(n, 3)`` positions.
-        r: the particle resolution (positive, finite), in the positions' length unit.
+        r: the particle resolution (positive, finite), in the positions' length unit;
+            required without ``radii``. With ``radii``, the scale of every radius
+            (``r_i = r * radii[i]``), default 1.
         method: a name from :func:`methods` (default ``exact``, the reference labels of
             Sandim et al., JCP 2020).
         threads: worker threads (default: all cores).
         margin: also return the method's per-particle margin (positive leans boundary,
             negative interior, near zero a near-tie; for ``exact`` the distance by which the
             particle's Voronoi cell reaches beyond ``r``), or ``None`` when the method has none.
+        radii: optional ``(n,)`` radius factors, one per particle, each positive and finite
+            (a C-contiguous float64 array is read in place; anything else is converted).
         **params: the method's parameters (``depth=4``, ``gamma=1.3``, ...).
 
     Returns:
         A ``bool`` array of length ``n``; with ``margin=True`` the pair ``(labels, margin)``.
 
     Raises:
-        ValueError: bad shape, a non-finite coordinate, ``r <= 0``, an unknown method or
-            parameter.
+        ValueError: bad shape, a non-finite coordinate, ``r <= 0``, a radius that is not
+            positive and finite (``radii: particle 3: radius must be positive and finite, got
+            -1``), ``radii`` of the wrong length or not one-dimensional, a method without
+            per-particle radii, an unknown method or parameter.
+        TypeError: ``r`` missing without ``radii``.
         KeyboardInterrupt: Ctrl-C during the detection.
     """
 
+@overload
 def score(
     points: ArrayLike,
     r: float,
     method: str,
     truth: Optional[ArrayLike] = None,
     threads: Optional[int] = None,
+    radii: Optional[ArrayLike] = None,
+    **params: _Param,
+) -> Score: ...
+@overload
+def score(
+    points: ArrayLike,
+    r: float = 1.0,
+    *,
+    method: str,
+    truth: Optional[ArrayLike] = None,
+    threads: Optional[int] = None,
+    radii: ArrayLike,
+    **params: _Param,
+) -> Score: ...
+def score(
+    points: ArrayLike,
+    r: Optional[float] = None,
+    method: Optional[str] = None,
+    truth: Optional[ArrayLike] = None,
+    threads: Optional[int] = None,
+    radii: Optional[ArrayLike] = None,
     **params: _Param,
 ) -> Score:
     """Scores ``method`` against the truth: ``TP, TN, FP, FN, Rec, FPR, M``.
@@ -129,7 +167,10 @@ def score(
     ``M = Rec * (1 - FPR)`` (JCP 2020 Sec. 4).
 
     Args:
-        truth: one boolean (or 0/1) per particle; default: the ``exact`` labels.
+        method: required (by keyword when ``r`` is left to its default with ``radii``).
+        truth: one boolean (or 0/1) per particle; default: the ``exact`` labels (with the
+            same radii).
+        r, radii, threads, **params: as :func:`detect`.
     """
 
 def methods() -> List[MethodInfo]:

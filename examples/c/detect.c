@@ -8,6 +8,12 @@
  * labels its particles with `boundary_detect` and, for a simulation loop, with a reusable
  * `boundary_detector` handle, and compares both with the file's `boundary` column. Prints one
  * line `n=... dim=... boundary=... mismatches=...`; exits 0 iff nothing differs.
+ *
+ * A radius per particle: when the file has a `radius` column (as `boundary detect
+ * frame.csv --radius-attribute radius --radius-scale 0.05 --output labels.csv` writes it
+ * back), R is the scale and particle i gets r_i = R * radius_i, through
+ * `boundary_detect_radii` and `boundary_detector_detect_radii` (whose NULL radii mean one
+ * radius R for all).
  * `cargo xtask test` builds and runs it on the public data. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -49,6 +55,7 @@ int main(int argc, char **argv) {
     }
     const int cx = column(line, "x"), cy = column(line, "y"), cz = column(line, "z");
     const int cb = column(line, "boundary");
+    const int cr = column(line, "radius"); /* optional: a radius per particle */
     if (cx < 0 || cy < 0 || cb < 0) {
         fprintf(stderr, "%s: needs columns x, y and boundary\n", argv[1]);
         return 1;
@@ -56,13 +63,15 @@ int main(int argc, char **argv) {
     const int dim = cz >= 0 ? 3 : 2;
     size_t n = 0, cap = 1024;
     double *xyz = malloc(cap * 3 * sizeof *xyz);
+    double *radii = malloc(cap * sizeof *radii);
     uint8_t *expected = malloc(cap);
-    while (xyz && expected && fgets(line, sizeof line, f)) {
+    while (xyz && radii && expected && fgets(line, sizeof line, f)) {
         if (n == cap) {
             cap *= 2;
             xyz = realloc(xyz, cap * 3 * sizeof *xyz);
+            radii = realloc(radii, cap * sizeof *radii);
             expected = realloc(expected, cap);
-            if (!xyz || !expected) break;
+            if (!xyz || !radii || !expected) break;
         }
         int k = 0;
         for (char *field = strtok(line, ",\r\n"); field; field = strtok(NULL, ",\r\n"), ++k) {
@@ -70,20 +79,27 @@ int main(int argc, char **argv) {
             if (k == cy) xyz[n * dim + 1] = strtod(field, NULL);
             if (k == cz) xyz[n * dim + 2] = strtod(field, NULL);
             if (k == cb) expected[n] = (uint8_t)atoi(field);
+            if (k == cr) radii[n] = strtod(field, NULL);
         }
         ++n;
     }
     fclose(f);
-    if (!xyz || !expected) {
+    if (!xyz || !radii || !expected) {
         fprintf(stderr, "out of memory\n");
         return 1;
     }
+    /* NULL: one radius r for every particle. */
+    const double *particle_radii = cr >= 0 ? radii : NULL;
 
     /* One call: method and parameters parsed on each call. */
     uint8_t *labels = malloc(n ? n : 1);
     char err[256];
-    if (boundary_detect(xyz, n, dim, r, method, params, labels, err, sizeof err) != BOUNDARY_OK) {
-        fprintf(stderr, "boundary_detect: %s\n", err);
+    const int code = particle_radii
+        ? boundary_detect_radii(xyz, n, dim, particle_radii, r, method, params, labels, err,
+                                sizeof err)
+        : boundary_detect(xyz, n, dim, r, method, params, labels, err, sizeof err);
+    if (code != BOUNDARY_OK) {
+        fprintf(stderr, "boundary_detect: error %d: %s\n", code, err);
         return 1;
     }
 
@@ -96,8 +112,8 @@ int main(int argc, char **argv) {
     uint8_t *step_labels = malloc(n ? n : 1);
     size_t mismatches = 0, count = 0;
     for (int step = 0; step < 2; ++step) {
-        int code = boundary_detector_detect(detector, xyz, n, dim, r, step_labels, NULL, err,
-                                            sizeof err);
+        int code = boundary_detector_detect_radii(detector, xyz, n, dim, particle_radii, r,
+                                                  step_labels, NULL, err, sizeof err);
         if (code != BOUNDARY_OK) {
             fprintf(stderr, "boundary_detector_detect: error %d: %s\n", code, err);
             return 1;
@@ -110,9 +126,11 @@ int main(int argc, char **argv) {
         mismatches += labels[i] != expected[i];
         count += labels[i];
     }
-    printf("n=%zu dim=%d boundary=%zu mismatches=%zu (boundary %s, %s)\n", n, dim, count,
-           mismatches, boundary_version(), method);
+    printf("n=%zu dim=%d boundary=%zu mismatches=%zu (boundary %s, %s%s)\n", n, dim, count,
+           mismatches, boundary_version(), method,
+           particle_radii ? ", a radius per particle" : "");
     free(xyz);
+    free(radii);
     free(expected);
     free(labels);
     free(step_labels);

@@ -550,7 +550,8 @@ fn run_in_root(program: &Path, args: &[&str], envs: &[(&str, &Path)]) -> Result<
 }
 
 /// The C and C++ examples of `examples/c/`, built against the C API's static library with the
-/// system compilers and run on public scenes: each compares its labels with the CLI's.
+/// system compilers and run on public scenes (and the C one on a generated scene with a radius
+/// per particle): each compares its labels with the CLI's.
 fn c_examples(cli: &Path) -> Result<(), String> {
     let (Some(cc), Some(cxx)) = (
         compiler(&["cc", "gcc", "clang"]),
@@ -637,6 +638,32 @@ fn c_examples(cli: &Path) -> Result<(), String> {
         run_in_root(cli, &args, &[])?;
         run_in_root(exe, &[&labels_text, r, method, params], &[])?;
     }
+    // A radius per particle: the C example reads the `radius` column the CLI writes back. A
+    // 20 x 20 lattice whose right half has radius factor 0.8, at scale 0.9.
+    let graded = out.join("graded.csv");
+    let mut text = String::from("x,y,radius\n");
+    for k in 0..400 {
+        let factor = if k / 20 < 10 { 1.0 } else { 0.8 };
+        text.push_str(&format!("{},{},{factor}\n", k / 20, k % 20));
+    }
+    std::fs::write(&graded, text).map_err(|e| format!("cannot write {}: {e}", graded.display()))?;
+    let labels = out.join("labels_radii.csv");
+    let (graded_text, labels_text) = (graded.to_string_lossy(), labels.to_string_lossy());
+    run_in_root(
+        cli,
+        &[
+            "detect",
+            &graded_text,
+            "--radius-attribute",
+            "radius",
+            "--radius-scale",
+            "0.9",
+            "--output",
+            &labels_text,
+        ],
+        &[],
+    )?;
+    run_in_root(&c_exe, &[&labels_text, "0.9", "exact", ""], &[])?;
     Ok(())
 }
 

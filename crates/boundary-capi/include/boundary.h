@@ -24,8 +24,8 @@
 #define BOUNDARY_ERR_SIZE 2
 
 /**
- * The input is invalid: a non-finite coordinate (the message names the particle), `r` not
- * positive and finite, more than 2^32 - 1 particles.
+ * The input is invalid: a non-finite coordinate or a bad per-particle radius (the message
+ * names the particle), `r` not positive and finite, more than 2^32 - 1 particles.
  */
 #define BOUNDARY_ERR_INPUT 3
 
@@ -45,7 +45,8 @@
 #define BOUNDARY_ERR_UTF8 6
 
 /**
- * The method could not run on this input (the message says why).
+ * The method could not run on this input (the message says why), e.g. per-particle radii
+ * given to a method that does not support them.
  */
 #define BOUNDARY_ERR_DETECT 7
 
@@ -102,6 +103,28 @@ int boundary_detect(const double *xyz,
                     size_t err_len);
 
 /**
+ * `boundary_detect` with a radius per particle: `radii` holds `n` doubles, the factor `s_i`
+ * of particle `i` (or is NULL: one radius `r` for all, as `boundary_detect`), and particle
+ * `i` gets the radius `r_i = r * s_i` (`r = 1`: the radii as given). A radius that is not
+ * positive and finite, or leaves 1e-100..=1e100 once scaled, is `BOUNDARY_ERR_INPUT` with a
+ * message naming the particle (`particle 3: radius must be positive and finite, got -1`); a
+ * method that does not support per-particle radii returns `BOUNDARY_ERR_DETECT`.
+ *
+ * # Safety
+ * As `boundary_detect`; `radii` NULL or valid for reads of `n` doubles.
+ */
+int boundary_detect_radii(const double *xyz,
+                          size_t n,
+                          int dim,
+                          const double *radii,
+                          double r,
+                          const char *method,
+                          const char *params,
+                          uint8_t *out_labels,
+                          char *err,
+                          size_t err_len);
+
+/**
  * Creates a detector for repeated use: `method` with `params` as in `boundary_detect`,
  * parsed once. Returns NULL on error, with the message in `err`. Release it with
  * `boundary_detector_free`.
@@ -135,6 +158,24 @@ int boundary_detector_detect(const struct boundary_detector *handle,
                              double *out_margin,
                              char *err,
                              size_t err_len);
+
+/**
+ * `boundary_detector_detect` with a radius per particle: `radii` (`n` doubles or NULL) as in
+ * `boundary_detect_radii`, `r_i = r * s_i`.
+ *
+ * # Safety
+ * As `boundary_detector_detect`; `radii` NULL or valid for reads of `n` doubles.
+ */
+int boundary_detector_detect_radii(const struct boundary_detector *handle,
+                                   const double *xyz,
+                                   size_t n,
+                                   int dim,
+                                   const double *radii,
+                                   double r,
+                                   uint8_t *out_labels,
+                                   double *out_margin,
+                                   char *err,
+                                   size_t err_len);
 
 /**
  * Sets the number of worker threads of `handle` (0: back to the default of

@@ -17,6 +17,13 @@
 //! once) and call `boundary_detector_detect` every step; free it with
 //! `boundary_detector_free`.
 //!
+//! A radius per particle (adaptive resolution): `boundary_detect_radii` and
+//! `boundary_detector_detect_radii` take `radii` (`n` doubles, the factor `s_i` of each
+//! particle, or NULL for the uniform case) and use `r_i = r * s_i`, so `r = 1` takes the radii
+//! as they are. A radius that is not positive and finite (or leaves 1e-100..=1e100 once
+//! scaled) is `BOUNDARY_ERR_INPUT` naming the particle; a method without per-particle support
+//! returns `BOUNDARY_ERR_DETECT` saying so.
+//!
 //! # Contract
 //! - `xyz` holds `n * dim` doubles, particle after particle (`x0 y0 [z0] x1 y1 ...`), `dim` 2
 //!   or 3; it may be NULL only when `n == 0`. Labels are written to `out_labels[0..n]` (1
@@ -55,8 +62,8 @@ pub const BOUNDARY_OK: c_int = 0;
 pub const BOUNDARY_ERR_NULL: c_int = 1;
 /// A size or layout is invalid: `dim` not 2 or 3, `n * dim` too large, a misaligned buffer.
 pub const BOUNDARY_ERR_SIZE: c_int = 2;
-/// The input is invalid: a non-finite coordinate (the message names the particle), `r` not
-/// positive and finite, more than 2^32 - 1 particles.
+/// The input is invalid: a non-finite coordinate or a bad per-particle radius (the message
+/// names the particle), `r` not positive and finite, more than 2^32 - 1 particles.
 pub const BOUNDARY_ERR_INPUT: c_int = 3;
 /// No method of that name (the message lists the available ones).
 pub const BOUNDARY_ERR_METHOD: c_int = 4;
@@ -64,7 +71,8 @@ pub const BOUNDARY_ERR_METHOD: c_int = 4;
 pub const BOUNDARY_ERR_PARAM: c_int = 5;
 /// `method` or `params` is not valid UTF-8.
 pub const BOUNDARY_ERR_UTF8: c_int = 6;
-/// The method could not run on this input (the message says why).
+/// The method could not run on this input (the message says why), e.g. per-particle radii
+/// given to a method that does not support them.
 pub const BOUNDARY_ERR_DETECT: c_int = 7;
 /// `out_margin` was given but the method reports no margin.
 pub const BOUNDARY_ERR_NO_MARGIN: c_int = 8;
@@ -215,11 +223,18 @@ unsafe fn make_detector(
     })
 }
 
-/// The particle set of `xyz[0..n*dim]`, validated (finite coordinates).
+/// The particle set of `xyz[0..n*dim]`, validated (finite coordinates), with the radii
+/// `radii[0..n]` when not NULL (validated: positive, finite, in range).
 ///
 /// # Safety
-/// `xyz` is NULL or valid for reads of `n * dim` doubles.
-unsafe fn particle_set(xyz: *const f64, n: usize, dim: c_int) -> Result<AnyParticleSet, Failure> {
+/// `xyz` is NULL or valid for reads of `n * dim` doubles; `radii` NULL or valid for reads of
+/// `n` doubles.
+unsafe fn particle_set(
+    xyz: *const f64,
+    n: usize,
+    dim: c_int,
+    radii: *const f64,
+) -> Result<AnyParticleSet, Failure> {
     let dim = match dim {
         2 => 2usize,
         3 => 3,
@@ -264,7 +279,24 @@ unsafe fn particle_set(xyz: *const f64, n: usize, dim: c_int) -> Result<AnyParti
     } else {
         build::<3>(coords).map(AnyParticleSet::from)
     };
-    set.map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, e.to_string()))
+    let set = set.map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, e.to_string()))?;
+    if radii.is_null() {
+        return Ok(set);
+    }
+    let values: Vec<f64> = if n == 0 {
+        Vec::new()
+    } else if radii.align_offset(align_of::<f64>()) != 0 {
+        return Err(Failure::new(
+            BOUNDARY_ERR_SIZE,
+            "radii is not aligned for double",
+        ));
+    } else {
+        // SAFETY: non-NULL, aligned, `n <= len` doubles fit in memory (checked above), valid
+        // for `n` doubles by the caller's contract; copied while this call runs.
+        unsafe { std::slice::from_raw_parts(radii, n) }.to_vec()
+    };
+    set.with_radii(values)
+        .map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, e.to_string()))
 }
 
 /// A mutable output buffer of `n` elements; NULL is allowed only when `n == 0`.
@@ -297,6 +329,12 @@ fn run(
     pool: Option<&rayon::ThreadPool>,
 ) -> Result<Detection, Failure> {
     let r = Radius::new(r).map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, e.to_string()))?;
+    // Scaled radii out of range name the particle (an input error, like the unscaled ones).
+    match set {
+        AnyParticleSet::D2(s) => s.resolved_radii(r).map(drop),
+        AnyParticleSet::D3(s) => s.resolved_radii(r).map(drop),
+    }
+    .map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, e.to_string()))?;
     let detect = || detector.detect(set, r);
     match pool {
         Some(pool) => pool.install(detect),
@@ -308,7 +346,7 @@ fn run(
 /// Detects and writes the labels (and the margin when asked); nothing is written on error.
 ///
 /// # Safety
-/// As [`boundary_detector_detect`].
+/// As [`boundary_detector_detect_radii`].
 #[allow(clippy::too_many_arguments)]
 unsafe fn detect_into(
     detector: &dyn BoundaryDetector,
@@ -316,12 +354,13 @@ unsafe fn detect_into(
     xyz: *const f64,
     n: usize,
     dim: c_int,
+    radii: *const f64,
     r: f64,
     out_labels: *mut u8,
     out_margin: *mut f64,
 ) -> Result<(), Failure> {
     // SAFETY: forwarded from the caller's contract.
-    let set = unsafe { particle_set(xyz, n, dim) }?;
+    let set = unsafe { particle_set(xyz, n, dim, radii) }?;
     // SAFETY: forwarded from the caller's contract.
     let labels = unsafe { out_slice(out_labels, n, "out_labels") }?;
     let margin = if out_margin.is_null() {
@@ -395,6 +434,53 @@ pub unsafe extern "C" fn boundary_detect(
                 xyz,
                 n,
                 dim,
+                std::ptr::null(),
+                r,
+                out_labels,
+                std::ptr::null_mut(),
+            )
+        }
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { guarded(err, err_len, body) }
+}
+
+/// `boundary_detect` with a radius per particle: `radii` holds `n` doubles, the factor `s_i`
+/// of particle `i` (or is NULL: one radius `r` for all, as `boundary_detect`), and particle
+/// `i` gets the radius `r_i = r * s_i` (`r = 1`: the radii as given). A radius that is not
+/// positive and finite, or leaves 1e-100..=1e100 once scaled, is `BOUNDARY_ERR_INPUT` with a
+/// message naming the particle (`particle 3: radius must be positive and finite, got -1`); a
+/// method that does not support per-particle radii returns `BOUNDARY_ERR_DETECT`.
+///
+/// # Safety
+/// As `boundary_detect`; `radii` NULL or valid for reads of `n` doubles.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)] // the C signature
+pub unsafe extern "C" fn boundary_detect_radii(
+    xyz: *const f64,
+    n: usize,
+    dim: c_int,
+    radii: *const f64,
+    r: f64,
+    method: *const c_char,
+    params: *const c_char,
+    out_labels: *mut u8,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    let body = || {
+        // SAFETY: forwarded from this function's contract.
+        let detector = unsafe { make_detector(method, params) }?;
+        let pool = default_pool();
+        // SAFETY: forwarded from this function's contract.
+        unsafe {
+            detect_into(
+                detector.as_ref(),
+                pool.as_deref(),
+                xyz,
+                n,
+                dim,
+                radii,
                 r,
                 out_labels,
                 std::ptr::null_mut(),
@@ -469,6 +555,50 @@ pub unsafe extern "C" fn boundary_detector_detect(
                 xyz,
                 n,
                 dim,
+                std::ptr::null(),
+                r,
+                out_labels,
+                out_margin,
+            )
+        }
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { guarded(err, err_len, body) }
+}
+
+/// `boundary_detector_detect` with a radius per particle: `radii` (`n` doubles or NULL) as in
+/// `boundary_detect_radii`, `r_i = r * s_i`.
+///
+/// # Safety
+/// As `boundary_detector_detect`; `radii` NULL or valid for reads of `n` doubles.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)] // the C signature
+pub unsafe extern "C" fn boundary_detector_detect_radii(
+    handle: *const boundary_detector,
+    xyz: *const f64,
+    n: usize,
+    dim: c_int,
+    radii: *const f64,
+    r: f64,
+    out_labels: *mut u8,
+    out_margin: *mut f64,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    let body = || {
+        // SAFETY: NULL or a live handle from `boundary_detector_new` (this function's contract).
+        let handle = unsafe { handle.as_ref() }
+            .ok_or_else(|| Failure::new(BOUNDARY_ERR_NULL, "handle is NULL"))?;
+        let pool = handle.pool.clone().or_else(default_pool);
+        // SAFETY: forwarded from this function's contract.
+        unsafe {
+            detect_into(
+                handle.detector.as_ref(),
+                pool.as_deref(),
+                xyz,
+                n,
+                dim,
+                radii,
                 r,
                 out_labels,
                 out_margin,

@@ -1,10 +1,11 @@
-//! What the subcommands share: the input and method arguments, `--radius`, reading the
-//! input, the worker pool, timing a detection.
+//! What the subcommands share: the input and method arguments, `--radius` or
+//! `--radius-attribute` (a radius per particle), reading the input, the worker pool, timing a
+//! detection.
 
 use crate::error::CliError;
 use crate::output::errln;
-use boundary::{parse_param, AnyParticleSet, BoundaryDetector, Detection, Radius};
-use boundary_io::{Format, ReadOptions};
+use boundary::{parse_param, AnyParticleSet, BoundaryDetector, CoreError, Detection, Radius};
+use boundary_io::{Attribute, AttributeValues, Format, ParticleFile, ReadOptions};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -17,8 +18,32 @@ pub(crate) struct InputArgs {
     pub(crate) input: PathBuf,
     /// Particle resolution r (positive, in the file's length unit), or `auto`: the median
     /// nearest-neighbour spacing of the particles (an estimate; printed, with a warning).
-    #[arg(long, short, value_parser = parse_radius, value_name = "R|auto", allow_negative_numbers = true)]
-    pub(crate) radius: RadiusArg,
+    /// Required unless --radius-attribute gives a radius per particle.
+    #[arg(
+        long,
+        short,
+        value_parser = parse_radius,
+        value_name = "R|auto",
+        allow_negative_numbers = true,
+        required_unless_present = "radius_attribute",
+        conflicts_with = "radius_attribute"
+    )]
+    pub(crate) radius: Option<RadiusArg>,
+    /// A radius per particle (adaptive resolution) instead of --radius: particle i gets the
+    /// factor s_i from the input's point attribute NAME (a CSV column, PLY property, VTK /
+    /// VTU / VTP array or BGEO attribute; one positive value per particle) and the radius
+    /// r_i = F·s_i, F from --radius-scale. Read from every frame.
+    #[arg(long, value_name = "NAME")]
+    pub(crate) radius_attribute: Option<String>,
+    /// With --radius-attribute: the resolution F that scales every radius, r_i = F·s_i
+    /// (default 1: the attribute's values as they are).
+    #[arg(
+        long,
+        value_name = "F",
+        value_parser = parse_scale,
+        allow_negative_numbers = true
+    )]
+    pub(crate) radius_scale: Option<f64>,
     /// Dimension of the scene; 2 on a file with x,y,z drops the constant axis.
     #[arg(long, value_parser = clap::value_parser!(u8).range(2..=3))]
     pub(crate) dim: Option<u8>,
@@ -50,11 +75,244 @@ pub(crate) enum RadiusArg {
     Auto,
 }
 
+/// The resolution of a run: one `--radius` for every particle, or a radius per particle from
+/// a point attribute (`--radius-attribute`, `--radius-scale`).
+#[derive(Debug, Clone)]
+pub(crate) enum RadiusMode {
+    Uniform(RadiusArg),
+    PerParticle { attribute: String, scale: f64 },
+}
+
+impl InputArgs {
+    /// The resolution the arguments ask for (clap requires exactly one of `--radius` and
+    /// `--radius-attribute`).
+    pub(crate) fn radius_mode(&self) -> Result<RadiusMode, CliError> {
+        match (&self.radius, &self.radius_attribute) {
+            (Some(_), None) if self.radius_scale.is_some() => Err(CliError::Usage(
+                "--radius-scale scales the radii of --radius-attribute; with a uniform radius \
+                 give --radius alone",
+            )),
+            (Some(r), None) => Ok(RadiusMode::Uniform(*r)),
+            (None, Some(attribute)) => Ok(RadiusMode::PerParticle {
+                attribute: attribute.clone(),
+                scale: self.radius_scale.unwrap_or(1.0),
+            }),
+            _ => Err(CliError::Usage(
+                "give either --radius or --radius-attribute (not both)",
+            )),
+        }
+    }
+}
+
+/// The per-particle radii a run used: the attribute, the scale F, and the smallest and
+/// largest radius r_i = F·s_i.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RadiiUsed {
+    pub(crate) attribute: String,
+    pub(crate) scale: f64,
+    pub(crate) min: f64,
+    pub(crate) max: f64,
+}
+
+impl RadiiUsed {
+    /// The JSON record of the radii (`null` for a uniform run).
+    pub(crate) fn json(radii: Option<&RadiiUsed>) -> serde_json::Value {
+        match radii {
+            None => serde_json::Value::Null,
+            Some(r) => serde_json::json!({
+                "attribute": r.attribute, "scale": r.scale, "min": r.min, "max": r.max,
+            }),
+        }
+    }
+
+    /// `r_i = F x h in [min, max]` for the human summaries.
+    pub(crate) fn describe(&self) -> String {
+        format!(
+            "r_i = {} x {} in [{}, {}]",
+            short(self.scale),
+            self.attribute,
+            short(self.min),
+            short(self.max)
+        )
+    }
+}
+
+/// `x` as `{}` prints it, or in exponent form outside 1e-5..1e16 (no hundred-digit numbers).
+pub(crate) fn short(x: f64) -> String {
+    if x == 0.0 || (1e-5..1e16).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// The attribute `name` of `file` (exact name, else the one name equal ignoring ASCII case):
+/// one scalar per particle. Errors name `input`: a missing attribute lists the available
+/// ones; a vector (`name:0` … `name:k-1`) is not a radius.
+fn radius_attribute<'a>(
+    file: &'a ParticleFile,
+    name: &str,
+    input: &Path,
+) -> Result<&'a Attribute, CliError> {
+    let attributes = &file.attributes;
+    if let Some(a) = attributes.iter().find(|a| a.name == name) {
+        return Ok(a);
+    }
+    let folded: Vec<&Attribute> = attributes
+        .iter()
+        .filter(|a| a.name.eq_ignore_ascii_case(name))
+        .collect();
+    if let [a] = folded[..] {
+        return Ok(a);
+    }
+    let components = attributes
+        .iter()
+        .filter(|a| vector_base(&a.name).is_some_and(|b| b.eq_ignore_ascii_case(name)))
+        .count();
+    if components > 0 {
+        return Err(CliError::RadiusAttributeVector {
+            path: input.to_path_buf(),
+            name: name.to_owned(),
+            components,
+        });
+    }
+    // The available attributes, a vector once with its component count.
+    let mut available: Vec<String> = Vec::new();
+    let mut k = 0;
+    while k < attributes.len() {
+        let run = match vector_base(&attributes[k].name) {
+            Some(base) => attributes[k..]
+                .iter()
+                .take_while(|a| vector_base(&a.name) == Some(base))
+                .count(),
+            None => 0,
+        };
+        if run > 0 {
+            let base = vector_base(&attributes[k].name).unwrap_or_default();
+            available.push(format!("{base} (vector of {run})"));
+            k += run;
+        } else {
+            available.push(attributes[k].name.clone());
+            k += 1;
+        }
+    }
+    let mut available = if available.is_empty() {
+        "none".to_owned()
+    } else {
+        available.join(", ")
+    };
+    for skipped in &file.skipped {
+        available.push_str(&format!("; not read: {skipped}"));
+    }
+    Err(CliError::RadiusAttributeMissing {
+        path: input.to_path_buf(),
+        name: name.to_owned(),
+        available,
+    })
+}
+
+/// `name` of a vector component `name:k`, else `None`.
+fn vector_base(name: &str) -> Option<&str> {
+    let (base, k) = name.rsplit_once(':')?;
+    (!base.is_empty() && !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit())).then_some(base)
+}
+
+/// Gives the particle set of `file` the radii of its attribute `name`, scaled by `scale`, and
+/// returns what was used. Errors name `input`, the particle and, in a CSV file, its line.
+pub(crate) fn attach_radii(
+    file: ParticleFile,
+    name: &str,
+    scale: f64,
+    input: &Path,
+    options: &ReadOptions,
+) -> Result<(ParticleFile, RadiiUsed), CliError> {
+    let attribute = radius_attribute(&file, name, input)?;
+    let attribute_name = attribute.name.clone();
+    let values: Vec<f64> = match &attribute.values {
+        AttributeValues::Float(v) => v.clone(),
+        AttributeValues::Int(v) => v.iter().map(|&i| i as f64).collect(),
+    };
+    let bad_value = |error: CoreError, scaled: bool| -> CliError {
+        let (index, problem) = match &error {
+            CoreError::InvalidParticleRadius { index, .. }
+            | CoreError::ParticleRadiusOutOfRange { index, .. } => {
+                let text = error.to_string();
+                let problem = text
+                    .strip_prefix(&format!("particle {index}: "))
+                    .unwrap_or(&text)
+                    .to_owned();
+                (Some(*index), problem)
+            }
+            _ => (None, error.to_string()),
+        };
+        let Some(index) = index else {
+            return CliError::Core(error);
+        };
+        let problem = if scaled {
+            format!("{problem} (with --radius-scale {})", short(scale))
+        } else {
+            problem
+        };
+        // The line is looked up only now, on the error path (CSV only).
+        let line = boundary_io::particle_line(input, options, index)
+            .ok()
+            .flatten();
+        CliError::RadiusValue {
+            path: input.to_path_buf(),
+            attribute: attribute_name.clone(),
+            index,
+            line,
+            problem,
+        }
+    };
+    let ParticleFile {
+        set,
+        attributes,
+        skipped,
+    } = file;
+    let set = set.with_radii(values).map_err(|e| bad_value(e, false))?;
+    let resolved = match &set {
+        AnyParticleSet::D2(s) => s.resolved_radii(radius(scale)?),
+        AnyParticleSet::D3(s) => s.resolved_radii(radius(scale)?),
+    }
+    .map_err(|e| bad_value(e, true))?
+    .unwrap_or_default();
+    let (min, max) = resolved
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &r| {
+            (lo.min(r), hi.max(r))
+        });
+    let used = RadiiUsed {
+        attribute: attribute_name.clone(),
+        scale,
+        min: if resolved.is_empty() { scale } else { min },
+        max: if resolved.is_empty() { scale } else { max },
+    };
+    Ok((
+        ParticleFile {
+            set,
+            attributes,
+            skipped,
+        },
+        used,
+    ))
+}
+
 /// `--radius auto` is this multiple of the median nearest-neighbour spacing. On a lattice of
 /// spacing s the sphere of an interior particle is covered for r >= s/√2 (square) or
 /// r >= s·√3/2 (cubic), and boundary particles stay boundary for any r; one spacing covers
 /// both lattices with a margin for jitter.
 const AUTO_RADIUS_FACTOR: f64 = 1.0;
+
+/// `--radius-scale`: a resolution (positive, finite, within the supported range).
+fn parse_scale(text: &str) -> Result<f64, String> {
+    let value: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number"))?;
+    Radius::new(value).map_err(|e| e.to_string())?;
+    Ok(value)
+}
 
 fn parse_radius(text: &str) -> Result<RadiusArg, String> {
     if text.trim().eq_ignore_ascii_case("auto") {
@@ -108,14 +366,27 @@ pub(crate) fn read_options(args: &InputArgs) -> ReadOptions {
 }
 
 /// The particle set of `args.input` and the radius to use on it (a warning printed when it was
-/// estimated).
-pub(crate) fn read_input(args: &InputArgs) -> Result<(AnyParticleSet, f64), CliError> {
-    let set = boundary_io::read_particles(&args.input, &read_options(args))?;
-    let (r, estimated) = resolve_radius(args.radius, &set, &args.input)?;
-    if estimated {
-        errln!("{}", auto_warning(r, &args.input));
+/// estimated); with `--radius-attribute`, the set carries its radii, the radius is the scale
+/// F, and the radii used come third.
+pub(crate) fn read_input(
+    args: &InputArgs,
+) -> Result<(AnyParticleSet, f64, Option<RadiiUsed>), CliError> {
+    let options = read_options(args);
+    match args.radius_mode()? {
+        RadiusMode::Uniform(arg) => {
+            let set = boundary_io::read_particles(&args.input, &options)?;
+            let (r, estimated) = resolve_radius(arg, &set, &args.input)?;
+            if estimated {
+                errln!("{}", auto_warning(r, &args.input));
+            }
+            Ok((set, r, None))
+        }
+        RadiusMode::PerParticle { attribute, scale } => {
+            let file = boundary_io::read_particle_file(&args.input, &options)?;
+            let (file, used) = attach_radii(file, &attribute, scale, &args.input, &options)?;
+            Ok((file.set, scale, Some(used)))
+        }
     }
-    Ok((set, r))
 }
 
 /// The rayon pool the detection runs in.

@@ -1,8 +1,9 @@
 //! `boundary detect`: label the particles of one file, or of every frame a pattern matches.
 
 use crate::common::{
-    auto_warning, method_label, output_format, parse_format, percent, pool, radius, read_options,
-    resolve_radius, run_timed, InputArgs, MethodArgs, RadiusArg,
+    attach_radii, auto_warning, method_label, output_format, parse_format, percent, pool, radius,
+    read_options, resolve_radius, run_timed, InputArgs, MethodArgs, RadiiUsed, RadiusArg,
+    RadiusMode,
 };
 use crate::error::CliError;
 use crate::output::{errln, outln};
@@ -38,7 +39,8 @@ pub(crate) struct DetectArgs {
     #[arg(long, value_parser = parse_format, value_name = "FMT", requires = "output_dir")]
     output_format: Option<Format>,
     /// With several frames: write one CSV line per frame (frame, input, output, n, dim, radius,
-    /// boundary, seconds, error) to this file.
+    /// boundary, seconds, error; with --radius-attribute also radius_min, radius_max before
+    /// error) to this file.
     #[arg(long, value_name = "FILE.csv")]
     summary: Option<PathBuf>,
 }
@@ -50,6 +52,8 @@ struct FrameOutcome {
     dim: usize,
     radius: f64,
     estimated: bool,
+    /// The per-particle radii used (`--radius-attribute`); `radius` is then their scale.
+    radii: Option<RadiiUsed>,
     boundary: usize,
     seconds: f64,
     /// Attributes of the input not written back, with the reason.
@@ -71,10 +75,11 @@ impl FrameJob<'_> {
     fn run(
         &self,
         input: &Path,
-        radius_arg: RadiusArg,
+        radius_mode: &RadiusMode,
         output: Option<(&Path, Format)>,
     ) -> Result<FrameOutcome, CliError> {
-        let with_attributes = output.is_some();
+        let per_particle = matches!(radius_mode, RadiusMode::PerParticle { .. });
+        let with_attributes = output.is_some() || per_particle;
         let file = if with_attributes {
             read_particle_file(input, &self.options)?
         } else {
@@ -84,8 +89,17 @@ impl FrameJob<'_> {
                 skipped: Vec::new(),
             }
         };
+        let (file, r_value, estimated, radii) = match radius_mode {
+            RadiusMode::Uniform(arg) => {
+                let (r, estimated) = resolve_radius(*arg, &file.set, input)?;
+                (file, r, estimated, None)
+            }
+            RadiusMode::PerParticle { attribute, scale } => {
+                let (file, used) = attach_radii(file, attribute, *scale, input, &self.options)?;
+                (file, *scale, false, Some(used))
+            }
+        };
         let set = &file.set;
-        let (r_value, estimated) = resolve_radius(radius_arg, set, input)?;
         let r = radius(r_value)?;
         let (detection, seconds) = run_timed(self.pool, self.detector, set, r)?;
         if let Some((path, format)) = output {
@@ -125,6 +139,7 @@ impl FrameJob<'_> {
             dim: set.dim(),
             radius: r_value,
             estimated,
+            radii,
             boundary: detection.labels.boundary_count(),
             seconds,
             skipped: file.skipped,
@@ -161,6 +176,17 @@ fn normal_components(
     .map_err(CliError::from)
 }
 
+/// `--normals` smooth over one length h = r: not defined with a radius per particle.
+fn check_normals(normals: bool, mode: &RadiusMode) -> Result<(), CliError> {
+    if normals && matches!(mode, RadiusMode::PerParticle { .. }) {
+        return Err(CliError::Usage(
+            "--normals needs a uniform --radius (the colour field's smoothing length h = r); \
+             it does not take --radius-attribute",
+        ));
+    }
+    Ok(())
+}
+
 /// Whether `text` holds a glob metacharacter.
 fn is_pattern(text: &str) -> bool {
     text.contains(['*', '?', '['])
@@ -178,6 +204,8 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
             "--margin and --normals need --output or --output-dir",
         ));
     }
+    let radius_mode = args.input.radius_mode()?;
+    check_normals(args.normals, &radius_mode)?;
     let output_format = args.output.as_deref().map(output_format).transpose()?;
     let pool = pool(args.input.threads)?;
     let job = FrameJob {
@@ -188,7 +216,7 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
         pool: &pool,
     };
     let output = args.output.as_deref().zip(output_format);
-    let outcome = job.run(&args.input.input, args.input.radius, output)?;
+    let outcome = job.run(&args.input.input, &radius_mode, output)?;
     if outcome.estimated {
         errln!("{}", auto_warning(outcome.radius, &args.input.input));
     }
@@ -207,6 +235,7 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
             "dim": outcome.dim,
             "radius": outcome.radius,
             "radius_estimated": outcome.estimated,
+            "radii": RadiiUsed::json(outcome.radii.as_ref()),
             "boundary": outcome.boundary,
             "seconds": outcome.seconds,
             "threads": pool.current_num_threads(),
@@ -214,13 +243,16 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
         outln!("{object}")?;
     } else {
         errln!(
-            "{}: {} of {} particles boundary ({:.1}%), {}D, r = {}, {} in {:.3} s on {} thread{}{}",
+            "{}: {} of {} particles boundary ({:.1}%), {}D, {}, {} in {:.3} s on {} thread{}{}",
             args.input.input.display(),
             outcome.boundary,
             outcome.n,
             percent(outcome.boundary, outcome.n),
             outcome.dim,
-            outcome.radius,
+            match &outcome.radii {
+                Some(radii) => radii.describe(),
+                None => format!("r = {}", outcome.radius),
+            },
             method_label(detector.as_ref()),
             outcome.seconds,
             pool.current_num_threads(),
@@ -305,6 +337,8 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
             "--margin and --normals need --output or --output-dir",
         ));
     }
+    let radius_mode = args.input.radius_mode()?;
+    check_normals(args.normals, &radius_mode)?;
     let pattern = args.input.input.to_string_lossy().into_owned();
     let paths = frames(&pattern)?;
     let options = read_options(&args.input);
@@ -350,9 +384,8 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
     }
     // `--radius auto`: estimated once, on the first frame that reads, and used for all, so that
     // the counts of the frames are comparable.
-    let radius_arg = match args.input.radius {
-        RadiusArg::Value(v) => RadiusArg::Value(v),
-        RadiusArg::Auto => {
+    let radius_mode = match radius_mode {
+        RadiusMode::Uniform(RadiusArg::Auto) => {
             let mut estimate = None;
             for path in &paths {
                 if let Ok(set) = boundary_io::read_particles(path, &options) {
@@ -363,8 +396,11 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
                     }
                 }
             }
-            RadiusArg::Value(estimate.ok_or(CliError::NoFrameForAutoRadius)?)
+            RadiusMode::Uniform(RadiusArg::Value(
+                estimate.ok_or(CliError::NoFrameForAutoRadius)?,
+            ))
         }
+        other => other,
     };
     let pool = pool(args.input.threads)?;
     let job = FrameJob {
@@ -396,7 +432,7 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
                 let result = match output {
                     Ok(out) => job.run(
                         path,
-                        radius_arg,
+                        &radius_mode,
                         out.as_ref().map(|(p, f)| (p.as_path(), *f)),
                     ),
                     Err(frame) => Err(CliError::UnknownFrameFormat(frame.clone())),
@@ -424,7 +460,8 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
     bar.finish_and_clear();
     let failed = results.iter().filter(|r| r.is_err()).count();
     if let Some(summary) = &args.summary {
-        write_summary(summary, &paths, &outputs, &results)?;
+        let per_particle = matches!(radius_mode, RadiusMode::PerParticle { .. });
+        write_summary(summary, &paths, &outputs, &results, per_particle)?;
     }
     if args.input.json {
         let frames: Vec<_> = paths
@@ -440,7 +477,8 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
                 match result {
                     Ok(o) => json!({
                         "input": path.display().to_string(), "output": output, "n": o.n,
-                        "dim": o.dim, "radius": o.radius, "boundary": o.boundary,
+                        "dim": o.dim, "radius": o.radius,
+                        "radii": RadiiUsed::json(o.radii.as_ref()), "boundary": o.boundary,
                         "seconds": o.seconds,
                     }),
                     Err(e) => json!({
@@ -454,8 +492,16 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
             "method": detector.name(),
             "params": detector.params().to_string(),
             "input": pattern,
-            "radius": match radius_arg { RadiusArg::Value(v) => v, RadiusArg::Auto => f64::NAN },
-            "radius_estimated": matches!(args.input.radius, RadiusArg::Auto),
+            "radius": match &radius_mode {
+                RadiusMode::Uniform(RadiusArg::Value(v)) => *v,
+                RadiusMode::PerParticle { scale, .. } => *scale,
+                RadiusMode::Uniform(RadiusArg::Auto) => f64::NAN,
+            },
+            "radius_estimated": matches!(args.input.radius, Some(RadiusArg::Auto)),
+            "radius_attribute": match &radius_mode {
+                RadiusMode::PerParticle { attribute, .. } => Some(attribute.as_str()),
+                RadiusMode::Uniform(_) => None,
+            },
             "frames": frames,
             "failed": failed,
             "threads": pool.current_num_threads(),
@@ -496,9 +542,14 @@ fn write_summary(
     inputs: &[PathBuf],
     outputs: &[Result<Option<(PathBuf, Format)>, PathBuf>],
     results: &[Result<FrameOutcome, CliError>],
+    per_particle: bool,
 ) -> Result<(), CliError> {
     use std::fmt::Write as _;
-    let mut text = String::from("frame,input,output,n,dim,radius,boundary,seconds,error\n");
+    let mut text = String::from(if per_particle {
+        "frame,input,output,n,dim,radius,boundary,seconds,radius_min,radius_max,error\n"
+    } else {
+        "frame,input,output,n,dim,radius,boundary,seconds,error\n"
+    });
     for (k, ((input, output), result)) in inputs.iter().zip(outputs).zip(results).enumerate() {
         let output = match output {
             Ok(Some((p, _))) => p.display().to_string(),
@@ -507,14 +558,21 @@ fn write_summary(
         let input = csv_field(&input.display().to_string());
         let output = csv_field(&output);
         let _ = match result {
-            Ok(o) => writeln!(
-                text,
-                "{k},{input},{output},{},{},{},{},{:.6},",
-                o.n, o.dim, o.radius, o.boundary, o.seconds
-            ),
+            Ok(o) => {
+                let radii = match (&o.radii, per_particle) {
+                    (Some(r), true) => format!("{},{},", r.min, r.max),
+                    _ => String::new(),
+                };
+                writeln!(
+                    text,
+                    "{k},{input},{output},{},{},{},{},{:.6},{radii}",
+                    o.n, o.dim, o.radius, o.boundary, o.seconds
+                )
+            }
             Err(e) => writeln!(
                 text,
-                "{k},{input},{output},,,,,,{}",
+                "{k},{input},{output},,,,,,{}{}",
+                if per_particle { ",," } else { "" },
                 csv_field(&e.to_string())
             ),
         };

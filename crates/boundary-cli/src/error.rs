@@ -31,6 +31,51 @@ pub enum CliError {
     /// `--radius auto` on a set with fewer than two distinct positions.
     #[error("{}: --radius auto needs at least two distinct particle positions", .0.display())]
     AutoRadiusTooFew(PathBuf),
+    /// `--radius-attribute` names no point attribute of the input.
+    #[error(
+        "{}: no point attribute {name:?} for --radius-attribute (the file has: {available})",
+        .path.display()
+    )]
+    RadiusAttributeMissing {
+        /// The input.
+        path: PathBuf,
+        /// The name asked for.
+        name: String,
+        /// The attributes the file has (and those not read, with why).
+        available: String,
+    },
+    /// `--radius-attribute` names a vector attribute.
+    #[error(
+        "{}: point attribute {name:?} is a vector of {components} components, not a radius \
+         (--radius-attribute needs one value per particle)",
+        .path.display()
+    )]
+    RadiusAttributeVector {
+        /// The input.
+        path: PathBuf,
+        /// The name asked for.
+        name: String,
+        /// Its number of components.
+        components: usize,
+    },
+    /// A per-particle radius that is not positive and finite, or out of range.
+    #[error(
+        "{}: radius attribute {attribute:?}: particle {index}{}: {problem}",
+        .path.display(),
+        .line.map(|l| format!(" (line {l})")).unwrap_or_default()
+    )]
+    RadiusValue {
+        /// The input.
+        path: PathBuf,
+        /// The attribute.
+        attribute: String,
+        /// The particle, in file order.
+        index: usize,
+        /// Its line (CSV).
+        line: Option<usize>,
+        /// What is wrong with its radius.
+        problem: String,
+    },
     /// An output file whose extension names no format.
     #[error(
         "{}: unknown output format (use .csv, .xyz, .ply, .vtk, .vtu, .vtp, .bgeo or .bgeo.gz)",

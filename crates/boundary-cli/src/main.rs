@@ -5,7 +5,10 @@
 //!                 [--dim 2|3] [--format FMT] [--margin] [--normals] [--threads N] [--json]
 //! boundary detect 'frames/fluid_*.vtk' --radius R|auto --output-dir DIR [--output-format FMT]
 //!                 [--summary FILE.csv] [...]
+//! boundary detect INPUT --radius-attribute NAME [--radius-scale F] [...]
+//!                 # a radius per particle: r_i = F·(attribute NAME of particle i)
 //! boundary score INPUT --radius R --method NAME [--set KEY=VALUE]... [--truth FILE] [--json]
+//!                 (score also takes --radius-attribute NAME [--radius-scale F])
 //! boundary resample INPUT --radius R [--method NAME] [--set KEY=VALUE]... --output FILE
 //!                   [--k K] [--alpha A] [--shift S] [--json]
 //! boundary methods [--json]

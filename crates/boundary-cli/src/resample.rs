@@ -56,7 +56,13 @@ pub(crate) fn resample(args: ResampleArgs) -> Result<(), CliError> {
         shift: args.shift,
         ..ResampleConfig::default()
     };
-    let (set, r_value) = read_input(&args.input)?;
+    if args.input.radius_attribute.is_some() {
+        return Err(CliError::Usage(
+            "resample needs a uniform --radius (it moves particles by distances in units of r); \
+             it does not take --radius-attribute",
+        ));
+    }
+    let (set, r_value, _) = read_input(&args.input)?;
     let r = radius(r_value)?;
     let pool = pool(args.input.threads)?;
     let (detection, seconds) = run_timed(&pool, detector.as_ref(), &set, r)?;

@@ -1,6 +1,8 @@
 //! `boundary score`: compare a method with the truth (a labels file, or `exact`).
 
-use crate::common::{method_label, pool, radius, read_input, run_timed, InputArgs, MethodArgs};
+use crate::common::{
+    method_label, pool, radius, read_input, run_timed, InputArgs, MethodArgs, RadiiUsed,
+};
 use crate::error::CliError;
 use crate::output::outln;
 use boundary::{detector_with_params, Confusion};
@@ -22,7 +24,7 @@ pub(crate) struct ScoreArgs {
 
 pub(crate) fn score(args: ScoreArgs) -> Result<(), CliError> {
     let detector = detector_with_params(&args.method.method, &args.method.params)?;
-    let (set, r_value) = read_input(&args.input)?;
+    let (set, r_value, radii) = read_input(&args.input)?;
     let r = radius(r_value)?;
     let pool = pool(args.input.threads)?;
     let (detection, seconds) = run_timed(&pool, detector.as_ref(), &set, r)?;
@@ -48,6 +50,7 @@ pub(crate) fn score(args: ScoreArgs) -> Result<(), CliError> {
             "n": set.len(),
             "dim": set.dim(),
             "radius": r_value,
+            "radii": RadiiUsed::json(radii.as_ref()),
             "tp": c.tp, "tn": c.tn, "fp": c.fp, "fn": c.fn_,
             "recall": c.recall(), "fpr": c.fpr(), "m": c.m(),
             "precision": c.precision(), "f1": c.f1(),
@@ -58,12 +61,15 @@ pub(crate) fn score(args: ScoreArgs) -> Result<(), CliError> {
         outln!("{object}")?;
     } else {
         outln!(
-            "{} vs {truth_name} on {} ({} particles, {}D, r = {})",
+            "{} vs {truth_name} on {} ({} particles, {}D, {})",
             method_label(detector.as_ref()),
             args.input.input.display(),
             set.len(),
             set.dim(),
-            r_value
+            match &radii {
+                Some(radii) => radii.describe(),
+                None => format!("r = {r_value}"),
+            }
         )?;
         outln!("TP  {}\nTN  {}\nFP  {}\nFN  {}", c.tp, c.tn, c.fp, c.fn_)?;
         outln!(

@@ -290,6 +290,39 @@ impl ExtraColumn {
     }
 }
 
+/// The 1-based line of particle `index` (0-based, in file order, counted as [`read`] counts
+/// them: after the header, blank and `#` lines skipped); `None` when the file has fewer
+/// particles. For error messages about a particle found after reading (a bad radius).
+pub(crate) fn particle_line<R: BufRead>(
+    reader: R,
+    name: &str,
+    index: usize,
+) -> Result<Option<usize>, IoError> {
+    let mut lines = TextLines::new(reader);
+    let Some((first_number, first, sep)) = first_line(&mut lines, name)? else {
+        return Ok(None);
+    };
+    let mut k = 0;
+    if fields(&first, sep).all(|f| number(f, sep).is_some()) {
+        // Headerless: the first line is particle 0.
+        if index == 0 {
+            return Ok(Some(first_number));
+        }
+        k = 1;
+    }
+    while let Some((line_number, line)) = lines.next_line(name)? {
+        let t = line.trim_start();
+        if t.is_empty() || t.starts_with('#') {
+            continue;
+        }
+        if k == index {
+            return Ok(Some(line_number));
+        }
+        k += 1;
+    }
+    Ok(None)
+}
+
 /// The values of the column named `column` of a CSV file with a header.
 pub(crate) fn read_column<R: BufRead>(
     reader: R,
@@ -434,6 +467,21 @@ mod tests {
             "{:?}",
             p.skipped
         );
+    }
+
+    #[test]
+    fn particle_line_counts_particles_as_the_reader_does() {
+        let text = "sep=;\n# comment\nx;y;h\n\n0;0;1\n# skipped\n1;0;2\n\n2;0;3\n";
+        let lines: Vec<Option<usize>> = (0..4)
+            .map(|i| particle_line(text.as_bytes(), "l.csv", i).unwrap())
+            .collect();
+        assert_eq!(lines, [Some(5), Some(7), Some(9), None]);
+        let p = read(text.as_bytes(), "l.csv", None, true).unwrap();
+        assert_eq!(p.coords, [0.0, 0.0, 1.0, 0.0, 2.0, 0.0]);
+        // Headerless: the first data line is particle 0.
+        let text = "\n0,0\n1,1\n";
+        assert_eq!(particle_line(text.as_bytes(), "h.csv", 0).unwrap(), Some(2));
+        assert_eq!(particle_line(text.as_bytes(), "h.csv", 1).unwrap(), Some(3));
     }
 
     #[test]

@@ -554,6 +554,22 @@ where
         })
 }
 
+/// The 1-based line on which particle `index` (0-based, in file order) is written, for
+/// messages about a particle found after reading (a bad radius): CSV files only (`None` for
+/// other formats, and when the file has fewer particles). The format is `options.format` or
+/// the one the extension names.
+pub fn particle_line(
+    path: &Path,
+    options: &ReadOptions,
+    index: usize,
+) -> Result<Option<usize>, IoError> {
+    let (file, name, format) = open_input(path, options)?;
+    match format {
+        Format::Csv => csv::particle_line(BufReader::new(file), &name, index),
+        _ => Ok(None),
+    }
+}
+
 /// Reads the numeric column named `column` (matched like position names: case-insensitive,
 /// spaces, quotes and unit suffix ignored) of a CSV file with a header, e.g. the `boundary`
 /// labels written by `boundary detect`. Errors name the file and the line.

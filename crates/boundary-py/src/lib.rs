@@ -19,9 +19,13 @@
 //!   (or a pool of `threads`). The calling thread waits in slices of 50 ms and checks for
 //!   signals between them, so Ctrl-C raises `KeyboardInterrupt` at once; the abandoned detection
 //!   keeps its worker thread (and cores) busy until it finishes, and its result is dropped.
-//! - Errors: `ValueError` for bad input (shape, NaN, `r <= 0`, unknown method or parameter,
-//!   malformed file), `OSError` when a file cannot be opened or written. No input panics: a
-//!   panic inside the library would surface as `RuntimeError`, never abort the interpreter.
+//! - `radii`: an optional `(n,)` array-like, a radius factor `s_i` per particle (adaptive
+//!   resolution; converted like `points`); particle `i` then has radius `r_i = r * s_i`, and
+//!   `r` defaults to 1 (the radii as given). Without `radii`, `r` is required.
+//! - Errors: `ValueError` for bad input (shape, NaN, `r <= 0`, a bad radius naming the
+//!   particle, unknown method or parameter, malformed file), `OSError` when a file cannot be
+//!   opened or written. No input panics: a panic inside the library would surface as
+//!   `RuntimeError`, never abort the interpreter.
 //!
 //! The typed signatures and the docstrings users see are in `boundary.pyi`.
 
@@ -32,7 +36,7 @@ use boundary::{
 use boundary_io::{AttributeValues, Column, Format, IoError, ReadOptions};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::{
-    PyFileNotFoundError, PyOSError, PyRuntimeError, PyUserWarning, PyValueError,
+    PyFileNotFoundError, PyOSError, PyRuntimeError, PyTypeError, PyUserWarning, PyValueError,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyString};
@@ -141,6 +145,58 @@ fn read_points(points: &Bound<'_, PyAny>) -> PyResult<AnyParticleSet> {
 
 fn radius(r: f64) -> PyResult<Radius> {
     Radius::new(r).map_err(value_error)
+}
+
+/// `set` with the radii of a Python `radii` argument (an `(n,)` array-like of reals; a
+/// C-contiguous float64 array is read in place), and the resolution: `r`, which defaults to 1
+/// with radii and is required without. Errors name the particle; scaled radii out of range
+/// too (`r_i = r * s_i`).
+fn with_radii(
+    function: &str,
+    set: AnyParticleSet,
+    r: Option<f64>,
+    radii: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(AnyParticleSet, Radius)> {
+    let Some(radii) = radii else {
+        let r = r.ok_or_else(|| {
+            PyTypeError::new_err(format!(
+                "{function}() missing required argument 'r' (the resolution; optional only \
+                 with radii=)"
+            ))
+        })?;
+        return Ok((set, radius(r)?));
+    };
+    let r = radius(r.unwrap_or(1.0))?;
+    let py = radii.py();
+    let numpy = py.import("numpy")?;
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("dtype", numpy.getattr("float64")?)?;
+    let array = numpy
+        .call_method("ascontiguousarray", (radii,), Some(&kwargs))
+        .map_err(|e| value_error(format!("radii must be an array of reals: {}", e.value(py))))?
+        .cast_into::<PyArrayDyn<f64>>()
+        .map_err(|_| value_error("radii: numpy.ascontiguousarray did not give a float64 array"))?;
+    let readonly = array.readonly();
+    let shape = readonly.shape();
+    if shape.len() != 1 {
+        return Err(value_error(format!(
+            "radii must be a one-dimensional array (one radius per particle), got shape {}",
+            shape_text(shape)
+        )));
+    }
+    let values = readonly
+        .as_slice()
+        .map_err(|e| value_error(format!("radii: {e}")))?
+        .to_vec();
+    let set = set
+        .with_radii(values)
+        .map_err(|e| value_error(format!("radii: {e}")))?;
+    match &set {
+        AnyParticleSet::D2(s) => s.resolved_radii(r).map(drop),
+        AnyParticleSet::D3(s) => s.resolved_radii(r).map(drop),
+    }
+    .map_err(|e| value_error(format!("radii scaled by r = {}: {e}", r.get())))?;
+    Ok((set, r))
 }
 
 /// A keyword argument's value as the text `--set KEY=VALUE` would carry: `True`/`False` as
@@ -280,25 +336,29 @@ fn points_array<'py>(py: Python<'py>, set: &AnyParticleSet) -> PyResult<Bound<'p
 ///     place); r: the particle resolution (> 0); method: a name from methods() (default
 ///     "exact", the reference labels); threads: worker threads (default: all cores);
 ///     margin: also return the method's per-particle margin (None if it has none);
-///     **params: the method's parameters, as `--set KEY=VALUE` (depth=4, gamma=1.3, ...).
+///     radii: optional (n,) radius factors s_i, one per particle: r_i = r * s_i, r then
+///     defaulting to 1; **params: the method's parameters, as `--set KEY=VALUE`
+///     (depth=4, gamma=1.3, ...).
 ///
 /// Returns a bool array of length n, or (labels, margin) with margin=True. Raises ValueError
-/// on bad input (shape, NaN, r <= 0, unknown method or parameter); Ctrl-C raises
-/// KeyboardInterrupt (the detection finishes in the background and is discarded).
+/// on bad input (shape, NaN, r <= 0, a bad radius, unknown method or parameter); Ctrl-C
+/// raises KeyboardInterrupt (the detection finishes in the background and is discarded).
 #[pyfunction]
-#[pyo3(signature = (points, r, method = "exact", threads = None, margin = false, **params))]
+#[pyo3(signature = (points, r = None, method = "exact", threads = None, margin = false, radii = None, **params))]
+#[allow(clippy::too_many_arguments)] // the Python signature: keyword arguments with defaults
 fn detect<'py>(
     py: Python<'py>,
     points: &Bound<'py, PyAny>,
-    r: f64,
+    r: Option<f64>,
     method: &str,
     threads: Option<usize>,
     margin: bool,
+    radii: Option<&Bound<'py, PyAny>>,
     params: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let detector = detector(method, params)?;
-    let r = radius(r)?;
     let set = read_points(points)?;
+    let (set, r) = with_radii("detect", set, r, radii)?;
     let (detection, _) = detect_set(py, detector, set, r, threads)?;
     let labels = bool_array(py, detection.labels.into_vec()).into_any();
     if !margin {
@@ -388,21 +448,26 @@ fn truth_labels(truth: &Bound<'_, PyAny>, n: usize) -> PyResult<Vec<bool>> {
 ///
 /// Boundary is the positive class: Rec = TP/(TP+FN), FPR = FP/(FP+TN), M = Rec*(1-FPR)
 /// (J. Comput. Phys. 2020, Sec. 4). truth: one bool (or 0/1) per particle; default: the
-/// labels of "exact". Other arguments as detect().
+/// labels of "exact" (with the same radii). Other arguments as detect(); method is required
+/// (`score(points, method="ia", radii=h)` when r is left to its default).
 #[pyfunction]
-#[pyo3(signature = (points, r, method, truth = None, threads = None, **params))]
+#[pyo3(signature = (points, r = None, method = None, truth = None, threads = None, radii = None, **params))]
+#[allow(clippy::too_many_arguments)] // the Python signature: keyword arguments with defaults
 fn score<'py>(
     py: Python<'py>,
     points: &Bound<'py, PyAny>,
-    r: f64,
-    method: &str,
+    r: Option<f64>,
+    method: Option<&str>,
     truth: Option<&Bound<'py, PyAny>>,
     threads: Option<usize>,
+    radii: Option<&Bound<'py, PyAny>>,
     params: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let method =
+        method.ok_or_else(|| PyTypeError::new_err("score() missing required argument 'method'"))?;
     let detector = detector(method, params)?;
-    let r = radius(r)?;
     let set = read_points(points)?;
+    let (set, r) = with_radii("score", set, r, radii)?;
     let n = set.len();
     let truth = match truth {
         Some(t) => Some(truth_labels(t, n)?),
