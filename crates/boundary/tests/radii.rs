@@ -208,6 +208,23 @@ fn graded_sets_in_3d_match_the_sampled_oracle() {
     }
 }
 
+/// Smoothly graded: the radius factor grows linearly across the set (0.7 to 1.4 in 2D, 0.8 to
+/// 1.6 in 3D) over a jittered lattice of spacing 1 with holes, so both labels occur inside.
+#[test]
+fn smoothly_graded_sets_match_the_sampled_oracle() {
+    fn graded<const D: usize>(side: f64, lo: f64, hi: f64, seed: u64) -> ParticleSet<D> {
+        let mut rng = StdRng::seed_from_u64(seed);
+        let pts: Vec<Point<D>> = jittered::<D>(side, 1.0, 0.4, &mut rng)
+            .into_iter()
+            .filter(|_| rng.gen::<f64>() > 0.08)
+            .collect();
+        let radii = pts.iter().map(|p| lo + (hi - lo) * p[0] / side).collect();
+        ParticleSet::new(pts).unwrap().with_radii(radii).unwrap()
+    }
+    check_against_oracle(graded::<2>(20.0, 0.7, 1.4, 31), "2D smooth");
+    check_against_oracle(graded::<3>(7.0, 0.8, 1.6, 32), "3D smooth");
+}
+
 /// Radii 100x apart: a few large balls among many small ones.
 #[test]
 fn radii_a_hundred_times_apart_match_the_sampled_oracle() {
