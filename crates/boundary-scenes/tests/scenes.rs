@@ -5,7 +5,6 @@
 
 use boundary_core::{AnyParticleSet, BoundaryDetector, Point, Radius};
 use boundary_exact::ExactDetector;
-use boundary_io::{read_particles, ReadOptions};
 use boundary_scenes::{
     all_scenes, enright, fixtures_dir, jittered_lattice_ball, rk4, single_vortex, Manifest, Origin,
     SharedData,
@@ -96,11 +95,14 @@ fn fixtures_on_disk_are_what_the_generators_make() {
             (entry.dim, entry.n, entry.radius),
             (scene.set.dim(), scene.set.len(), scene.radius)
         );
-        let options = ReadOptions {
-            dim: Some(entry.dim),
-            ..Default::default()
-        };
-        let read = read_particles(&dir.join(&entry.file), &options).unwrap();
+        assert_eq!(
+            entry.radius_attribute.is_some(),
+            scene.set.radii().is_some(),
+            "{}: radii",
+            entry.name
+        );
+        // Positions and, for graded scenes, the radii (read through the manifest's column).
+        let read = entry.load(&dir, &boundary_scenes::data_dir()).unwrap();
         assert!(
             read == scene.set,
             "{}: file differs from the generator (run `cargo xtask fixtures`)",
