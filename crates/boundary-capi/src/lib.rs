@@ -422,27 +422,21 @@ pub unsafe extern "C" fn boundary_detect(
     err: *mut c_char,
     err_len: usize,
 ) -> c_int {
-    let body = || {
-        // SAFETY: forwarded from this function's contract.
-        let detector = unsafe { make_detector(method, params) }?;
-        let pool = default_pool();
-        // SAFETY: forwarded from this function's contract.
-        unsafe {
-            detect_into(
-                detector.as_ref(),
-                pool.as_deref(),
-                xyz,
-                n,
-                dim,
-                std::ptr::null(),
-                r,
-                out_labels,
-                std::ptr::null_mut(),
-            )
-        }
-    };
-    // SAFETY: forwarded from this function's contract.
-    unsafe { guarded(err, err_len, body) }
+    // SAFETY: this function's contract, with no radii (NULL: one radius for all).
+    unsafe {
+        boundary_detect_radii(
+            xyz,
+            n,
+            dim,
+            std::ptr::null(),
+            r,
+            method,
+            params,
+            out_labels,
+            err,
+            err_len,
+        )
+    }
 }
 
 /// `boundary_detect` with a radius per particle: `radii` holds `n` doubles, the factor `s_i`
@@ -542,28 +536,21 @@ pub unsafe extern "C" fn boundary_detector_detect(
     err: *mut c_char,
     err_len: usize,
 ) -> c_int {
-    let body = || {
-        // SAFETY: NULL or a live handle from `boundary_detector_new` (this function's contract).
-        let handle = unsafe { handle.as_ref() }
-            .ok_or_else(|| Failure::new(BOUNDARY_ERR_NULL, "handle is NULL"))?;
-        let pool = handle.pool.clone().or_else(default_pool);
-        // SAFETY: forwarded from this function's contract.
-        unsafe {
-            detect_into(
-                handle.detector.as_ref(),
-                pool.as_deref(),
-                xyz,
-                n,
-                dim,
-                std::ptr::null(),
-                r,
-                out_labels,
-                out_margin,
-            )
-        }
-    };
-    // SAFETY: forwarded from this function's contract.
-    unsafe { guarded(err, err_len, body) }
+    // SAFETY: this function's contract, with no radii (NULL: one radius for all).
+    unsafe {
+        boundary_detector_detect_radii(
+            handle,
+            xyz,
+            n,
+            dim,
+            std::ptr::null(),
+            r,
+            out_labels,
+            out_margin,
+            err,
+            err_len,
+        )
+    }
 }
 
 /// `boundary_detector_detect` with a radius per particle: `radii` (`n` doubles or NULL) as in

@@ -237,14 +237,25 @@ pub fn sphere_uncovered<const D: usize>(centre: &Point<D>, others: &[Point<D>], 
         r_f64: r,
         unit_f64: 2f64.powi(e_min) * 2f64.powi(t as i32),
     };
+    if let Some(small) = as_i128(&planes) {
+        nearest_first::<i128, D>(&small, &beyond)
+    } else {
+        nearest_first::<BigInt, D>(&planes, &beyond)
+    }
+}
+
+/// The planes as `i128` when a bound on the integers the enumeration forms
+/// (`D·B_a + B_b + 2D + 2 <= 126` bits, module docs) proves that none overflows.
+#[allow(clippy::type_complexity)]
+fn as_i128<const D: usize>(planes: &[([BigInt; D], BigInt)]) -> Option<Vec<([i128; D], i128)>> {
     let bits_a = planes
         .iter()
         .flat_map(|(a, _)| a.iter().map(|x| x.bits()))
         .max()
         .unwrap_or(0);
     let bits_b = planes.iter().map(|(_, b)| b.bits()).max().unwrap_or(0);
-    if D as u64 * bits_a + bits_b + 2 * D as u64 + 2 <= 126 {
-        let small: Vec<([i128; D], i128)> = planes
+    (D as u64 * bits_a + bits_b + 2 * D as u64 + 2 <= 126).then(|| {
+        planes
             .iter()
             .map(|(a, b)| {
                 (
@@ -252,11 +263,8 @@ pub fn sphere_uncovered<const D: usize>(centre: &Point<D>, others: &[Point<D>], 
                     b.to_i128().unwrap_or(0),
                 )
             })
-            .collect();
-        nearest_first::<i128, D>(&small, &beyond)
-    } else {
-        nearest_first::<BigInt, D>(&planes, &beyond)
-    }
+            .collect()
+    })
 }
 
 /// Whether the sphere of radius `r_centre` around `centre` is **not** covered by the closed
@@ -408,22 +416,7 @@ pub fn sphere_uncovered_power<const D: usize>(
         r_f64: r_centre,
         unit_f64: 2f64.powi(e_min) * 2f64.powi(t as i32),
     };
-    let bits_a = planes
-        .iter()
-        .flat_map(|(a, _)| a.iter().map(|x| x.bits()))
-        .max()
-        .unwrap_or(0);
-    let bits_b = planes.iter().map(|(_, b)| b.bits()).max().unwrap_or(0);
-    if D as u64 * bits_a + bits_b + 2 * D as u64 + 2 <= 126 {
-        let small: Vec<([i128; D], i128)> = planes
-            .iter()
-            .map(|(a, b)| {
-                (
-                    std::array::from_fn(|k| a[k].to_i128().unwrap_or(0)),
-                    b.to_i128().unwrap_or(0),
-                )
-            })
-            .collect();
+    if let Some(small) = as_i128(&planes) {
         if fast {
             nearest_first::<i128, D>(&small, &beyond)
         } else {

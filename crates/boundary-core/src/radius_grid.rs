@@ -95,6 +95,28 @@ impl<const D: usize> RadiusGrid<D> {
             });
         }
     }
+
+    /// The neighbours of particle `i` (other than its exact duplicates) in its own units, as
+    /// `ia` and `ge` use them: `(d_j/r_i − s_j, (p_j − p_i)/r_i, s_j)` with `s_j = r_j/r_i`,
+    /// sorted by the first entry (how far the ball reaches past `p_i`: the likeliest cover
+    /// first). `out` is cleared first.
+    pub fn scaled_neighbours(
+        &self,
+        positions: &[Point<D>],
+        i: usize,
+        out: &mut Vec<(f64, Point<D>, f64)>,
+    ) {
+        let p = positions[i];
+        let r = self.radii[i];
+        out.clear();
+        self.for_each_reaching(&p, r, |j, d2| {
+            if d2 > 0.0 {
+                let s = self.radii[j] / r;
+                out.push((d2.sqrt() / r - s, (positions[j] - p) / r, s));
+            }
+        });
+        out.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    }
 }
 
 #[cfg(test)]

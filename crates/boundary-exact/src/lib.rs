@@ -429,16 +429,22 @@ where
             classify(&p, positions, r, tie, scratch)
         })
         .collect();
+    Ok(assemble(results))
+}
+
+/// The detection from per-particle `(margin, label, decided by the exact predicate)`, with the
+/// number of exact-predicate decisions.
+fn assemble(results: Vec<(f64, bool, bool)>) -> (Detection, usize) {
     let fallbacks = results.iter().filter(|x| x.2).count();
     let labels = results.iter().map(|x| x.1).collect::<Labels>();
     let margins = results.into_iter().map(|x| x.0).collect();
-    Ok((
+    (
         Detection {
             labels,
             margin: Some(margins),
         },
         fallbacks,
-    ))
+    )
 }
 
 /// The label of the particle at `p` whose neighbours are in `scratch.near`: `(margin, label,

@@ -3,7 +3,7 @@
 
 use crate::cell::{self, ConvexCell};
 use crate::{INTERIOR_BAND, U};
-use boundary_core::{exact_cover, DetectError, Detection, Labels, ParticleSet, Point, RadiusGrid};
+use boundary_core::{exact_cover, DetectError, Detection, ParticleSet, Point, RadiusGrid};
 use rayon::prelude::*;
 
 /// The float power cell decides a particle only when every half-space it uses keeps a ball of
@@ -78,16 +78,7 @@ where
             classify(&p, radii[i], positions, radii, tie, scratch)
         })
         .collect();
-    let fallbacks = results.iter().filter(|x| x.2).count();
-    let labels = results.iter().map(|x| x.1).collect::<Labels>();
-    let margins = results.into_iter().map(|x| x.0).collect();
-    Ok((
-        Detection {
-            labels,
-            margin: Some(margins),
-        },
-        fallbacks,
-    ))
+    Ok(crate::assemble(results))
 }
 
 /// `(margin, label, whether the exact predicate decided)` of the particle at `p` of radius
@@ -134,21 +125,7 @@ fn classify<const D: usize, C: ConvexCell<D>>(
         return exact(p, r, positions, radii, scratch, 0.0);
     }
     let cell = &mut scratch.cell;
-    cell.reset_box();
-    let mut reach = (D as f64).sqrt();
-    let settled = 1.0 - INTERIOR_BAND;
-    let mut clips = 0usize;
-    for pl in planes.iter() {
-        if pl.offset >= reach {
-            break;
-        }
-        cell.clip(&pl.n, pl.offset);
-        clips += 1;
-        reach = cell.max_norm2().sqrt();
-        if reach <= settled {
-            break;
-        }
-    }
+    let (reach, clips) = clip_cell(cell, planes, 1.0 - INTERIOR_BAND);
     let margin = reach - 1.0;
     if tie > 0.0 {
         return (margin * r, margin > tie, false);
@@ -195,21 +172,7 @@ fn general_cell<const D: usize, C: ConvexCell<D>>(
 ) -> Option<(f64, bool)> {
     let planes = &scratch.planes;
     let cell = &mut scratch.cell;
-    cell.reset_box();
-    let mut reach = (D as f64).sqrt();
-    let mut clips = 0usize;
-    for pl in planes.iter() {
-        if pl.offset >= reach {
-            break;
-        }
-        cell.clip(&pl.n, pl.offset);
-        clips += 1;
-        let m = cell.max_norm2();
-        if m == 0.0 && cell.vertices().is_empty() {
-            break;
-        }
-        reach = m.sqrt();
-    }
+    let (_, clips) = clip_cell(cell, planes, 0.0);
     let verts = cell.vertices();
     if cell.degenerate() || verts.len() <= D {
         return None;
@@ -316,6 +279,31 @@ fn general_cell<const D: usize, C: ConvexCell<D>>(
                 })
             });
     within.then_some((margin, true))
+}
+
+/// Clips the box by `planes` (sorted by offset) until the next plane lies beyond every
+/// vertex, or every vertex lies within `settled` (interior whatever comes next; 0: never);
+/// returns the largest `|v|` and the number of clips.
+fn clip_cell<const D: usize, C: ConvexCell<D>>(
+    cell: &mut C,
+    planes: &[Plane<D>],
+    settled: f64,
+) -> (f64, usize) {
+    cell.reset_box();
+    let mut reach = (D as f64).sqrt();
+    let mut clips = 0usize;
+    for pl in planes {
+        if pl.offset >= reach {
+            break;
+        }
+        cell.clip(&pl.n, pl.offset);
+        clips += 1;
+        reach = cell.max_norm2().sqrt();
+        if reach <= settled || cell.vertices().is_empty() {
+            break;
+        }
+    }
+    (reach, clips)
 }
 
 /// The exact predicate's label, with the float margin `margin` (0 where none was measured).

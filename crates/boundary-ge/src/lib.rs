@@ -285,6 +285,8 @@ struct Scratch<const D: usize, E> {
     /// Their squared radii in units of `r_i²` (all 1 at a uniform radius).
     radius2: Vec<f64>,
     order: Vec<(f64, Point<D>, f64)>,
+    /// Neighbours from [`RadiusGrid::scaled_neighbours`] (per-particle radii).
+    scaled: Vec<(f64, Point<D>, f64)>,
     /// Arena of neighbour index lists, shared by sibling elements.
     candidates: Vec<u32>,
     stack: Vec<Node<E>>,
@@ -299,6 +301,7 @@ impl<const D: usize, E> Default for Scratch<D, E> {
             centres: Vec::new(),
             radius2: Vec::new(),
             order: Vec::new(),
+            scaled: Vec::new(),
             candidates: Vec::new(),
             stack: Vec::new(),
             children: Vec::new(),
@@ -347,16 +350,10 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
     /// [`Self::gather`] with a radius per particle: centres and radii in units of `r_i`,
     /// ordered by how far each ball reaches past `p_i` (`d_j − r_j`, the likeliest cover first).
     fn gather_radii(&mut self, positions: &[Point<D>], grid: &RadiusGrid<D>, i: usize) {
-        let p = positions[i];
-        let r = grid.radius(i);
-        let order = &mut self.order;
-        order.clear();
-        grid.for_each_reaching(&p, r, |j, d2| {
-            if d2 > 0.0 {
-                let s = grid.radius(j) / r;
-                order.push((d2.sqrt() / r - s, (positions[j] - p) / r, s * s));
-            }
-        });
+        grid.scaled_neighbours(positions, i, &mut self.scaled);
+        self.order.clear();
+        self.order
+            .extend(self.scaled.iter().map(|&(key, q, s)| (key, q, s * s)));
         self.finish_gather();
     }
 

@@ -258,6 +258,8 @@ struct Scratch<const D: usize> {
     balls: Vec<(f64, f64)>,
     /// Sort keys (squared distances at a uniform radius) with centre and ball.
     order: Vec<(f64, Point<D>, (f64, f64))>,
+    /// Neighbours from [`RadiusGrid::scaled_neighbours`] (per-particle radii).
+    scaled: Vec<(f64, Point<D>, f64)>,
     /// Arena of neighbour index lists, shared by sibling boxes.
     candidates: Vec<u32>,
     stack: Vec<QueryBox<D>>,
@@ -273,6 +275,7 @@ impl<const D: usize> Default for Scratch<D> {
             centres: Vec::new(),
             balls: Vec::new(),
             order: Vec::new(),
+            scaled: Vec::new(),
             candidates: Vec::new(),
             stack: Vec::new(),
             keyed: Vec::new(),
@@ -401,17 +404,13 @@ impl<const D: usize> Scratch<D> {
     /// [`Self::gather`] with a radius per particle: centres and radii in units of `r_i`,
     /// ordered by how far each ball reaches past `p_i` (`d_j − r_j`, the likeliest cover first).
     fn gather_radii(&mut self, positions: &[Point<D>], grid: &RadiusGrid<D>, i: usize) {
-        let p = positions[i];
-        let r = grid.radius(i);
-        let order = &mut self.order;
-        order.clear();
-        grid.for_each_reaching(&p, r, |j, d2| {
-            if d2 > 0.0 {
-                let s = grid.radius(j) / r;
-                let ball = (s * s, image_error(D, s));
-                order.push((d2.sqrt() / r - s, (positions[j] - p) / r, ball));
-            }
-        });
+        grid.scaled_neighbours(positions, i, &mut self.scaled);
+        self.order.clear();
+        self.order.extend(
+            self.scaled
+                .iter()
+                .map(|&(key, q, s)| (key, q, (s * s, image_error(D, s)))),
+        );
         self.finish_gather();
     }
 

@@ -30,21 +30,7 @@ pub fn uncovered_by_enumeration<const D: usize>(
     let c: Vec<BigRational> = centre.iter().map(|&x| rational(x)).collect();
     let two = BigRational::from_integer(BigInt::from(2));
     // Planes a·x <= b in coordinates relative to the centre.
-    let mut planes: Vec<(Vec<BigRational>, BigRational)> = Vec::new();
-    for axis in 0..D {
-        for sign in [1, -1] {
-            let a: Vec<BigRational> = (0..D)
-                .map(|k| {
-                    if k == axis {
-                        BigRational::from_integer(BigInt::from(sign))
-                    } else {
-                        BigRational::zero()
-                    }
-                })
-                .collect();
-            planes.push((a, &two * &r));
-        }
-    }
+    let mut planes = box_planes(D, &two * &r);
     let limit = &two * &two * &r * &r;
     for p in others {
         let q: Vec<BigRational> = (0..D).map(|k| rational(p[k]) - &c[k]).collect();
@@ -116,21 +102,7 @@ pub fn power_uncovered_by_enumeration<const D: usize>(
     let rc = rational(r);
     let c: Vec<BigRational> = centre.iter().map(|&x| rational(x)).collect();
     let two = BigRational::from_integer(BigInt::from(2));
-    let mut planes: Vec<(Vec<BigRational>, BigRational)> = Vec::new();
-    for axis in 0..D {
-        for sign in [1, -1] {
-            let a: Vec<BigRational> = (0..D)
-                .map(|k| {
-                    if k == axis {
-                        BigRational::from_integer(BigInt::from(sign))
-                    } else {
-                        BigRational::zero()
-                    }
-                })
-                .collect();
-            planes.push((a, &two * &rc));
-        }
-    }
+    let mut planes = box_planes(D, &two * &rc);
     let r2 = &rc * &rc;
     for (p, rj) in others {
         let rj = rational(*rj);
@@ -170,6 +142,26 @@ pub fn power_uncovered_by_enumeration<const D: usize>(
             .into_iter()
             .any(|ids| least_norm(&planes, &ids).is_some_and(|x| norm2(&x) < r2 && feasible(&x)))
     })
+}
+
+/// The faces of the box `|x_k| <= half` as planes `a·x <= b`.
+fn box_planes(d: usize, half: BigRational) -> Vec<(Vec<BigRational>, BigRational)> {
+    let mut planes = Vec::new();
+    for axis in 0..d {
+        for sign in [1, -1] {
+            let a: Vec<BigRational> = (0..d)
+                .map(|k| {
+                    if k == axis {
+                        BigRational::from_integer(BigInt::from(sign))
+                    } else {
+                        BigRational::zero()
+                    }
+                })
+                .collect();
+            planes.push((a, half.clone()));
+        }
+    }
+    planes
 }
 
 /// Every `k`-subset of `0..m`, in lexicographic order.
