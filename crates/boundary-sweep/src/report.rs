@@ -188,6 +188,7 @@ pub fn report_md(outcome: &Outcome, header: &str) -> String {
             );
         }
     }
+    md.push_str(&parallel_efficiency(outcome));
     let _ = writeln!(md, "\nPublished (JCP Table 3, i7-8750H, 1 and 6 cores):\n");
     let _ = writeln!(
         md,
@@ -253,6 +254,59 @@ pub fn report_md(outcome: &Outcome, header: &str) -> String {
                 row.error.as_deref().unwrap_or("")
             );
         }
+    }
+    md
+}
+
+/// Per method, pooled over the scenes timed both ways at default parameters: the speedup
+/// `Σ t(1 thread) / Σ t(all threads)` and the parallel efficiency `speedup / threads`, flagged
+/// where more threads made the method slower.
+fn parallel_efficiency(outcome: &Outcome) -> String {
+    let mut md = String::new();
+    let mut methods: Vec<&str> = Vec::new();
+    for row in &outcome.rows {
+        if row.is_default && !methods.contains(&row.method.as_str()) {
+            methods.push(&row.method);
+        }
+    }
+    let mut lines = Vec::new();
+    for method in methods {
+        let timed: Vec<&Row> = outcome
+            .rows
+            .iter()
+            .filter(|r| r.method == method && r.is_default && r.seconds_1.is_some())
+            .collect();
+        let one: f64 = timed.iter().filter_map(|r| r.seconds_1).sum();
+        let all: f64 = timed.iter().map(|r| r.seconds_all).sum();
+        let Some(threads) = timed.first().map(|r| r.threads) else {
+            continue;
+        };
+        if all <= 0.0 || threads < 2 {
+            continue;
+        }
+        let speedup = one / all;
+        lines.push(format!(
+            "| {method} | {} | {one:.3} | {all:.3} | {threads} | {speedup:.2} | {:.2}{} |",
+            timed.len(),
+            speedup / threads as f64,
+            if speedup < 1.0 {
+                " (slower with more threads)"
+            } else {
+                ""
+            }
+        ));
+    }
+    if lines.is_empty() {
+        return md;
+    }
+    let _ = writeln!(
+        md,
+        "\nParallel efficiency per method, pooled over the scenes above (small scenes: the \
+         thread start-up weighs; one run):\n\n| Method | scenes | 1 thread (s) | all threads (s) | \
+         threads | speedup | efficiency |\n|---|---|---|---|---|---|---|"
+    );
+    for line in lines {
+        let _ = writeln!(md, "{line}");
     }
     md
 }
@@ -370,5 +424,36 @@ mod tests {
         assert!(md.contains("`gone`: no such file"));
         assert!(md.contains("## Parameter sweeps"));
         assert!(md.contains("ia (depth=2)"));
+    }
+
+    /// The pooled speedup is Σ t1 / Σ t over the default rows of a method, and a method that
+    /// got slower with more threads is flagged.
+    #[test]
+    fn parallel_efficiency_pools_the_scenes_and_flags_slowdowns() {
+        let c = Confusion {
+            tp: 1,
+            tn: 1,
+            fp: 0,
+            fn_: 0,
+        };
+        let mut outcome = sample();
+        let mut other = row("exact", "", c, 0.6, 0.3);
+        other.scene = "second".into();
+        outcome.rows.push(other);
+        outcome.rows.push(row("hpr", "", c, 0.1, 0.2));
+        let md = report_md(&outcome, "test");
+        // exact: (0.2 + 0.6) / (0.1 + 0.3) = 2.00 on 2 threads: efficiency 1.00.
+        assert!(
+            md.contains("| exact | 2 | 0.800 | 0.400 | 2 | 2.00 | 1.00 |"),
+            "{md}"
+        );
+        assert!(
+            md.contains("| ia | 1 | 0.500 | 0.250 | 2 | 2.00 | 1.00 |"),
+            "{md}"
+        );
+        assert!(
+            md.contains("| hpr | 1 | 0.100 | 0.200 | 2 | 0.50 | 0.25 (slower with more threads) |"),
+            "{md}"
+        );
     }
 }
