@@ -249,7 +249,13 @@ fn detect_with<const D: usize, E: Element<D> + Send + Sync>(
                 (_, Some(grid)) => scratch.gather_radii(positions, grid, i),
                 (None, None) => unreachable!("one grid is built"),
             }
-            scratch.is_boundary(&first, depth)
+            // Monomorphised twice: at a uniform radius every ball is the unit ball, as
+            // constants, so that path costs what it did before per-particle radii.
+            if radii.is_none() {
+                scratch.is_boundary::<true>(&first, depth)
+            } else {
+                scratch.is_boundary::<false>(&first, depth)
+            }
         })
         .collect::<Vec<bool>>()
         .into_iter()
@@ -282,9 +288,10 @@ struct Node<E> {
 struct Scratch<const D: usize, E> {
     /// Neighbour centres `q_j = (p_j − p_i)/r`, nearest first.
     centres: Vec<Point<D>>,
-    /// Their squared radii in units of `r_i²` (all 1 at a uniform radius).
-    radius2: Vec<f64>,
-    order: Vec<(f64, Point<D>, f64)>,
+    /// Their balls with per-particle radii: `(s, s², inner)`, `s = r_j/r_i`, `inner` the
+    /// squared distance a vertex must not exceed to count as inside ([`against_ball`]).
+    balls: Vec<(f64, f64, f64)>,
+    order: Vec<(f64, Point<D>)>,
     /// Neighbours from [`RadiusGrid::scaled_neighbours`] (per-particle radii).
     scaled: Vec<(f64, Point<D>, f64)>,
     /// Arena of neighbour index lists, shared by sibling elements.
@@ -299,7 +306,7 @@ impl<const D: usize, E> Default for Scratch<D, E> {
     fn default() -> Self {
         Scratch {
             centres: Vec::new(),
-            radius2: Vec::new(),
+            balls: Vec::new(),
             order: Vec::new(),
             scaled: Vec::new(),
             candidates: Vec::new(),
@@ -311,12 +318,16 @@ impl<const D: usize, E> Default for Scratch<D, E> {
 }
 
 /// The label of one slab against one ball of squared radius `s2` at `q` (1 at a uniform
-/// radius): `Some(true)` if every vertex is inside (with [`COVER_MARGIN`]`·max(1, s2)`),
-/// `Some(false)` if every vertex is outside, `None` otherwise.
+/// radius): `Some(true)` if every vertex is inside (`|v − q|² <= inner`, where `inner = s2 −`
+/// [`COVER_MARGIN`]`·max(1, s2)`: [`inner`]), `Some(false)` if every vertex is outside,
+/// `None` otherwise.
 #[inline]
-fn against_ball<const D: usize>(slab: &[Point<D>], q: &Point<D>, s2: f64) -> Option<bool> {
+fn against_ball<const D: usize>(
+    slab: &[Point<D>],
+    q: &Point<D>,
+    (s2, inner): (f64, f64),
+) -> Option<bool> {
     let (mut inside, mut outside) = (false, false);
-    let inner = s2 - COVER_MARGIN * s2.max(1.0);
     for v in slab {
         let d2 = (v - q).norm_squared();
         if d2 <= inner {
@@ -333,6 +344,12 @@ fn against_ball<const D: usize>(slab: &[Point<D>], q: &Point<D>, s2: f64) -> Opt
     Some(inside)
 }
 
+/// The squared distance within which a slab vertex counts as inside a ball of squared radius
+/// `s2`: `s2 − COVER_MARGIN·max(1, s2)` (the rounding of `|v − q|²` grows with `s2`).
+fn inner(s2: f64) -> f64 {
+    s2 - COVER_MARGIN * s2.max(1.0)
+}
+
 impl<const D: usize, E: Element<D>> Scratch<D, E> {
     /// Scaled neighbour centres of particle `i`, nearest first; duplicates of `p_i` skipped.
     fn gather(&mut self, positions: &[Point<D>], grid: &NeighbourGrid<D>, i: usize, r: f64) {
@@ -341,29 +358,27 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
         order.clear();
         grid.for_each_within(&p, 2.0 * r, |j, d2| {
             if d2 > 0.0 {
-                order.push((d2, (positions[j] - p) / r, 1.0));
+                order.push((d2, (positions[j] - p) / r));
             }
         });
-        self.finish_gather();
-    }
-
-    /// [`Self::gather`] with a radius per particle: centres and radii in units of `r_i`,
-    /// ordered by how far each ball reaches past `p_i` (`d_j − r_j`, the likeliest cover first).
-    fn gather_radii(&mut self, positions: &[Point<D>], grid: &RadiusGrid<D>, i: usize) {
-        grid.scaled_neighbours(positions, i, &mut self.scaled);
-        self.order.clear();
-        self.order
-            .extend(self.scaled.iter().map(|&(key, q, s)| (key, q, s * s)));
-        self.finish_gather();
-    }
-
-    fn finish_gather(&mut self) {
-        let order = &mut self.order;
         order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
         self.centres.clear();
-        self.centres.extend(order.iter().map(|&(_, q, _)| q));
-        self.radius2.clear();
-        self.radius2.extend(order.iter().map(|&(_, _, s2)| s2));
+        self.centres.extend(order.iter().map(|&(_, q)| q));
+        self.last_cover = usize::MAX;
+    }
+
+    /// [`Self::gather`] with a radius per particle ([`RadiusGrid::scaled_neighbours`]):
+    /// centres and balls in units of `r_i`, the likeliest cover (smallest `d_j − r_j`) first.
+    fn gather_radii(&mut self, positions: &[Point<D>], grid: &RadiusGrid<D>, i: usize) {
+        grid.scaled_neighbours(positions, i, &mut self.scaled);
+        self.centres.clear();
+        self.centres.extend(self.scaled.iter().map(|&(_, q, _)| q));
+        self.balls.clear();
+        self.balls.extend(
+            self.scaled
+                .iter()
+                .map(|&(_, _, s)| (s, s * s, inner(s * s))),
+        );
         self.last_cover = usize::MAX;
     }
 
@@ -375,11 +390,26 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
     /// Only the order of the tests differs from the paper's loop, never the label: balls beyond
     /// the element's reach (see [`Element::reach`]) have every vertex outside, and the ball
     /// whose centre is nearest the element is tried first as the likeliest to cover it.
-    fn label(&mut self, node: &Node<E>, slab: &[Point<D>], list_start: usize) -> Label {
+    /// Ball `j` as `(s², inner)` for [`against_ball`]: constants at a uniform radius.
+    #[inline]
+    fn ball<const UNIFORM: bool>(&self, j: usize) -> (f64, f64) {
+        if UNIFORM {
+            (1.0, 1.0 - COVER_MARGIN)
+        } else {
+            (self.balls[j].1, self.balls[j].2)
+        }
+    }
+
+    fn label<const UNIFORM: bool>(
+        &mut self,
+        node: &Node<E>,
+        slab: &[Point<D>],
+        list_start: usize,
+    ) -> Label {
         // The ball that covered the previous element first: consecutive elements of the
         // depth-first order are neighbours on S_i, often inside the same ball.
         if let Some(q) = self.centres.get(self.last_cover) {
-            if against_ball(slab, q, self.radius2[self.last_cover]) == Some(true) {
+            if against_ball(slab, q, self.ball::<UNIFORM>(self.last_cover)) == Some(true) {
                 return Label::Covered;
             }
         }
@@ -388,12 +418,12 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
         for k in node.start..node.start + node.len {
             let j = self.candidates[k];
             let d2 = (self.centres[j as usize] - centre).norm_squared();
-            let s2 = self.radius2[j as usize];
-            // At a uniform radius s = 1 exactly: the test of the paper, (1 + reach)².
-            let far = if s2 == 1.0 {
+            // At a uniform radius the test of the paper, (1 + reach)²; else (s + reach)² with
+            // s rounded up.
+            let far = if UNIFORM {
                 (1.0 + reach) * (1.0 + reach)
             } else {
-                let s = s2.sqrt() * (1.0 + 1e-12);
+                let s = self.balls[j as usize].0 * (1.0 + 1e-12);
                 (s + reach) * (s + reach)
             };
             if d2 <= far {
@@ -411,7 +441,7 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
         let mut label = Label::Uncovered;
         for k in list_start..self.candidates.len() {
             let j = self.candidates[k] as usize;
-            match against_ball(slab, &self.centres[j], self.radius2[j]) {
+            match against_ball(slab, &self.centres[j], self.ball::<UNIFORM>(j)) {
                 Some(true) => {
                     self.last_cover = j;
                     return Label::Covered;
@@ -424,7 +454,7 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
     }
 
     /// Algorithm 3 for the gathered neighbours: true if boundary.
-    fn is_boundary(&mut self, first: &[E], max_depth: u32) -> bool {
+    fn is_boundary<const UNIFORM: bool>(&mut self, first: &[E], max_depth: u32) -> bool {
         if self.centres.is_empty() {
             return true;
         }
@@ -441,7 +471,7 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
         while let Some(node) = self.stack.pop() {
             let slab = node.element.slab();
             let list_start = self.candidates.len();
-            match self.label(&node, slab.as_ref(), list_start) {
+            match self.label::<UNIFORM>(&node, slab.as_ref(), list_start) {
                 Label::Covered => self.candidates.truncate(list_start), // R2
                 Label::Uncovered => return true,                        // R1
                 Label::Partial if node.element.depth() >= max_depth => return true, // R4
@@ -472,16 +502,22 @@ mod tests {
     fn a_ball_covers_a_slab_only_with_every_vertex_inside() {
         let slab = [Point::<2>::new(0.0, 0.0), Point::<2>::new(0.5, 0.0)];
         assert_eq!(
-            against_ball(&slab, &Point::<2>::new(0.25, 0.0), 1.0),
+            against_ball(&slab, &Point::<2>::new(0.25, 0.0), (1.0, inner(1.0))),
             Some(true)
         );
         assert_eq!(
-            against_ball(&slab, &Point::<2>::new(5.0, 0.0), 1.0),
+            against_ball(&slab, &Point::<2>::new(5.0, 0.0), (1.0, inner(1.0))),
             Some(false)
         );
-        assert_eq!(against_ball(&slab, &Point::<2>::new(1.2, 0.0), 1.0), None);
+        assert_eq!(
+            against_ball(&slab, &Point::<2>::new(1.2, 0.0), (1.0, inner(1.0))),
+            None
+        );
         // A vertex exactly on the sphere is not inside (margin), nor outside.
-        assert_eq!(against_ball(&slab, &Point::<2>::new(1.0, 0.0), 1.0), None);
+        assert_eq!(
+            against_ball(&slab, &Point::<2>::new(1.0, 0.0), (1.0, inner(1.0))),
+            None
+        );
     }
 
     #[test]

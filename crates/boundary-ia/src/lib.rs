@@ -226,7 +226,13 @@ fn detect_with<const D: usize>(
                 (_, Some(grid)) => scratch.gather_radii(positions, grid, i),
                 (None, None) => unreachable!("one grid is built"),
             }
-            scratch.is_boundary(depth)
+            // Monomorphised twice: at a uniform radius every ball is (1, IMAGE_ERROR), as
+            // constants, so that path costs what it did before per-particle radii.
+            if radii.is_none() {
+                scratch.is_boundary::<true>(depth)
+            } else {
+                scratch.is_boundary::<false>(depth)
+            }
         })
         .collect::<Vec<bool>>()
         .into_iter()
@@ -253,11 +259,12 @@ struct QueryBox<const D: usize> {
 struct Scratch<const D: usize> {
     /// Neighbour centres `q_j = (p_j − p_i)/r`, nearest first.
     centres: Vec<Point<D>>,
-    /// Per neighbour: its squared radius in units of `r_i²` (1 at a uniform radius) and the
-    /// bound on the rounding of its box images ([`IMAGE_ERROR`] at a uniform radius).
+    /// Per neighbour with per-particle radii: its squared radius in units of `r_i²` and the
+    /// bound on the rounding of its box images (at a uniform radius: `(1, IMAGE_ERROR)`, not
+    /// stored).
     balls: Vec<(f64, f64)>,
-    /// Sort keys (squared distances at a uniform radius) with centre and ball.
-    order: Vec<(f64, Point<D>, (f64, f64))>,
+    /// Squared distances for sorting, with the centres.
+    order: Vec<(f64, Point<D>)>,
     /// Neighbours from [`RadiusGrid::scaled_neighbours`] (per-particle radii).
     scaled: Vec<(f64, Point<D>, f64)>,
     /// Arena of neighbour index lists, shared by sibling boxes.
@@ -395,37 +402,41 @@ impl<const D: usize> Scratch<D> {
         order.clear();
         grid.for_each_within(&p, 2.0 * r, |j, d2| {
             if d2 > 0.0 {
-                order.push((d2, (positions[j] - p) / r, (1.0, IMAGE_ERROR)));
+                order.push((d2, (positions[j] - p) / r));
             }
         });
-        self.finish_gather();
-    }
-
-    /// [`Self::gather`] with a radius per particle: centres and radii in units of `r_i`,
-    /// ordered by how far each ball reaches past `p_i` (`d_j − r_j`, the likeliest cover first).
-    fn gather_radii(&mut self, positions: &[Point<D>], grid: &RadiusGrid<D>, i: usize) {
-        grid.scaled_neighbours(positions, i, &mut self.scaled);
-        self.order.clear();
-        self.order.extend(
-            self.scaled
-                .iter()
-                .map(|&(key, q, s)| (key, q, (s * s, image_error(D, s)))),
-        );
-        self.finish_gather();
-    }
-
-    fn finish_gather(&mut self) {
-        let order = &mut self.order;
         order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
         self.centres.clear();
-        self.centres.extend(order.iter().map(|&(_, q, _)| q));
-        self.balls.clear();
-        self.balls.extend(order.iter().map(|&(_, _, ball)| ball));
+        self.centres.extend(order.iter().map(|&(_, q)| q));
         self.last_cover = usize::MAX;
     }
 
-    /// Algorithm 3 for the gathered neighbours: true if boundary.
-    fn is_boundary(&mut self, max_depth: u32) -> bool {
+    /// [`Self::gather`] with a radius per particle ([`RadiusGrid::scaled_neighbours`]):
+    /// centres and balls in units of `r_i`, the likeliest cover (smallest `d_j − r_j`) first.
+    fn gather_radii(&mut self, positions: &[Point<D>], grid: &RadiusGrid<D>, i: usize) {
+        grid.scaled_neighbours(positions, i, &mut self.scaled);
+        self.centres.clear();
+        self.centres.extend(self.scaled.iter().map(|&(_, q, _)| q));
+        self.balls.clear();
+        self.balls.extend(
+            self.scaled
+                .iter()
+                .map(|&(_, _, s)| (s * s, image_error(D, s))),
+        );
+        self.last_cover = usize::MAX;
+    }
+
+    /// Ball `j` as `(s², rounding bound)`: constants at a uniform radius (`UNIFORM`).
+    #[inline]
+    fn ball<const UNIFORM: bool>(&self, j: usize) -> (f64, f64) {
+        if UNIFORM {
+            (1.0, IMAGE_ERROR)
+        } else {
+            self.balls[j]
+        }
+    }
+
+    fn is_boundary<const UNIFORM: bool>(&mut self, max_depth: u32) -> bool {
         if self.centres.is_empty() {
             return true;
         }
@@ -443,7 +454,9 @@ impl<const D: usize> Scratch<D> {
             // order are neighbours, often inside the same ball. Only the order of the tests
             // changes, never the label (covered if any ball covers).
             if let Some(c) = self.centres.get(self.last_cover) {
-                if relation(&q.lo, q.size, c, self.balls[self.last_cover]) == Relation::Inside {
+                if relation(&q.lo, q.size, c, self.ball::<UNIFORM>(self.last_cover))
+                    == Relation::Inside
+                {
                     continue; // R2
                 }
             }
@@ -452,7 +465,7 @@ impl<const D: usize> Scratch<D> {
             self.keyed.clear();
             for k in q.start..q.start + q.len {
                 let j = self.candidates[k];
-                let ball = self.balls[j as usize];
+                let ball = self.ball::<UNIFORM>(j as usize);
                 let f = image(&q.lo, q.size, &self.centres[j as usize], ball.0);
                 match classify(f, ball.1) {
                     Relation::Inside => {
