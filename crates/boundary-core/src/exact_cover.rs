@@ -191,15 +191,7 @@ pub fn sphere_uncovered<const D: usize>(centre: &Point<D>, others: &[Point<D>], 
     near.dedup();
     let qs: Vec<[BigInt; D]> = near.into_iter().map(|(_, q)| q).collect();
     // Box half-width R: the power of two with r <= R (in the unit 2^E: r_int <= 2^k).
-    let k_box = {
-        let bits = r_int.bits();
-        // 2^(bits-1) <= r_int < 2^bits; r_int is a power of two iff it has one bit set.
-        if r_int.trailing_zeros() == Some(bits - 1) {
-            bits - 1
-        } else {
-            bits
-        }
-    };
+    let k_box = box_exponent(&r_int);
     // Divide everything by the common power of two t (R = 2^k_box keeps it integral).
     let mut t = k_box;
     for q in &qs {
@@ -241,6 +233,18 @@ pub fn sphere_uncovered<const D: usize>(centre: &Point<D>, others: &[Point<D>], 
         nearest_first::<i128, D>(&small, &beyond)
     } else {
         nearest_first::<BigInt, D>(&planes, &beyond)
+    }
+}
+
+/// The exponent `k` of the box half-width `R = 2^k`: the smallest power of two `>= r`
+/// (`r` a positive integer in the common unit): `2^(bits−1) <= r < 2^bits`, and `r` is a
+/// power of two iff it has one bit set.
+fn box_exponent(r: &BigInt) -> u64 {
+    let bits = r.bits();
+    if r.trailing_zeros() == Some(bits - 1) {
+        bits - 1
+    } else {
+        bits
     }
 }
 
@@ -365,14 +369,7 @@ pub fn sphere_uncovered_power<const D: usize>(
             .then_with(|| x.2.cmp(&y.2))
     });
     near.dedup_by(|x, y| x.1 == y.1 && x.2 == y.2);
-    let k_box = {
-        let bits = rc.bits();
-        if rc.trailing_zeros() == Some(bits - 1) {
-            bits - 1
-        } else {
-            bits
-        }
-    };
+    let k_box = box_exponent(&rc);
     // Divide every length by the common power of two 2^t that keeps the planes integral:
     // t <= k_box (R), t <= the trailing zeros of every q_j component, and 4^t divides every
     // r_c² − r_j² (nothing with equal radii, so t is that of `sphere_uncovered`). Then

@@ -145,6 +145,9 @@
 //!   `1e-12` of slack) settles the particle first: interior. Margins are the float margins
 //!   (`min(max |v| − 1, 1 − min |y|)·r_i` in the general case), `0` where the exact predicate
 //!   decided without a float cell.
+//! - With the opt-in `tie > 0`, a particle is boundary iff its float margin exceeds `tie·r_i`,
+//!   as at a uniform radius; a particle without a float margin (no interior point to bound
+//!   the error about) is decided by the exact predicate.
 //! - Neighbours come from [`boundary_core::RadiusGrid`] (one grid per radius level, so radii
 //!   100x apart cost no more than the neighbours that really reach). How often the exact
 //!   predicate decides (`cargo run --release -p boundary-dilts --example fallbacks`): 33 of
