@@ -389,3 +389,33 @@ pub fn jittered_lattice_disc(radius: f64, jitter: f64, seed: u64) -> ParticleSet
     });
     ParticleSet::new(points).expect("generated coordinates are finite")
 }
+
+/// The scale-tier analogue of the JCP Enright test (JCP Fig. 14, Table 3): the sphere of radius
+/// 0.15 at (0.35, 0.35, 0.35) of the `enright3d_*` scenes, filled with about `n` particles (the
+/// spacing `h` chosen from the sphere's volume, jitter ±0.05h, seed 3) and advected by
+/// [`enright`] (T = 3) to time `t` with RK4 steps of `dt` (in parallel). Returns the set and `h`;
+/// the scenes use `r = 1.5h`, as the fixtures do.
+pub fn enright_sphere(n: usize, t: f64, dt: f64) -> (ParticleSet<3>, f64) {
+    use rayon::prelude::*;
+    let (radius, period) = (0.15, 3.0);
+    let c = Point::<3>::new(0.35, 0.35, 0.35);
+    let volume = 4.0 / 3.0 * PI * radius * radius * radius;
+    let h = (volume / n.max(1) as f64).cbrt();
+    let start = fill(
+        [c[0] - radius; 3],
+        [c[0] + radius; 3],
+        h,
+        0.05,
+        &mut StdRng::seed_from_u64(3),
+        |p| (p - c).norm() <= radius,
+    );
+    let steps = ((t / dt).ceil() as usize).max(1);
+    let points = start
+        .into_par_iter()
+        .map(|p| rk4(p, 0.0, t, steps, |q, s| enright(q, s, period)))
+        .collect();
+    (
+        ParticleSet::new(points).expect("generated coordinates are finite"),
+        h,
+    )
+}

@@ -23,8 +23,8 @@ pub mod mesh;
 mod shared;
 
 pub use generate::{
-    all_scenes, enright, fill, jittered_lattice_ball, jittered_lattice_disc, rk4, single_vortex,
-    Scene,
+    all_scenes, enright, enright_sphere, fill, jittered_lattice_ball, jittered_lattice_disc, rk4,
+    single_vortex, Scene,
 };
 pub use manifest::{Manifest, Origin, SceneEntry, SceneError, SHARED_SCENES};
 pub use shared::{SharedData, ALLOW_MISSING_DATA_VAR};

@@ -1,6 +1,7 @@
 //! The comparison sweep: every detector over every scene, scored against `exact`, timed on one
 //! thread and on all threads. `cargo xtask sweep` runs the `boundary-sweep` binary, which
-//! writes `target/sweep/{results.csv, report.md, *.svg, *.png}`.
+//! writes `target/sweep/{results.csv, scale.csv, report.md, *.svg, *.png}`; [`scale`] is the tier of
+//! large generated sets.
 //!
 //! The library half (this file) runs the sweep and returns rows; [`report`] and [`plots`]
 //! turn rows into files. Scenes come from `fixtures/scenes.toml` (our generated scenes and
@@ -10,6 +11,7 @@ pub mod failures;
 pub mod plots;
 pub mod published;
 pub mod report;
+pub mod scale;
 
 use boundary::{AnyParticleSet, BoundaryDetector, Confusion, DetectError, Labels, Radius};
 use std::path::PathBuf;
@@ -173,6 +175,8 @@ pub struct Outcome {
     /// Per method without a certificate, its worst scene (lowest M at default parameters, the
     /// first on ties) with labels for the picture; none for a method without any miss.
     pub failure_pictures: Vec<failures::FailurePicture>,
+    /// The scale tier, when it ran ([`scale`]).
+    pub scale: Option<scale::ScaleOutcome>,
 }
 
 /// Options of a sweep run.

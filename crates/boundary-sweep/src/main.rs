@@ -2,8 +2,9 @@
 //! `results.csv`, `report.md` and the plots. Normally started by `cargo xtask sweep`, which
 //! first checks the system prerequisites.
 
-use boundary_sweep::{default_configs, plots, report, run, Options, Progress, SceneSpec};
+use boundary_sweep::{default_configs, plots, report, run, scale, Options, Progress, SceneSpec};
 use clap::Parser;
+use peakmem_alloc::PeakMemAllocTrait;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -38,6 +39,35 @@ struct Args {
     /// Threads for the all-thread runs (default: all cores).
     #[arg(long, default_value_t = 0)]
     threads: usize,
+    /// Skip the scale tier (generated sets of 10^4 .. 10^7 particles; `--quick` skips it too).
+    #[arg(long)]
+    no_scale: bool,
+    /// Scale tier: seconds one run may take, projected from the method's last size, before the
+    /// method's series stops.
+    #[arg(long, default_value_t = scale::DEFAULT_BUDGET)]
+    scale_budget: f64,
+    /// Scale tier: the largest set, in particles.
+    #[arg(long, default_value_t = 10_000_000)]
+    scale_max: usize,
+    /// Scale tier: timed runs per method and set (the median is reported).
+    #[arg(long, default_value_t = scale::DEFAULT_RUNS)]
+    scale_runs: usize,
+}
+
+/// Counts the heap for the scale tier's peak memory (two atomic updates per allocation).
+#[global_allocator]
+static HEAP: &peakmem_alloc::PeakMemAlloc<std::alloc::System> = &peakmem_alloc::INSTRUMENTED_SYSTEM;
+
+/// The scale tier's [`scale::MemoryProbe`] over the counting allocator.
+struct HeapProbe;
+
+impl scale::MemoryProbe for HeapProbe {
+    fn reset(&self) {
+        HEAP.reset_peak_memory();
+    }
+    fn peak_bytes(&self) -> Option<usize> {
+        Some(HEAP.get_peak_memory())
+    }
 }
 
 fn main() {
@@ -49,6 +79,13 @@ fn main() {
 
 fn real_main() -> Result<(), String> {
     let args = Args::parse();
+    if args.scale_budget.is_nan() || args.scale_budget <= 0.0 || args.scale_runs == 0 {
+        return Err(format!(
+            "--scale-budget must be a positive number of seconds (got {}) and --scale-runs at \
+             least 1 (got {})",
+            args.scale_budget, args.scale_runs
+        ));
+    }
     let data_dir = args
         .data_dir
         .clone()
@@ -113,6 +150,56 @@ fn real_main() -> Result<(), String> {
     if tty {
         eprintln!();
     }
+    let scale_scenes: Vec<scale::ScaleScene> = scale::default_scenes(args.scale_max)
+        .into_iter()
+        .filter(|s| {
+            args.scenes.is_empty() || args.scenes.iter().any(|f| s.name.contains(f.as_str()))
+        })
+        .collect();
+    if !(args.quick || args.no_scale || scale_scenes.is_empty()) {
+        let thread_scan = scale_scenes
+            .iter()
+            .any(|s| s.name == scale::THREAD_SCAN_SCENE)
+            .then(|| scale::THREAD_SCAN_SCENE.to_owned());
+        let scale_opts = scale::ScaleOptions {
+            scenes: scale_scenes,
+            methods: methods.iter().map(|m| m.to_string()).collect(),
+            runs: args.scale_runs,
+            budget: args.scale_budget,
+            threads: args.threads,
+            thread_scan,
+        };
+        eprintln!(
+            "sweep: scale tier, {} generated sets up to {} particles, median of {} runs, budget {} s per run",
+            scale_opts.scenes.len(),
+            args.scale_max,
+            scale_opts.runs,
+            scale_opts.budget
+        );
+        let mut step = 0;
+        let mut scale_progress = |what: &str| {
+            step += 1;
+            let line = format!(
+                "[scale {step:>3}] {:>7.1} s  {what}",
+                start.elapsed().as_secs_f64()
+            );
+            let mut err = std::io::stderr();
+            if tty {
+                let _ = write!(err, "\r\x1b[2K{line}");
+                let _ = err.flush();
+            } else {
+                let _ = writeln!(err, "{line}");
+            }
+        };
+        outcome.scale = Some(scale::run_scale(
+            &scale_opts,
+            &HeapProbe,
+            &mut scale_progress,
+        )?);
+        if tty {
+            eprintln!();
+        }
+    }
     skipped.append(&mut outcome.skipped);
     outcome.skipped = skipped;
 
@@ -124,6 +211,9 @@ fn real_main() -> Result<(), String> {
         Ok(path)
     };
     let mut written = vec![write("results.csv", report::results_csv(&outcome.rows))?];
+    if let Some(scale) = &outcome.scale {
+        written.push(write("scale.csv", report::scale_csv(scale))?);
+    }
     let header = format!(
         "{} scenes, {} runs, {} threads for the all-thread runs, {:.1} s in all.{}",
         report::scene_order(&outcome.rows).len(),

@@ -1,8 +1,12 @@
 //! SVG and PNG plots of a sweep (plotters with an embedded DejaVu font: no system font
 //! library is needed).
 //!
-//! - `speed_vs_error_{2d,3d}`: particles/s (all threads) against 1 − M, log scales, one marker
-//!   per method and parameter value, pooled over the scenes of that dimension.
+//! - `speed_vs_error_{2d,3d}`: particles/s (all threads) against 1 − M, log scales. With the
+//!   scale tier: one marker per method at default parameters, its speed from the scale tier
+//!   ([`scale_markers`]); without it (`--quick`, `--no-scale`): one marker per method and
+//!   parameter value, pooled over the scenes of that dimension. 1 − M is pooled over the
+//!   fixture scenes either way.
+//! - `scale_{2d,3d}`: seconds against |P|, log-log, one line per method (the scale tier).
 //! - `features_<scene>`: for 2D scenes, the feature class of each exact boundary particle
 //!   (thesis Sec. 2.6, Fig. 15 colours).
 //! - `depth_{2d,3d}`: false positives and time against depth for `ia` and `ge` (JCP Fig. 7,
@@ -15,6 +19,7 @@
 //!   particle along the slab's axis with all misses on top.
 
 use crate::failures::FailurePicture;
+use crate::scale::ScaleOutcome;
 use crate::{Outcome, Picture, Row};
 use boundary::Confusion;
 use plotters::coord::Shift;
@@ -119,6 +124,151 @@ pub fn markers(rows: &[Row], dim: usize) -> Vec<Marker> {
         .collect()
 }
 
+/// The speed/error markers of one dimension when the scale tier ran: default parameters only,
+/// the error pooled over the fixture scenes as in [`markers`], the speed in particles/s pooled
+/// over the scale scenes of that dimension on which every plotted method has a time (each
+/// method's own scale scenes if there is none in common). Methods without a scale timing in
+/// that dimension are left out.
+pub fn scale_markers(rows: &[Row], scale: &ScaleOutcome, dim: usize) -> Vec<Marker> {
+    let timed = |method: &str, scene: &str| {
+        scale
+            .rows
+            .iter()
+            .find(|r| r.scene == scene && r.method == method)
+            .and_then(|r| r.median().map(|t| (r.n, t)))
+    };
+    let mut ms: Vec<Marker> = markers(rows, dim)
+        .into_iter()
+        .filter(|m| m.tag.is_empty())
+        .filter(|m| {
+            scale
+                .rows
+                .iter()
+                .any(|r| r.dim == dim && r.method == m.method && r.median().is_some())
+        })
+        .collect();
+    let scenes: Vec<&str> = scale
+        .scenes
+        .iter()
+        .map(|(s, _, _)| s.as_str())
+        .filter(|s| scale.rows.iter().any(|r| r.scene == *s && r.dim == dim))
+        .collect();
+    let common: Vec<&str> = scenes
+        .iter()
+        .copied()
+        .filter(|s| ms.iter().all(|m| timed(&m.method, s).is_some()))
+        .collect();
+    for m in &mut ms {
+        let own: Vec<&str> = if common.is_empty() {
+            scenes.clone()
+        } else {
+            common.clone()
+        };
+        let (n, t) = own
+            .iter()
+            .filter_map(|s| timed(&m.method, s))
+            .fold((0usize, 0.0), |(n, t), (a, b)| (n + a, t + b));
+        m.rate = if t > 0.0 { n as f64 / t } else { 0.0 };
+    }
+    ms.retain(|m| m.rate > 0.0);
+    ms
+}
+
+/// Seconds against |P| on log-log axes, one line per method over the lattice series of `dim`;
+/// the Enright scene (3D) as a triangle in the method's colour.
+fn scale_plot<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    scale: &ScaleOutcome,
+    methods: &[String],
+    dim: usize,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE).map_err(err)?;
+    let pts: Vec<(&str, bool, usize, f64)> = scale
+        .rows
+        .iter()
+        .filter(|r| r.dim == dim)
+        .filter_map(|r| {
+            r.median().filter(|&t| t > 0.0).map(|t| {
+                (
+                    r.method.as_str(),
+                    r.scene.starts_with("scale_enright"),
+                    r.n,
+                    t,
+                )
+            })
+        })
+        .collect();
+    if pts.is_empty() {
+        return Ok(());
+    }
+    let nmin = pts.iter().map(|p| p.2).min().unwrap_or(1) as f64 / 1.5;
+    let nmax = pts.iter().map(|p| p.2).max().unwrap_or(1) as f64 * 1.5;
+    let tmin = pts.iter().map(|p| p.3).fold(f64::INFINITY, f64::min) / 2.0;
+    let tmax = pts.iter().map(|p| p.3).fold(0.0, f64::max) * 2.0;
+    let threads = scale.rows.first().map_or(0, |r| r.threads);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!(
+                "{dim}D scale tier: seconds against |P| (median of {}, {threads} threads)",
+                scale.runs
+            ),
+            ("sans-serif", 22),
+        )
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d((nmin..nmax).log_scale(), (tmin..tmax).log_scale())
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("particles")
+        .y_desc("seconds")
+        .x_label_formatter(&|x| format!("{x:.0e}"))
+        .y_label_formatter(&|y| format!("{y:.0e}"))
+        .draw()
+        .map_err(err)?;
+    for method in methods {
+        let colour = colour_of(method, methods);
+        let mut line: Vec<(f64, f64)> = pts
+            .iter()
+            .filter(|p| p.0 == method && !p.1)
+            .map(|p| (p.2 as f64, p.3))
+            .collect();
+        line.sort_by(|a, b| a.0.total_cmp(&b.0));
+        if line.is_empty() {
+            continue;
+        }
+        chart
+            .draw_series(LineSeries::new(line.clone(), colour.stroke_width(2)))
+            .map_err(err)?
+            .label(method.as_str())
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
+        chart
+            .draw_series(line.iter().map(|&p| Circle::new(p, 4, colour.filled())))
+            .map_err(err)?;
+        chart
+            .draw_series(
+                pts.iter()
+                    .filter(|p| p.0 == method && p.1)
+                    .map(|p| TriangleMarker::new((p.2 as f64, p.3), 8, colour.filled())),
+            )
+            .map_err(err)?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(err)?;
+    root.present().map_err(err)
+}
+
 fn method_names(rows: &[Row]) -> Vec<String> {
     let mut names: Vec<String> = Vec::new();
     for row in rows {
@@ -138,6 +288,7 @@ fn speed_vs_error<DB: DrawingBackend>(
     markers: &[Marker],
     methods: &[String],
     dim: usize,
+    from_scale: bool,
 ) -> Result<(), String>
 where
     DB::ErrorType: 'static,
@@ -148,7 +299,14 @@ where
     let ymax = markers.iter().map(|m| m.error).fold(ERROR_FLOOR, f64::max) * 2.0;
     let mut chart = ChartBuilder::on(&root)
         .caption(
-            format!("{dim}D: speed against error (pooled over scenes, all threads)"),
+            if from_scale {
+                format!(
+                    "{dim}D: speed (scale tier, all threads) against error (fixture scenes), \
+                     default parameters"
+                )
+            } else {
+                format!("{dim}D: speed against error (pooled over scenes, all threads)")
+            },
             ("sans-serif", 22),
         )
         .margin(15)
@@ -600,8 +758,22 @@ fn file_stem(scene: &str) -> String {
 pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<PathBuf>, String> {
     let methods = method_names(&outcome.rows);
     let mut written = Vec::new();
+    let mut methods = methods;
+    if let Some(scale) = &outcome.scale {
+        for row in &scale.rows {
+            if !methods.contains(&row.method) {
+                methods.push(row.method.clone());
+            }
+        }
+    }
     for dim in [2, 3] {
-        let ms = markers(&outcome.rows, dim);
+        let scaled = outcome
+            .scale
+            .as_ref()
+            .map(|s| scale_markers(&outcome.rows, s, dim))
+            .filter(|ms| !ms.is_empty());
+        let from_scale = scaled.is_some();
+        let ms = scaled.unwrap_or_else(|| markers(&outcome.rows, dim));
         if !ms.is_empty() {
             let stem = dir.join(format!("speed_vs_error_{dim}d"));
             let svg = stem.with_extension("svg");
@@ -610,11 +782,35 @@ pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<PathBuf>, String> 
                 &ms,
                 &methods,
                 dim,
+                from_scale,
             )?;
             let png = stem.with_extension("png");
             speed_vs_error(
                 BitMapBackend::new(&png, (1000, 700)).into_drawing_area(),
                 &ms,
+                &methods,
+                dim,
+                from_scale,
+            )?;
+            written.extend([svg, png]);
+        }
+        if let Some(scale) = outcome
+            .scale
+            .as_ref()
+            .filter(|s| s.rows.iter().any(|r| r.dim == dim && r.median().is_some()))
+        {
+            let stem = dir.join(format!("scale_{dim}d"));
+            let svg = stem.with_extension("svg");
+            scale_plot(
+                SVGBackend::new(&svg, (1000, 700)).into_drawing_area(),
+                scale,
+                &methods,
+                dim,
+            )?;
+            let png = stem.with_extension("png");
+            scale_plot(
+                BitMapBackend::new(&png, (1000, 700)).into_drawing_area(),
+                scale,
                 &methods,
                 dim,
             )?;
@@ -671,4 +867,122 @@ pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<PathBuf>, String> 
     }
     written.extend(write_failures(&outcome.failure_pictures, dir)?);
     Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scale::ScaleRow;
+
+    fn row(scene: &str, method: &str, params: &str, fp: u64, seconds: f64) -> Row {
+        Row {
+            scene: scene.into(),
+            dim: 3,
+            n: 100,
+            radius: 1.0,
+            method: method.into(),
+            params: params.into(),
+            is_default: params.is_empty(),
+            certified: true,
+            misses: None,
+            confusion: Some(Confusion {
+                tp: 10,
+                tn: 90 - fp,
+                fp,
+                fn_: 0,
+            }),
+            seconds_1: None,
+            seconds_all: seconds,
+            threads: 2,
+            error: None,
+            unsupported: false,
+        }
+    }
+
+    fn scale_row(scene: &str, method: &str, n: usize, seconds: Option<f64>) -> ScaleRow {
+        ScaleRow {
+            scene: scene.into(),
+            dim: 3,
+            n,
+            radius: 1.2,
+            method: method.into(),
+            seconds: seconds.into_iter().collect(),
+            threads: 2,
+            confusion: None,
+            peak_bytes: None,
+            skipped: None,
+        }
+    }
+
+    /// With a scale tier, the speed of a marker comes from the scale scenes every method ran
+    /// (not from the small fixture scenes), the error still from the fixture scenes, and
+    /// parameter variants are left out.
+    #[test]
+    fn scale_markers_take_the_speed_from_the_common_scale_scenes() {
+        let rows = vec![
+            row("small", "exact", "", 0, 0.001),
+            row("small", "ia", "", 9, 0.01),
+            row("small", "ia", "depth=2", 30, 0.002),
+        ];
+        let scale = ScaleOutcome {
+            rows: vec![
+                scale_row("s_10k", "exact", 10_000, Some(0.1)),
+                scale_row("s_10k", "ia", 10_000, Some(1.0)),
+                scale_row("s_1M", "exact", 1_000_000, Some(4.0)),
+                // ia stopped at the budget: the 1M set is not common, so not pooled.
+                scale_row("s_1M", "ia", 1_000_000, None),
+            ],
+            scenes: vec![
+                ("s_10k".into(), String::new(), 0.0),
+                ("s_1M".into(), String::new(), 0.0),
+            ],
+            thread_scan: None,
+            runs: 3,
+            budget: 60.0,
+        };
+        let ms = scale_markers(&rows, &scale, 3);
+        assert_eq!(ms.len(), 2, "{ms:?}");
+        let exact = ms.iter().find(|m| m.method == "exact").unwrap();
+        let ia = ms.iter().find(|m| m.method == "ia").unwrap();
+        assert_eq!(exact.rate, 10_000.0 / 0.1);
+        assert_eq!(ia.rate, 10_000.0 / 1.0);
+        assert_eq!(exact.error, ERROR_FLOOR);
+        // ia: FPR 9/90, M = 0.9.
+        assert!((ia.error - 0.1).abs() < 1e-12);
+        assert!(scale_markers(&rows, &scale, 2).is_empty());
+    }
+
+    #[test]
+    fn the_scale_plot_is_written_for_each_dimension_with_times() {
+        let outcome = Outcome {
+            rows: vec![row("small", "exact", "", 0, 0.001)],
+            scale: Some(ScaleOutcome {
+                rows: vec![
+                    scale_row("scale_ball3d_10k", "exact", 10_000, Some(0.1)),
+                    scale_row("scale_ball3d_100k", "exact", 100_000, Some(1.1)),
+                    scale_row("scale_enright3d_1.9M", "exact", 1_900_000, Some(20.0)),
+                ],
+                scenes: Vec::new(),
+                thread_scan: None,
+                runs: 3,
+                budget: 60.0,
+            }),
+            ..Default::default()
+        };
+        register_font().unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let written = write_all(&outcome, dir.path()).unwrap();
+        let names: Vec<String> = written
+            .iter()
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
+        assert!(names.contains(&"scale_3d.svg".to_owned()), "{names:?}");
+        assert!(names.contains(&"scale_3d.png".to_owned()));
+        assert!(!names.iter().any(|n| n.starts_with("scale_2d")));
+        let svg = std::fs::read_to_string(dir.path().join("scale_3d.svg")).unwrap();
+        assert!(
+            svg.contains("exact") && svg.contains("seconds against"),
+            "{svg}"
+        );
+    }
 }

@@ -1,6 +1,7 @@
 //! `results.csv` and `report.md` from sweep rows.
 
 use crate::published::{experiment_for, ACCURACY, EXPERIMENTS, TIMINGS};
+use crate::scale::{ScaleOutcome, ScaleRow, ThreadRun};
 use crate::{Outcome, Row};
 use std::fmt::Write as _;
 
@@ -210,6 +211,10 @@ pub fn report_md(outcome: &Outcome, header: &str) -> String {
             t.rate
         );
     }
+    if let Some(scale) = &outcome.scale {
+        md.push('\n');
+        md.push_str(&scale_md(scale));
+    }
 
     let swept: Vec<&Row> = outcome.rows.iter().filter(|r| !r.is_default).collect();
     if !swept.is_empty() {
@@ -351,6 +356,256 @@ pub fn scene_order(rows: &[Row]) -> Vec<(String, usize, usize, f64)> {
     seen
 }
 
+/// The columns of `scale.csv`, in order.
+pub const SCALE_CSV_HEADER: &str = "scene,dim,n,r,method,threads,runs,seconds_median,seconds_runs,particles_per_s,peak_bytes,bytes_per_particle,TP,TN,FP,FN,Rec,FPR,M,skipped";
+
+/// `scale.csv`: one line per (scale scene, method); `seconds_runs` lists every run, `;`-separated.
+pub fn scale_csv(scale: &ScaleOutcome) -> String {
+    let mut out = String::from(SCALE_CSV_HEADER);
+    out.push('\n');
+    for row in &scale.rows {
+        let opt =
+            |v: Option<f64>, digits: usize| v.map(|v| format!("{v:.digits$}")).unwrap_or_default();
+        let runs: Vec<String> = row.seconds.iter().map(|s| format!("{s:.6}")).collect();
+        let scores = match row.confusion {
+            Some(c) => format!(
+                "{},{},{},{},{:.6},{:.6},{:.6}",
+                c.tp,
+                c.tn,
+                c.fp,
+                c.fn_,
+                c.recall(),
+                c.fpr(),
+                c.m()
+            ),
+            None => ",,,,,,".into(),
+        };
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            row.scene,
+            row.dim,
+            row.n,
+            row.radius,
+            row.method,
+            row.threads,
+            row.seconds.len(),
+            opt(row.median(), 6),
+            runs.join(";"),
+            opt(row.rate(), 1),
+            row.peak_bytes.map(|b| b.to_string()).unwrap_or_default(),
+            opt(row.bytes_per_particle(), 1),
+            scores,
+            csv_field(row.skipped.as_deref().unwrap_or("")),
+        );
+    }
+    out
+}
+
+/// The methods of the scale rows, in first-seen order.
+fn scale_methods(scale: &ScaleOutcome) -> Vec<&str> {
+    let mut methods: Vec<&str> = Vec::new();
+    for row in &scale.rows {
+        if !methods.contains(&row.method.as_str()) {
+            methods.push(&row.method);
+        }
+    }
+    methods
+}
+
+/// A scene × method table of `cell(row)` ("—" where the method did not run).
+fn scale_matrix(scale: &ScaleOutcome, cell: impl Fn(&ScaleRow) -> Option<String>) -> String {
+    let methods = scale_methods(scale);
+    let mut md = format!("| Scene | \\|P\\| | {} |\n|---|---|", methods.join(" | "));
+    md.push_str(&"---|".repeat(methods.len()));
+    md.push('\n');
+    for (scene, _, _) in &scale.scenes {
+        let rows: Vec<&ScaleRow> = scale.rows.iter().filter(|r| &r.scene == scene).collect();
+        let Some(first) = rows.first() else { continue };
+        let cells: Vec<String> = methods
+            .iter()
+            .map(|m| {
+                rows.iter()
+                    .find(|r| r.method == *m)
+                    .and_then(|r| cell(r))
+                    .unwrap_or_else(|| "—".into())
+            })
+            .collect();
+        let _ = writeln!(md, "| `{scene}` | {} | {} |", first.n, cells.join(" | "));
+    }
+    md
+}
+
+/// The scale tier's section of `report.md`.
+pub fn scale_md(scale: &ScaleOutcome) -> String {
+    let mut md = String::new();
+    let threads = scale.rows.first().map_or(0, |r| r.threads);
+    let _ = writeln!(md, "## Scale tier (generated at run time)\n");
+    let _ = writeln!(
+        md,
+        "How each method's cost grows with |P|: generated sets (never committed), every method \
+         at its default parameters on {threads} threads. A time is the **median of {} runs** \
+         (one run where the first already took longer than the budget); the labels of the first \
+         run are scored against `exact`. A method's series stops where its time, projected \
+         linearly from its last size, exceeds the budget of {:.0} s per run (`--scale-budget`). \
+         Peak memory is the most heap the first run held beyond what was allocated before it \
+         (the particle set itself not counted). Plots: `scale_3d.png`, `scale_2d.png` (seconds \
+         against |P|, log-log, one line per method).\n",
+        scale.runs, scale.budget
+    );
+    for (scene, about, seconds) in &scale.scenes {
+        let n = scale
+            .rows
+            .iter()
+            .find(|r| &r.scene == scene)
+            .map_or(0, |r| r.n);
+        let _ = writeln!(
+            md,
+            "- `{scene}`: {n} particles, {about}; generated in {seconds:.1} s"
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\n### Particles per second (median time, {threads} threads)\n"
+    );
+    md.push_str(&scale_matrix(scale, |r| {
+        r.rate().map(|v| format!("{v:.3e}"))
+    }));
+    let _ = writeln!(md, "\n### Seconds (median)\n");
+    md.push_str(&scale_matrix(scale, |r| {
+        r.median().map(|v| format!("{v:.3}"))
+    }));
+    let _ = writeln!(md, "\n### Peak memory (bytes per particle)\n");
+    md.push_str(&scale_matrix(scale, |r| {
+        r.bytes_per_particle().map(|v| format!("{v:.0}"))
+    }));
+    let _ = writeln!(md, "\n### Accuracy at scale (M against `exact`)\n");
+    md.push_str(&scale_matrix(scale, |r| {
+        r.confusion.map(|c| format!("{:.4}", c.m()))
+    }));
+    let skipped: Vec<&ScaleRow> = scale.rows.iter().filter(|r| r.skipped.is_some()).collect();
+    if !skipped.is_empty() {
+        let _ = writeln!(md, "\nNot run (—):\n");
+        for row in skipped {
+            let _ = writeln!(
+                md,
+                "- `{}` {}: {}",
+                row.scene,
+                row.method,
+                row.skipped.as_deref().unwrap_or("")
+            );
+        }
+    }
+    if let Some((scene, _, _)) = scale
+        .scenes
+        .iter()
+        .find(|(s, _, _)| s.starts_with("scale_enright3d"))
+    {
+        let rows: Vec<&ScaleRow> = scale.rows.iter().filter(|r| &r.scene == scene).collect();
+        let dilts = rows
+            .iter()
+            .find(|r| r.method == "dilts")
+            .and_then(|r| r.median());
+        let _ = writeln!(
+            md,
+            "\n### JCP Table 3 analogue: `{scene}`\n\nrate = `dilts`'s time over the method's, both \
+             on {threads} threads (the paper's rate is on one core; its rows are in the published \
+             table above, JCP Fig. 14).\n\n| Method | s (median) | runs (s) | particles/s | rate vs \
+             dilts | M | bytes/particle |\n|---|---|---|---|---|---|---|"
+        );
+        for row in rows {
+            let Some(t) = row.median() else { continue };
+            let runs: Vec<String> = row.seconds.iter().map(|s| format!("{s:.2}")).collect();
+            let _ = writeln!(
+                md,
+                "| {} | {t:.3} | {} | {:.3e} | {} | {} | {} |",
+                row.method,
+                runs.join(", "),
+                row.n as f64 / t,
+                dilts.map_or("-".into(), |d| format!("{:.2}", d / t)),
+                row.confusion
+                    .map_or("-".into(), |c| format!("{:.4}", c.m())),
+                row.bytes_per_particle()
+                    .map_or("-".into(), |b| format!("{b:.0}")),
+            );
+        }
+    }
+    if let Some((scene, n, runs)) = &scale.thread_scan {
+        let counts: Vec<usize> = {
+            let mut c: Vec<usize> = runs.iter().map(|r| r.threads).collect();
+            c.sort_unstable();
+            c.dedup();
+            c
+        };
+        let _ = writeln!(
+            md,
+            "\n### Parallel speedup on `{scene}` ({n} particles)\n\nOne run per thread count below \
+             {threads}; the {threads}-thread time is the median above. speedup = t(1) / \
+             t({threads}), efficiency = speedup / {threads}.\n"
+        );
+        let head: Vec<String> = counts.iter().map(|c| format!("{c} thr. (s)")).collect();
+        let _ = writeln!(
+            md,
+            "| Method | {} | {threads} thr. (s) | speedup | efficiency |\n|---|{}---|---|---|",
+            head.join(" | "),
+            "---|".repeat(counts.len())
+        );
+        for row in scale.rows.iter().filter(|r| &r.scene == scene) {
+            let Some(t_all) = row.median() else { continue };
+            let mine: Vec<&ThreadRun> = runs.iter().filter(|r| r.method == row.method).collect();
+            let cells: Vec<String> = counts
+                .iter()
+                .map(|c| {
+                    mine.iter()
+                        .find(|r| r.threads == *c)
+                        .and_then(|r| r.seconds)
+                        .map_or("—".into(), |s| format!("{s:.3}"))
+                })
+                .collect();
+            let one = mine.iter().find(|r| r.threads == 1).and_then(|r| r.seconds);
+            let (speedup, efficiency) = match one {
+                Some(t1) if t_all > 0.0 => {
+                    let s = t1 / t_all;
+                    (
+                        format!("{s:.2}"),
+                        format!(
+                            "{:.2}{}",
+                            s / threads as f64,
+                            if s < 1.0 {
+                                " (slower with more threads)"
+                            } else {
+                                ""
+                            }
+                        ),
+                    )
+                }
+                _ => ("-".into(), "-".into()),
+            };
+            let _ = writeln!(
+                md,
+                "| {} | {} | {t_all:.3} | {speedup} | {efficiency} |",
+                row.method,
+                cells.join(" | ")
+            );
+        }
+        let skipped: Vec<&ThreadRun> = runs.iter().filter(|r| r.skipped.is_some()).collect();
+        if !skipped.is_empty() {
+            let _ = writeln!(md, "\nNot run (—):\n");
+            for run in skipped {
+                let _ = writeln!(
+                    md,
+                    "- {} on {} thread(s): {}",
+                    run.method,
+                    run.threads,
+                    run.skipped.as_deref().unwrap_or("")
+                );
+            }
+        }
+    }
+    md.push('\n');
+    md
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -454,6 +709,143 @@ mod tests {
         assert!(
             md.contains("| hpr | 1 | 0.100 | 0.200 | 2 | 0.50 | 0.25 (slower with more threads) |"),
             "{md}"
+        );
+    }
+
+    fn scale_row(scene: &str, method: &str, seconds: &[f64], peak: Option<usize>) -> ScaleRow {
+        ScaleRow {
+            scene: scene.into(),
+            dim: 3,
+            n: 1000,
+            radius: 1.2,
+            method: method.into(),
+            seconds: seconds.to_vec(),
+            threads: 2,
+            confusion: (!seconds.is_empty()).then_some(Confusion {
+                tp: 100,
+                tn: 890,
+                fp: 10,
+                fn_: 0,
+            }),
+            peak_bytes: peak,
+            skipped: seconds
+                .is_empty()
+                .then(|| "projected 90 s > budget 60 s".to_owned()),
+        }
+    }
+
+    fn scale_sample() -> ScaleOutcome {
+        let e = "scale_enright3d_1k";
+        ScaleOutcome {
+            rows: vec![
+                scale_row("scale_ball3d_1k", "exact", &[0.5, 0.1, 0.2], Some(64_000)),
+                scale_row("scale_ball3d_1k", "dilts", &[1.0, 1.2, 0.8], None),
+                scale_row(e, "exact", &[0.4, 0.2, 0.25], Some(32_000)),
+                scale_row(e, "dilts", &[], None),
+            ],
+            scenes: vec![
+                ("scale_ball3d_1k".into(), "a ball".into(), 0.1),
+                (e.into(), "the Enright sphere".into(), 0.2),
+            ],
+            thread_scan: Some((
+                "scale_ball3d_1k".into(),
+                1000,
+                vec![
+                    ThreadRun {
+                        method: "exact".into(),
+                        threads: 1,
+                        seconds: Some(0.36),
+                        skipped: None,
+                    },
+                    ThreadRun {
+                        method: "dilts".into(),
+                        threads: 1,
+                        seconds: Some(0.5),
+                        skipped: None,
+                    },
+                    ThreadRun {
+                        method: "dilts".into(),
+                        threads: 4,
+                        seconds: None,
+                        skipped: Some("projected 99 s > budget 60 s".into()),
+                    },
+                ],
+            )),
+            runs: 3,
+            budget: 60.0,
+        }
+    }
+
+    /// The scale section reports medians (not the first or the best run), rates from them,
+    /// bytes per particle, the skipped runs with their reason, and speedups from the scan.
+    #[test]
+    fn scale_section_reports_medians_memory_skips_and_speedups() {
+        let md = scale_md(&scale_sample());
+        // exact on the ball: runs 0.5, 0.1, 0.2: median 0.2 s, 1000 / 0.2 = 5e3 particles/s.
+        assert!(
+            md.contains("| `scale_ball3d_1k` | 1000 | 5.000e3 | 1.000e3 |"),
+            "{md}"
+        );
+        assert!(
+            md.contains("| `scale_ball3d_1k` | 1000 | 0.200 | 1.000 |"),
+            "{md}"
+        );
+        // 64,000 bytes over 1000 particles.
+        assert!(md.contains("| `scale_ball3d_1k` | 1000 | 64 | — |"), "{md}");
+        assert!(
+            md.contains("| `scale_enright3d_1k` | 1000 | 4.000e3 | — |"),
+            "{md}"
+        );
+        assert!(md.contains("- `scale_enright3d_1k` dilts: projected 90 s > budget 60 s"));
+        assert!(md.contains("median of 3 runs"));
+        // The Enright analogue: exact only (dilts did not run, so no rate against it).
+        assert!(
+            md.contains("| exact | 0.250 | 0.40, 0.20, 0.25 | 4.000e3 | - | 0.9889 | 32 |"),
+            "{md}"
+        );
+        // Scan: exact 0.36 s on one thread, 0.2 s on two: 1.80x, efficiency 0.90; dilts got
+        // slower with two threads (0.5 s against 1.0 s).
+        assert!(
+            md.contains("| exact | 0.360 | — | 0.200 | 1.80 | 0.90 |"),
+            "{md}"
+        );
+        assert!(
+            md.contains("| dilts | 0.500 | — | 1.000 | 0.50 | 0.25 (slower with more threads) |"),
+            "{md}"
+        );
+        assert!(md.contains("- dilts on 4 thread(s): projected 99 s > budget 60 s"));
+        // Inside the report, after the published timings.
+        let outcome = Outcome {
+            scale: Some(scale_sample()),
+            ..sample()
+        };
+        let full = report_md(&outcome, "test");
+        let published = full.find("Published (JCP Table 3").unwrap();
+        let section = full.find("## Scale tier").unwrap();
+        assert!(published < section);
+        assert!(!report_md(&sample(), "test").contains("## Scale tier"));
+    }
+
+    #[test]
+    fn scale_csv_has_every_run_and_the_header_columns() {
+        let csv = scale_csv(&scale_sample());
+        let lines: Vec<&str> = csv.lines().collect();
+        assert_eq!(lines.len(), 5);
+        let cols = SCALE_CSV_HEADER.split(',').count();
+        for line in &lines[1..] {
+            assert_eq!(line.split(',').count(), cols, "{line}");
+        }
+        assert!(
+            lines[1].starts_with(
+                "scale_ball3d_1k,3,1000,1.2,exact,2,3,0.200000,0.500000;0.100000;0.200000,5000.0,64000,64.0,100,890,10,0,"
+            ),
+            "{}",
+            lines[1]
+        );
+        assert!(
+            lines[4].ends_with(",,,,,,,projected 90 s > budget 60 s"),
+            "{}",
+            lines[4]
         );
     }
 }
