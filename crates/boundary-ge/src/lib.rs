@@ -133,6 +133,13 @@ pub const MAX_DEPTH: u32 = 16;
 /// `r²`): absorbs the rounding of the computed slab vertices (see the crate docs).
 pub const COVER_MARGIN: f64 = 1e-12;
 
+/// Slack of the covered-by-distance shortcut in `label` (units of r): a ball whose centre is
+/// within `1 − DEEP_SLACK − reach` of an element's reach centre covers the element. Far above
+/// the rounding of the distance and of `reach` (~1e-15), so the shortcut implies what the
+/// vertex test would find: every vertex at most `1 − DEEP_SLACK` from the centre, inside by
+/// more than [`COVER_MARGIN`].
+const DEEP_SLACK: f64 = 1e-9;
+
 /// The geometric-enclosure detector (`ge`). See the crate documentation.
 #[derive(Debug, Clone)]
 pub struct GeDetector {
@@ -414,10 +421,23 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
             }
         }
         let (centre, reach) = node.element.reach();
+        // At a uniform radius, a ball whose centre lies within `1 − DEEP_SLACK − reach` of the
+        // reach centre holds every slab vertex (they lie within `reach` of it) by more than
+        // COVER_MARGIN: the label `against_ball` would give, without the vertex loop.
+        let deep = 1.0 - DEEP_SLACK - reach;
+        let deep2 = if UNIFORM && deep > 0.0 {
+            deep * deep
+        } else {
+            -1.0
+        };
         let mut nearest = (f64::INFINITY, usize::MAX);
         for k in node.start..node.start + node.len {
             let j = self.candidates[k];
             let d2 = (self.centres[j as usize] - centre).norm_squared();
+            if d2 <= deep2 {
+                self.last_cover = j as usize;
+                return Label::Covered;
+            }
             // At a uniform radius the test of the paper, (1 + reach)²; else (s + reach)² with
             // s rounded up.
             let far = if UNIFORM {
