@@ -18,10 +18,11 @@
 //! allocator for it.
 //!
 //! **Budget.** Sizes run in increasing order per dimension. Before a run, a method's time is
-//! projected linearly from its last measured size (`t · n / n_last`); a method whose projection
-//! exceeds [`ScaleOptions::budget`] seconds stops there, and the report says so with the
-//! projection. `exact` gives the reference labels: where it stops, the larger scenes are
-//! skipped.
+//! projected linearly from its last measured lattice set of that dimension (`t · n / n_last`;
+//! the Enright set is projected from the balls but does not feed the projection, its shape
+//! being another); a method whose projection exceeds [`ScaleOptions::budget`] seconds stops
+//! there, and the report says so with the projection. `exact` gives the reference labels:
+//! where it stops, the larger scenes are skipped.
 //!
 //! **Threads.** On one scene ([`ScaleOptions::thread_scan`], the 10^6 ball by default) each method
 //! is also timed on 1, 2, 4, … threads below the all-thread count (one run each), for the
@@ -277,6 +278,36 @@ pub struct ScaleOutcome {
     pub budget: f64,
 }
 
+/// Per (dimension, method) the last measured lattice set `(n, median seconds)`, from which the
+/// next size is projected.
+#[derive(Debug, Default)]
+struct Projections(Vec<((usize, String), (usize, f64))>);
+
+impl Projections {
+    fn last(&self, dim: usize, method: &str) -> Option<(usize, f64)> {
+        self.0
+            .iter()
+            .find(|((d, m), _)| *d == dim && m == method)
+            .map(|(_, v)| *v)
+    }
+
+    /// Records a measurement; the Enright set (another shape than the lattice series) is
+    /// projected from them but does not update them.
+    fn record(&mut self, scene: &ScaleScene, method: &str, n: usize, seconds: f64) {
+        if scene.family == Family::Enright {
+            return;
+        }
+        match self
+            .0
+            .iter_mut()
+            .find(|((d, m), _)| *d == scene.dim && m == method)
+        {
+            Some(slot) => slot.1 = (n, seconds),
+            None => self.0.push(((scene.dim, method.to_owned()), (n, seconds))),
+        }
+    }
+}
+
 /// The projected seconds of a run of `n` particles from the last measured `(n, seconds)`.
 pub fn projected(last: Option<(usize, f64)>, n: usize) -> Option<f64> {
     last.filter(|&(m, _)| m > 0)
@@ -335,8 +366,7 @@ pub fn run_scale(
     };
     let mut methods = vec!["exact".to_owned()];
     methods.extend(opts.methods.iter().filter(|m| *m != "exact").cloned());
-    // Per (dimension, method): the last measured (n, median seconds).
-    let mut last: Vec<((usize, String), (usize, f64))> = Vec::new();
+    let mut last = Projections::default();
     for scene in &opts.scenes {
         let start = Instant::now();
         let (set, radius, about) = scene.generate();
@@ -346,8 +376,7 @@ pub fn run_scale(
         let r = Radius::new(radius).map_err(|e| format!("{}: {e}", scene.name))?;
         let mut truth: Option<Labels> = None;
         for method in &methods {
-            let key = (scene.dim, method.clone());
-            let before = last.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
+            let before = last.last(scene.dim, method);
             let mut row = ScaleRow {
                 scene: scene.name.clone(),
                 dim: scene.dim,
@@ -382,11 +411,7 @@ pub fn run_scale(
                         });
                         row.seconds = seconds;
                         row.peak_bytes = peak;
-                        let median = row.median().unwrap_or(0.0);
-                        match last.iter_mut().find(|(k, _)| *k == key) {
-                            Some(slot) => slot.1 = (n, median),
-                            None => last.push((key, (n, median))),
-                        }
+                        last.record(scene, method, n, row.median().unwrap_or(0.0));
                     }
                     Err(e) => row.skipped = Some(format!("failed: {e}")),
                 }
@@ -571,6 +596,27 @@ mod tests {
         // 2 threads: one single-thread run per method.
         assert_eq!(runs.len(), 2);
         assert!(runs.iter().all(|r| r.threads == 1 && r.seconds.is_some()));
+    }
+
+    /// The lattice series feed the projection per dimension and method; the Enright set is
+    /// projected from the ball before it but does not feed the projection.
+    #[test]
+    fn the_enright_set_does_not_feed_the_ball_projection() {
+        let mut p = Projections::default();
+        let ball = ScaleScene::new(Family::Ball, 1_000);
+        p.record(&ball, "exact", 1_000, 2.0);
+        p.record(&ScaleScene::new(Family::Disc, 1_000), "exact", 1_000, 0.5);
+        p.record(
+            &ScaleScene::new(Family::Enright, 5_000),
+            "exact",
+            5_000,
+            900.0,
+        );
+        assert_eq!(p.last(3, "exact"), Some((1_000, 2.0)));
+        assert_eq!(p.last(2, "exact"), Some((1_000, 0.5)));
+        assert_eq!(p.last(3, "ia"), None);
+        p.record(&ScaleScene::new(Family::Ball, 4_000), "exact", 4_000, 9.0);
+        assert_eq!(p.last(3, "exact"), Some((4_000, 9.0)));
     }
 
     #[test]

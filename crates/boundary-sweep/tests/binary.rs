@@ -19,7 +19,11 @@ fn sweep(out: &Path, extra: &[&str]) -> std::process::Output {
 fn the_scale_tier_writes_its_csv_section_and_plot_with_peak_memory() {
     let dir = tempfile::tempdir().unwrap();
     let out = sweep(dir.path(), &["--scale-max", "10000", "--scale-runs", "2"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let csv = std::fs::read_to_string(dir.path().join("scale.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 3, "{csv}");
@@ -44,7 +48,11 @@ fn the_scale_tier_writes_its_csv_section_and_plot_with_peak_memory() {
 fn quick_skips_the_scale_tier_and_bad_scale_options_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let out = sweep(dir.path(), &["--quick"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(dir.path().join("report.md").is_file());
     assert!(!dir.path().join("scale.csv").exists());
     for bad in [["--scale-budget", "0"], ["--scale-runs", "0"]] {
