@@ -94,12 +94,21 @@ struct Facet {
     v: [usize; 3],
     adj: [usize; 3],
     alive: bool,
-    outside: Vec<usize>,
+    /// The points strictly outside, each with its height `-side(v, p) > 0` (the magnitude of
+    /// the determinant, kept from the test that assigned it, so that the farthest point is
+    /// chosen without evaluating the predicate again).
+    outside: Vec<(usize, f64)>,
 }
 
 /// Whether `p` lies strictly outside facet `f`.
 fn outside_of(pts: &[[f64; 3]], f: &[usize; 3], p: usize) -> bool {
     side(&pts[f[0]], &pts[f[1]], &pts[f[2]], &pts[p]) < 0.0
+}
+
+/// `Some(height)` (`-side > 0`) when `p` lies strictly outside facet `f`.
+fn height_above(pts: &[[f64; 3]], f: &[usize; 3], p: usize) -> Option<f64> {
+    let s = side(&pts[f[0]], &pts[f[1]], &pts[f[2]], &pts[p]);
+    (s < 0.0).then_some(-s)
 }
 
 /// Whether `a, b, c` are collinear in 3D: exact, through the three coordinate projections.
@@ -181,8 +190,10 @@ pub fn hull_3d(pts: &[[f64; 3]]) -> Option<Vec<[usize; 3]>> {
         if p == a || p == b || p == c || p == d {
             continue;
         }
-        if let Some(f) = (0..4).find(|&f| outside_of(pts, &facets[f].v, p)) {
-            facets[f].outside.push(p);
+        if let Some((f, h)) =
+            (0..4).find_map(|f| height_above(pts, &facets[f].v, p).map(|h| (f, h)))
+        {
+            facets[f].outside.push((p, h));
         }
     }
     let mut pending: Vec<usize> = (0..4).rev().collect();
@@ -198,12 +209,10 @@ pub fn hull_3d(pts: &[[f64; 3]]) -> Option<Vec<[usize; 3]>> {
             continue;
         }
         // The farthest outside point of f0 (by the magnitude of the determinant).
-        let fv = facets[f0].v;
-        let p = *facets[f0].outside.iter().max_by(|&&x, &&y| {
-            let sx = -side(&pts[fv[0]], &pts[fv[1]], &pts[fv[2]], &pts[x]);
-            let sy = -side(&pts[fv[0]], &pts[fv[1]], &pts[fv[2]], &pts[y]);
-            sx.total_cmp(&sy).then(y.cmp(&x))
-        })?;
+        let (p, _) = *facets[f0]
+            .outside
+            .iter()
+            .max_by(|&&(x, sx), &&(y, sy)| sx.total_cmp(&sy).then(y.cmp(&x)))?;
         // Strictly visible facets: connected, found by a search from f0.
         round += 1;
         mark.resize(facets.len(), 0);
@@ -232,7 +241,7 @@ pub fn hull_3d(pts: &[[f64; 3]]) -> Option<Vec<[usize; 3]>> {
                 }
             }
             let out = std::mem::take(&mut facets[f].outside);
-            orphans.extend(out.into_iter().filter(|&q| q != p));
+            orphans.extend(out.into_iter().map(|(q, _)| q).filter(|&q| q != p));
             facets[f].alive = false;
         }
         created.clear();
@@ -262,8 +271,11 @@ pub fn hull_3d(pts: &[[f64; 3]]) -> Option<Vec<[usize; 3]>> {
             return None;
         }
         for &q in &orphans {
-            if let Some(&f) = created.iter().find(|&&f| outside_of(pts, &facets[f].v, q)) {
-                facets[f].outside.push(q);
+            if let Some((f, h)) = created
+                .iter()
+                .find_map(|&f| height_above(pts, &facets[f].v, q).map(|h| (f, h)))
+            {
+                facets[f].outside.push((q, h));
             }
         }
         pending.extend(created.iter().rev().copied());

@@ -2,6 +2,7 @@
 
 use crate::hull;
 use boundary_core::Point;
+use rustc_hash::FxHashMap;
 
 /// Exponential flipping, Eq. 2.2: `f(p) = p / |p|^γ` for `0 < |p| <= 1`, and `f(0) = 0`.
 ///
@@ -14,6 +15,104 @@ pub fn flip_exponential<const D: usize>(p: &Point<D>, gamma: f64) -> Point<D> {
         Point::<D>::zeros()
     } else {
         p / n.powf(gamma)
+    }
+}
+
+/// Relative margin by which a cell's box must stay below a level before its points are
+/// skipped (the rounding of `n·q` and of the box's support is a few ulps of `Σ_j |q_j|`).
+const BOX_MARGIN: f64 = 1e-9;
+
+/// The points (flips and the origin) sorted into a uniform grid over their bounding box,
+/// about eight per cell, with each cell's own bounding box: `n·q` over a cell is at most the
+/// support of its box, so a scan for points above a level along `n` visits only the cells
+/// whose box reaches it.
+struct FlipBoxes<const D: usize> {
+    /// Point indices grouped by cell; cell `c` holds `points[start[c]..start[c + 1]]`.
+    points: Vec<usize>,
+    start: Vec<usize>,
+    /// Per non-empty cell: its index, its box (low, high corners) and `Σ_j max(|lo_j|, |hi_j|)`.
+    cells: Vec<(usize, [f64; 3], [f64; 3], f64)>,
+}
+
+impl<const D: usize> FlipBoxes<D> {
+    fn new(all: &[Point<D>]) -> Self {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for q in all {
+            for j in 0..D {
+                lo[j] = lo[j].min(q[j]);
+                hi[j] = hi[j].max(q[j]);
+            }
+        }
+        let side = ((all.len() as f64 / 8.0).powf(1.0 / D as f64).ceil() as usize).clamp(1, 32);
+        let cell_of = |q: &Point<D>| {
+            let mut c = 0usize;
+            for j in 0..D {
+                let w = hi[j] - lo[j];
+                let k = if w > 0.0 {
+                    (((q[j] - lo[j]) / w * side as f64) as usize).min(side - 1)
+                } else {
+                    0
+                };
+                c = c * side + k;
+            }
+            c
+        };
+        let total = side.pow(D as u32);
+        let mut start = vec![0usize; total + 1];
+        let ids: Vec<usize> = all.iter().map(cell_of).collect();
+        for &c in &ids {
+            start[c + 1] += 1;
+        }
+        for c in 0..total {
+            start[c + 1] += start[c];
+        }
+        let mut fill = start.clone();
+        let mut points = vec![0usize; all.len()];
+        for (m, &c) in ids.iter().enumerate() {
+            points[fill[c]] = m;
+            fill[c] += 1;
+        }
+        let cells = (0..total)
+            .filter(|&c| start[c + 1] > start[c])
+            .map(|c| {
+                let mut l = [0.0; 3];
+                let mut h = [0.0; 3];
+                for j in 0..D {
+                    l[j] = f64::INFINITY;
+                    h[j] = f64::NEG_INFINITY;
+                }
+                for &m in &points[start[c]..start[c + 1]] {
+                    for j in 0..D {
+                        l[j] = l[j].min(all[m][j]);
+                        h[j] = h[j].max(all[m][j]);
+                    }
+                }
+                let size = (0..D).map(|j| l[j].abs().max(h[j].abs())).sum::<f64>();
+                (c, l, h, size)
+            })
+            .collect();
+        FlipBoxes {
+            points,
+            start,
+            cells,
+        }
+    }
+
+    /// The points of every cell whose box may reach `level` along the unit vector `n`: a
+    /// superset of the points with `n·q >= level` (computed in floating point).
+    fn reaching<'a>(&'a self, n: &'a [f64; 3], level: f64) -> impl Iterator<Item = usize> + 'a {
+        self.cells
+            .iter()
+            .filter(move |(_, l, h, size)| {
+                let support = (0..D).map(|j| (n[j] * l[j]).max(n[j] * h[j])).sum::<f64>();
+                support + BOX_MARGIN * (size + 1.0) >= level
+            })
+            .flat_map(move |&(c, ..)| {
+                self.points[self.start[c]..self.start[c + 1]]
+                    .iter()
+                    .copied()
+            })
     }
 }
 
@@ -51,33 +150,57 @@ pub enum HullOutcome {
 /// through the origin in 2D, one plane through it in 3D, or flips at most `tol` thick along
 /// a facet normal, which is what rounding makes of such a set) is all visible
 /// ([`HullOutcome::Flat`]).
+///
+/// Cost: the hull is `O(k log k)` for `k` candidates. The flatness and protrusion tests are
+/// defined by scans of all `k` points per facet and per corner (`O(k·h)` for `h` corners);
+/// they are computed with early exits and a grid of cell boxes over the flips that skips the
+/// cells whose box stays below the level in question, with a margin for rounding, so the
+/// decisions are those of the full scans (tested against them) at a fraction of the cost on
+/// dense neighbourhoods (crate documentation, "Cost").
 pub fn visible_from_origin<const D: usize>(
     points: &[Point<D>],
     gamma: f64,
     tol: f64,
     visible: &mut Vec<bool>,
 ) -> HullOutcome {
+    visible_with_scan(points, gamma, tol, visible, Scan::Pruned)
+}
+
+/// How the points are scanned after the hull: the decisions are the same (tested on dense
+/// and near-tie sets against `Full`, the definition); `Pruned` visits fewer points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Scan {
+    /// Every point for every facet and corner (the definitions, quadratic in the number of
+    /// candidates: the profile of issue 21's dense set spent 57% of the time here).
+    #[cfg_attr(not(test), allow(dead_code))]
+    Full,
+    /// Early exits, and only the cells of [`FlipBoxes`] that can reach a level.
+    Pruned,
+}
+
+fn visible_with_scan<const D: usize>(
+    points: &[Point<D>],
+    gamma: f64,
+    tol: f64,
+    visible: &mut Vec<bool>,
+    scan: Scan,
+) -> HullOutcome {
     visible.clear();
     visible.resize(points.len(), true);
     // Exact duplicates share one flip and one flag: `first[i]` is the lowest index with the
     // coordinates of point `i`; the hull's input is the distinct points in index order.
-    let mut order: Vec<usize> = (0..points.len()).collect();
-    order.sort_unstable_by(|&a, &b| {
-        let (pa, pb) = (&points[a], &points[b]);
-        (0..D)
-            .map(|k| pa[k].total_cmp(&pb[k]))
-            .find(|o| o.is_ne())
-            .unwrap_or(std::cmp::Ordering::Equal)
-            .then(a.cmp(&b))
-    });
-    let mut first = vec![0usize; points.len()];
-    for (k, &i) in order.iter().enumerate() {
-        first[i] = if k > 0 && points[order[k - 1]] == points[i] {
-            first[order[k - 1]]
-        } else {
-            i
-        };
-    }
+    // (A hash of the coordinates' bits, `-0.0` read as `0.0`: equal coordinates, equal key.)
+    let mut lowest: FxHashMap<[u64; D], usize> = FxHashMap::default();
+    lowest.reserve(points.len());
+    let first: Vec<usize> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            *lowest
+                .entry(std::array::from_fn(|k| (p[k] + 0.0).to_bits()))
+                .or_insert(i)
+        })
+        .collect();
     let distinct: Vec<usize> = (0..points.len()).filter(|&i| first[i] == i).collect();
     if distinct.len() <= D {
         return HullOutcome::Trivial;
@@ -162,15 +285,26 @@ pub fn visible_from_origin<const D: usize>(
     // Flat within the tolerance: a facet (edge) normal along which the whole set is at most
     // `tol` thick. The flips of candidates that are coplanar (collinear) with the viewpoint
     // in exact arithmetic are so only up to the rounding of the flip; they are the flat case.
+    // `top - min_m n·q_m <= tol` is `top - n·q_m <= tol` for every m (rounded subtraction is
+    // monotone), so one point farther than `tol` below the facet settles it: the origin,
+    // then the flips in order.
     for (k, n) in facet_normals.iter().enumerate() {
         if *n == [0.0; 3] {
             continue;
         }
         let top = dot(n, point(facet_anchor[k]));
-        let low = (0..=flipped.len())
-            .map(|m| dot(n, point(m)))
-            .fold(f64::INFINITY, f64::min);
-        if top - low <= tol {
+        let thick = match scan {
+            Scan::Full => {
+                let low = (0..=flipped.len())
+                    .map(|m| dot(n, point(m)))
+                    .fold(f64::INFINITY, f64::min);
+                top - low > tol
+            }
+            Scan::Pruned => std::iter::once(flipped.len())
+                .chain(0..flipped.len())
+                .any(|m| top - dot(n, point(m)) > tol),
+        };
+        if !thick {
             return HullOutcome::Flat;
         }
     }
@@ -178,7 +312,17 @@ pub fn visible_from_origin<const D: usize>(
     // normalised sum of its facets' normals), from all the other points except its near-twins
     // (flips within `tol` of it, which share its label): a lower bound of its distance to the
     // hull of the others.
+    //
+    // `top - max_m n·q_m > tol` is `top - n·q_m > tol` for every m, so a corner is hidden by
+    // the first point within `tol` of its level that is not a near-twin. Only points in a
+    // cell of `boxes` whose box reaches that level along `n` can be that point: the others
+    // are skipped (with a margin for rounding, so that no point the full scan would meet is
+    // skipped; see [`FlipBoxes`]).
     let near = |a: &Point<D>, b: &Point<D>| (a - b).norm() <= tol;
+    let boxes = (scan == Scan::Pruned).then(|| {
+        let all: Vec<Point<D>> = (0..=flipped.len()).map(|m| *point(m)).collect();
+        FlipBoxes::new(&all)
+    });
     let mut seen: Vec<bool> = (0..flipped.len())
         .map(|k| {
             if !is_corner[k] {
@@ -191,20 +335,38 @@ pub fn visible_from_origin<const D: usize>(
             }
             let n = [s[0] / len, s[1] / len, s[2] / len];
             let top = dot(&n, &flipped[k]);
-            let rest = (0..=flipped.len())
-                .filter(|&m| m != k && !near(point(m), &flipped[k]))
-                .map(|m| dot(&n, point(m)))
-                .fold(f64::NEG_INFINITY, f64::max);
-            top - rest > tol
+            match &boxes {
+                None => {
+                    let rest = (0..=flipped.len())
+                        .filter(|&m| m != k && !near(point(m), &flipped[k]))
+                        .map(|m| dot(&n, point(m)))
+                        .fold(f64::NEG_INFINITY, f64::max);
+                    top - rest > tol
+                }
+                Some(boxes) => !boxes.reaching(&n, top - tol).any(|m| {
+                    m != k && top - dot(&n, point(m)) <= tol && !near(point(m), &flipped[k])
+                }),
+            }
         })
         .collect();
-    // Near-twins of a visible corner are visible too.
-    let visible_corners: Vec<usize> = (0..flipped.len()).filter(|&k| seen[k]).collect();
+    // Near-twins of a visible corner are visible too. A near-twin differs by at most `tol`
+    // (2·tol after rounding) in its first coordinate: the visible corners sorted by it give
+    // each point the few corners to test.
+    let mut visible_corners: Vec<usize> = (0..flipped.len()).filter(|&k| seen[k]).collect();
+    visible_corners.sort_unstable_by(|&a, &b| flipped[a][0].total_cmp(&flipped[b][0]));
     for k in 0..flipped.len() {
-        if !seen[k]
-            && visible_corners
-                .iter()
-                .any(|&c| near(&flipped[c], &flipped[k]))
+        if seen[k] {
+            continue;
+        }
+        let x = flipped[k][0];
+        let start = match scan {
+            Scan::Full => 0,
+            Scan::Pruned => visible_corners.partition_point(|&c| flipped[c][0] - x < -2.0 * tol),
+        };
+        if visible_corners[start..]
+            .iter()
+            .take_while(|&&c| scan == Scan::Full || flipped[c][0] - x <= 2.0 * tol)
+            .any(|&c| near(&flipped[c], &flipped[k]))
         {
             seen[k] = true;
         }
@@ -374,5 +536,160 @@ mod tests {
             HullOutcome::Flat
         );
         assert_eq!(vis, vec![true; 25]);
+    }
+    /// The pruned scans (early exits, cell boxes, sorted near-twin search) decide as the full
+    /// scans that define the test, on the candidates of viewpoints around a dense jittered
+    /// block (about 360 neighbours within 2r, issue 21's bench set) and on near-tie sets
+    /// (jitter of the order of the tolerance), 2D and 3D, at several tolerances.
+    #[test]
+    fn pruned_scans_decide_as_the_full_scans() {
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut rnd = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut differ = 0;
+        let mut compared = 0;
+        let mut check = |pts3: &[Point<3>], pts2: &[Point<2>], tol: f64| {
+            let (mut a, mut b) = (Vec::new(), Vec::new());
+            let oa = visible_with_scan(pts3, 1.3, tol, &mut a, Scan::Full);
+            let ob = visible_with_scan(pts3, 1.3, tol, &mut b, Scan::Pruned);
+            differ += usize::from(oa != ob || a != b);
+            let oa = visible_with_scan(pts2, 1.3, tol, &mut a, Scan::Full);
+            let ob = visible_with_scan(pts2, 1.3, tol, &mut b, Scan::Pruned);
+            differ += usize::from(oa != ob || a != b);
+            compared += 2;
+        };
+        // A 14^3 block of spacing 1 (jitter 0.15) at r = 2.2, seen from viewpoints 2.2 to 4
+        // outside a face, an edge and a corner: the candidates within 4r, scaled by 1/4r.
+        let block: Vec<Point<3>> = (0..14 * 14 * 14)
+            .map(|k| {
+                Point::<3>::new(
+                    (k % 14) as f64 + 0.3 * rnd(),
+                    (k / 14 % 14) as f64 + 0.3 * rnd(),
+                    (k / 196) as f64 + 0.3 * rnd(),
+                )
+            })
+            .collect();
+        let reach = 4.0 * 2.2;
+        for v in [
+            Point::<3>::new(6.5, 6.5, -2.2),
+            Point::<3>::new(-2.5, 6.0, -3.0),
+            Point::<3>::new(-2.2, -2.2, -2.2),
+            Point::<3>::new(15.7, 7.1, 4.0),
+        ] {
+            let local: Vec<Point<3>> = block
+                .iter()
+                .filter(|p| (*p - v).norm() <= reach)
+                .map(|p| (p - v) / reach)
+                .collect();
+            let flat: Vec<Point<2>> = local
+                .iter()
+                .filter(|p| p[2].abs() < 0.06)
+                .map(|p| Point::<2>::new(p[0], p[1]))
+                .collect();
+            assert!(local.len() > 100, "{} candidates", local.len());
+            for tol in [0.0, 1e-6, 1e-3, 2e-2] {
+                check(&local, &flat, tol);
+            }
+        }
+        // Exact ties: a perfect lattice, whose flips lie on hull facets up to rounding, at
+        // tolerances 0 and 1e-12.
+        let lattice: Vec<Point<3>> = (0..12 * 12 * 12)
+            .map(|k| Point::<3>::new((k % 12) as f64, (k / 12 % 12) as f64, (k / 144) as f64))
+            .collect();
+        for v in [
+            Point::<3>::new(5.5, 5.5, -2.0),
+            Point::<3>::new(-2.0, 5.0, -2.0),
+            Point::<3>::new(-1.5, -1.5, -1.5),
+        ] {
+            let local: Vec<Point<3>> = lattice
+                .iter()
+                .filter(|p| (*p - v).norm() <= 8.0)
+                .map(|p| (p - v) / 8.0)
+                .collect();
+            let flat: Vec<Point<2>> = local
+                .iter()
+                .filter(|p| p[2] == local[0][2])
+                .map(|p| Point::<2>::new(p[0], p[1]))
+                .collect();
+            for tol in [0.0, 1e-12, 1e-3] {
+                check(&local, &flat, tol);
+            }
+        }
+        // Near ties: points on a sphere cap and on a plane, moved by about the tolerance.
+        for tol in [1e-6, 1e-3] {
+            for _ in 0..20 {
+                let cap: Vec<Point<3>> = (0..300)
+                    .map(|_| {
+                        let d = Point::<3>::new(rnd(), rnd(), 1.5 + rnd().abs());
+                        d / d.norm() * (0.5 + tol * rnd())
+                    })
+                    .collect();
+                let line: Vec<Point<2>> = (0..200)
+                    .map(|k| Point::<2>::new(0.4 + tol * rnd(), (k as f64 - 100.0) / 300.0))
+                    .collect();
+                check(&cap, &line, tol);
+            }
+        }
+        assert_eq!(differ, 0, "{differ} of {compared} sets decided differently");
+    }
+    /// `FlipBoxes::reaching` returns every point with `n·q >= level` (computed as the scans
+    /// compute it), also when the level is exactly some point's `n·q` (a tie), for random
+    /// directions and for the axes; and it skips most points for a level near the top.
+    #[test]
+    fn cell_boxes_return_every_point_that_reaches_the_level() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut rnd = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let pts: Vec<Point<3>> = (0..2000)
+            .map(|_| Point::<3>::new(1.0 + rnd(), rnd(), 0.3 * rnd()))
+            .collect();
+        let boxes = FlipBoxes::new(&pts);
+        let dot = |n: &[f64; 3], q: &Point<3>| (0..3).map(|j| n[j] * q[j]).sum::<f64>();
+        let mut skipped = 0;
+        for trial in 0..300 {
+            let n = if trial < 3 {
+                let mut e = [0.0; 3];
+                e[trial] = 1.0;
+                e
+            } else {
+                let v = [rnd(), rnd(), rnd()];
+                let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                [v[0] / l, v[1] / l, v[2] / l]
+            };
+            // The level of the best point, or of a random one: exact ties.
+            let best = pts
+                .iter()
+                .map(|q| dot(&n, q))
+                .fold(f64::NEG_INFINITY, f64::max);
+            let level = if trial % 2 == 0 {
+                best
+            } else {
+                dot(&n, &pts[((rnd() + 0.5) * 1999.0) as usize])
+            };
+            let found: std::collections::BTreeSet<usize> = boxes.reaching(&n, level).collect();
+            for (m, q) in pts.iter().enumerate() {
+                if dot(&n, q) >= level {
+                    assert!(
+                        found.contains(&m),
+                        "point {m} at level {level} along {n:?} skipped"
+                    );
+                }
+            }
+            if level == best {
+                skipped += pts.len() - found.len();
+            }
+        }
+        assert!(
+            skipped > 150 * pts.len() / 2,
+            "the boxes skip few points: {skipped}"
+        );
     }
 }
