@@ -138,13 +138,7 @@ fn real_main() -> Result<(), String> {
             start.elapsed().as_secs_f64(),
             p.what
         );
-        let mut err = std::io::stderr();
-        if tty {
-            let _ = write!(err, "\r\x1b[2K{line}");
-            let _ = err.flush();
-        } else {
-            let _ = writeln!(err, "{line}");
-        }
+        progress_line(tty, &line);
     };
     let mut outcome = run(&opts, &mut progress)?;
     if tty {
@@ -183,13 +177,7 @@ fn real_main() -> Result<(), String> {
                 "[scale {step:>3}] {:>7.1} s  {what}",
                 start.elapsed().as_secs_f64()
             );
-            let mut err = std::io::stderr();
-            if tty {
-                let _ = write!(err, "\r\x1b[2K{line}");
-                let _ = err.flush();
-            } else {
-                let _ = writeln!(err, "{line}");
-            }
+            progress_line(tty, &line);
         };
         outcome.scale = Some(scale::run_scale(
             &scale_opts,
@@ -246,6 +234,17 @@ fn real_main() -> Result<(), String> {
         args.out.join("report.md").display()
     );
     Ok(())
+}
+
+/// Prints a progress line on stderr: rewritten in place on a terminal, one per line otherwise.
+fn progress_line(tty: bool, line: &str) {
+    let mut err = std::io::stderr();
+    if tty {
+        let _ = write!(err, "\r\x1b[2K{line}");
+        let _ = err.flush();
+    } else {
+        let _ = writeln!(err, "{line}");
+    }
 }
 
 /// Number of lines of a text file (a cheap size estimate for `--quick`).

@@ -209,27 +209,15 @@ where
     let tmin = pts.iter().map(|p| p.3).fold(f64::INFINITY, f64::min) / 2.0;
     let tmax = pts.iter().map(|p| p.3).fold(0.0, f64::max) * 2.0;
     let threads = scale.rows.first().map_or(0, |r| r.threads);
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            format!(
-                "{dim}D scale tier: seconds against |P| (median of {}, {threads} threads)",
-                scale.runs
-            ),
-            ("sans-serif", 22),
-        )
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d((nmin..nmax).log_scale(), (tmin..tmax).log_scale())
-        .map_err(err)?;
-    chart
-        .configure_mesh()
-        .x_desc("particles")
-        .y_desc("seconds")
-        .x_label_formatter(&|x| format!("{x:.0e}"))
-        .y_label_formatter(&|y| format!("{y:.0e}"))
-        .draw()
-        .map_err(err)?;
+    let mut chart = log_log_chart(
+        &root,
+        format!(
+            "{dim}D scale tier: seconds against |P| (median of {}, {threads} threads)",
+            scale.runs
+        ),
+        (nmin..nmax, tmin..tmax),
+        ("particles", "seconds"),
+    )?;
     for method in methods {
         let colour = colour_of(method, methods);
         let mut line: Vec<(f64, f64)> = pts
@@ -297,34 +285,20 @@ where
     let xmin = markers.iter().map(|m| m.rate).fold(f64::INFINITY, f64::min) / 2.0;
     let xmax = markers.iter().map(|m| m.rate).fold(0.0, f64::max) * 2.0;
     let ymax = markers.iter().map(|m| m.error).fold(ERROR_FLOOR, f64::max) * 2.0;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            if from_scale {
-                format!(
-                    "{dim}D: speed (scale tier, all threads) against error (fixture scenes), \
-                     default parameters"
-                )
-            } else {
-                format!("{dim}D: speed against error (pooled over scenes, all threads)")
-            },
-            ("sans-serif", 22),
+    let caption = if from_scale {
+        format!(
+            "{dim}D: speed (scale tier, all threads) against error (fixture scenes), default \
+             parameters"
         )
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d(
-            (xmin..xmax).log_scale(),
-            (ERROR_FLOOR / 2.0..ymax).log_scale(),
-        )
-        .map_err(err)?;
-    chart
-        .configure_mesh()
-        .x_desc("particles per second")
-        .y_desc("1 - M")
-        .x_label_formatter(&|x| format!("{x:.0e}"))
-        .y_label_formatter(&|y| format!("{y:.0e}"))
-        .draw()
-        .map_err(err)?;
+    } else {
+        format!("{dim}D: speed against error (pooled over scenes, all threads)")
+    };
+    let mut chart = log_log_chart(
+        &root,
+        caption,
+        (xmin..xmax, ERROR_FLOOR / 2.0..ymax),
+        ("particles per second", "1 - M"),
+    )?;
     for method in methods {
         let colour = colour_of(method, methods);
         let pts: Vec<&Marker> = markers.iter().filter(|m| &m.method == method).collect();
@@ -356,6 +330,37 @@ where
         .draw()
         .map_err(err)?;
     root.present().map_err(err)
+}
+
+/// A chart whose axes are both logarithmic.
+type LogLogChart<'a, DB> = ChartContext<'a, DB, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>;
+
+/// A captioned chart with logarithmic axes over `ranges`, its mesh and axis labels drawn.
+fn log_log_chart<'a, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, Shift>,
+    caption: String,
+    (x, y): (std::ops::Range<f64>, std::ops::Range<f64>),
+    (x_desc, y_desc): (&str, &str),
+) -> Result<LogLogChart<'a, DB>, String>
+where
+    DB::ErrorType: 'static,
+{
+    let mut chart = ChartBuilder::on(root)
+        .caption(caption, ("sans-serif", 22))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x.log_scale(), y.log_scale())
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_label_formatter(&|x| format!("{x:.0e}"))
+        .y_label_formatter(&|y| format!("{y:.0e}"))
+        .draw()
+        .map_err(err)?;
+    Ok(chart)
 }
 
 /// (method, [(depth, FP summed over scenes, seconds summed over scenes)]).

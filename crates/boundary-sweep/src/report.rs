@@ -436,6 +436,18 @@ fn scale_matrix(scale: &ScaleOutcome, cell: impl Fn(&ScaleRow) -> Option<String>
     md
 }
 
+/// A "Not run (—)" list of (what, why); empty when there is none.
+fn not_run<'a>(items: impl Iterator<Item = (String, &'a str)>) -> String {
+    let mut md = String::new();
+    for (what, why) in items {
+        if md.is_empty() {
+            md.push_str("\nNot run (—):\n\n");
+        }
+        let _ = writeln!(md, "- {what}: {why}");
+    }
+    md
+}
+
 /// The scale tier's section of `report.md`.
 pub fn scale_md(scale: &ScaleOutcome) -> String {
     let mut md = String::new();
@@ -483,19 +495,10 @@ pub fn scale_md(scale: &ScaleOutcome) -> String {
     md.push_str(&scale_matrix(scale, |r| {
         r.confusion.map(|c| format!("{:.4}", c.m()))
     }));
-    let skipped: Vec<&ScaleRow> = scale.rows.iter().filter(|r| r.skipped.is_some()).collect();
-    if !skipped.is_empty() {
-        let _ = writeln!(md, "\nNot run (—):\n");
-        for row in skipped {
-            let _ = writeln!(
-                md,
-                "- `{}` {}: {}",
-                row.scene,
-                row.method,
-                row.skipped.as_deref().unwrap_or("")
-            );
-        }
-    }
+    md.push_str(&not_run(scale.rows.iter().filter_map(|r| {
+        let why = r.skipped.as_deref()?;
+        Some((format!("`{}` {}", r.scene, r.method), why))
+    })));
     if let Some((scene, _, _)) = scale
         .scenes
         .iter()
@@ -588,19 +591,10 @@ pub fn scale_md(scale: &ScaleOutcome) -> String {
                 cells.join(" | ")
             );
         }
-        let skipped: Vec<&ThreadRun> = runs.iter().filter(|r| r.skipped.is_some()).collect();
-        if !skipped.is_empty() {
-            let _ = writeln!(md, "\nNot run (—):\n");
-            for run in skipped {
-                let _ = writeln!(
-                    md,
-                    "- {} on {} thread(s): {}",
-                    run.method,
-                    run.threads,
-                    run.skipped.as_deref().unwrap_or("")
-                );
-            }
-        }
+        md.push_str(&not_run(runs.iter().filter_map(|r| {
+            let why = r.skipped.as_deref()?;
+            Some((format!("{} on {} thread(s)", r.method, r.threads), why))
+        })));
     }
     md.push('\n');
     md
