@@ -402,8 +402,8 @@ pub fn enright_sphere(n: usize, t: f64, dt: f64) -> (ParticleSet<3>, f64) {
     let volume = 4.0 / 3.0 * PI * radius * radius * radius;
     let h = (volume / n.max(1) as f64).cbrt();
     let start = fill(
-        [c[0] - radius; 3],
-        [c[0] + radius; 3],
+        std::array::from_fn(|a| c[a] - radius),
+        std::array::from_fn(|a| c[a] + radius),
         h,
         0.05,
         &mut StdRng::seed_from_u64(3),
