@@ -64,8 +64,8 @@ impl MethodConfig {
 }
 
 /// Parameter grids swept besides the defaults: depth 1..8 for the interval methods (the JCP
-/// paper's Fig. 7 / thesis Fig. 27), a gamma grid, no cavity viewpoints and two viewpoint
-/// grids for the visibility method, thresholds
+/// paper's Fig. 7 / thesis Fig. 27), a gamma grid, no cavity viewpoints, two viewpoint
+/// grids and the 2D protrusion tolerance everywhere for the visibility method, thresholds
 /// around the default 0.375 for the colour field of `muller` (how sensitive M is to it), and the
 /// `svm` cascades `refine=exact|ge`.
 pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
@@ -89,6 +89,8 @@ pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
                 out.push(MethodConfig::with(m, "cavity", "off"));
                 // A second viewpoint grid shifted by r (boundary when seen under both).
                 out.push(MethodConfig::with(m, "grids", "2"));
+                // 3D with the 2D default's protrusion tolerance (hpr's crate docs).
+                out.push(MethodConfig::with(m, "protrusion", "1e-3"));
             }
             "muller" => {
                 for threshold in ["0.1", "0.2", "0.3", "0.5", "0.6"] {
