@@ -1,0 +1,53 @@
+//! `svm` and `exact` in the same run on the jittered ball of the bench (spacing 1, jitter
+//! ±0.15, r = 1.2): `cargo run --release -p boundary-svm --example throughput [N [THREADS…]]`
+//! (default 1,000,000 particles, 1 and 2 threads). `BOUNDARY_SKIP_EXACT=1` times `svm` only
+//! (for `valgrind --tool=callgrind`).
+#![allow(clippy::unwrap_used, clippy::print_stdout)] // a measuring tool: failing loudly is fine
+use boundary_core::{BoundaryDetector, Radius};
+use boundary_exact::ExactDetector;
+use boundary_scenes::jittered_lattice_ball;
+use boundary_svm::SvmDetector;
+use std::time::Instant;
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    let n: usize = args
+        .next()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1_000_000);
+    let mut threads: Vec<usize> = args.filter_map(|s| s.parse().ok()).collect();
+    if threads.is_empty() {
+        threads = vec![1, 2];
+    }
+    let skip_exact = std::env::var_os("BOUNDARY_SKIP_EXACT").is_some();
+    let (set, _) = jittered_lattice_ball(n, 0.15, 42);
+    let r = Radius::new(1.2).unwrap();
+    let svm = SvmDetector::default();
+    for t in threads {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build()
+            .unwrap();
+        let time = |d: &dyn BoundaryDetector| {
+            let start = Instant::now();
+            let labels = pool.install(|| d.detect_3d(&set, r).unwrap()).labels;
+            (start.elapsed().as_secs_f64(), labels.boundary_count())
+        };
+        let (s_svm, b_svm) = time(&svm);
+        print!(
+            "n = {} threads = {t}: svm {s_svm:.3} s ({:.0}/s, {b_svm} boundary)",
+            set.len(),
+            set.len() as f64 / s_svm
+        );
+        if skip_exact {
+            println!();
+        } else {
+            let (s_exact, b_exact) = time(&ExactDetector);
+            println!(
+                ", exact {s_exact:.3} s ({:.0}/s, {b_exact} boundary), svm/exact rate {:.2}",
+                set.len() as f64 / s_exact,
+                s_exact / s_svm
+            );
+        }
+    }
+}
