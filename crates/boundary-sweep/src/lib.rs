@@ -13,7 +13,10 @@ pub mod published;
 pub mod report;
 pub mod scale;
 
-use boundary::{AnyParticleSet, BoundaryDetector, Confusion, DetectError, Labels, Radius};
+use boundary::{
+    AnyParticleSet, BoundaryDetector, Confusion, DetectError, Labels, NeighbourGrid, ParticleSet,
+    Radius,
+};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -179,6 +182,34 @@ pub struct Outcome {
     pub failure_pictures: Vec<failures::FailurePicture>,
     /// The scale tier, when it ran ([`scale`]).
     pub scale: Option<scale::ScaleOutcome>,
+    /// (scene, mean number of other particles within `2r` of a particle), in run order: the
+    /// density of the neighbourhoods every method reads, beside its timings.
+    pub neighbours: Vec<(String, f64)>,
+}
+
+/// The mean number of other particles within `2r` of a particle of `set` (the scene's uniform
+/// `r`; coincident duplicates count). `None` for an empty set or where the grid fails.
+pub fn mean_neighbours(set: &AnyParticleSet, r: f64) -> Option<f64> {
+    fn mean<const D: usize>(set: &ParticleSet<D>, r: f64) -> Option<f64> {
+        if set.is_empty() {
+            return None;
+        }
+        let grid = NeighbourGrid::new(set, 2.0 * r).ok()?;
+        let reach2 = 4.0 * r * r;
+        let mut total = 0usize;
+        for (i, p) in set.positions().iter().enumerate() {
+            grid.for_each_within(p, 2.0 * r, |j, d2| {
+                if j != i && d2 <= reach2 {
+                    total += 1;
+                }
+            });
+        }
+        Some(total as f64 / set.len() as f64)
+    }
+    match set {
+        AnyParticleSet::D2(s) => mean(s, r),
+        AnyParticleSet::D3(s) => mean(s, r),
+    }
 }
 
 /// Options of a sweep run.
@@ -293,6 +324,9 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
             what: &format!("{} exact", scene.name),
         });
         out.about.push((scene.name.clone(), scene.about.clone()));
+        if let Some(k) = mean_neighbours(&set, scene.radius) {
+            out.neighbours.push((scene.name.clone(), k));
+        }
         // Classes of the particles for the miss profiles, computed once on first need.
         let mut classes: Option<Result<failures::SceneClasses, String>> = None;
         let mut picture_methods = Vec::new();
@@ -423,5 +457,28 @@ fn keep_if_worst(
     match slot {
         Some(k) => pictures[k] = picture,
         None => pictures.push(picture),
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+mod tests {
+    use super::*;
+
+    /// A 3 × 3 unit lattice at r = 0.5 (2r = 1: the axis neighbours, at distance exactly 2r,
+    /// count; the diagonal ones, at √2, do not): the centre has 4, edge midpoints 3,
+    /// corners 2, so the mean is (4 + 4·3 + 4·2)/9; a duplicate adds one for each of a pair.
+    #[test]
+    fn mean_neighbours_counts_others_within_2r() {
+        let mut rows: Vec<[f64; 2]> = (0..9).map(|k| [(k % 3) as f64, (k / 3) as f64]).collect();
+        let lattice = AnyParticleSet::D2(ParticleSet::from_rows(&rows).unwrap());
+        assert_eq!(mean_neighbours(&lattice, 0.5), Some(24.0 / 9.0));
+        rows.push([0.0, 0.0]);
+        let with_duplicate = AnyParticleSet::D2(ParticleSet::from_rows(&rows).unwrap());
+        // The new particle sees its twin and the twin's two axis neighbours (3); the twin
+        // and those two neighbours each gain it (3): (24 + 6)/10.
+        assert_eq!(mean_neighbours(&with_duplicate, 0.5), Some(3.0));
+        let empty = AnyParticleSet::D3(ParticleSet::new(vec![]).unwrap());
+        assert_eq!(mean_neighbours(&empty, 1.0), None);
     }
 }

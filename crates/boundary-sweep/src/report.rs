@@ -190,6 +190,7 @@ pub fn report_md(outcome: &Outcome, header: &str) -> String {
         }
     }
     md.push_str(&parallel_efficiency(outcome));
+    md.push_str(&speed_spread(outcome));
     let _ = writeln!(md, "\nPublished (JCP Table 3, i7-8750H, 1 and 6 cores):\n");
     let _ = writeln!(
         md,
@@ -309,6 +310,111 @@ fn parallel_efficiency(outcome: &Outcome) -> String {
         "\nParallel efficiency per method, pooled over the scenes above (small scenes: the \
          thread start-up weighs; one run):\n\n| Method | scenes | 1 thread (s) | all threads (s) | \
          threads | speedup | efficiency |\n|---|---|---|---|---|---|---|"
+    );
+    for line in lines {
+        let _ = writeln!(md, "{line}");
+    }
+    md
+}
+
+/// Scenes below this size are left out of [`speed_spread`]: their times are mostly start-up
+/// (grid, thread pool), not the method.
+pub const SPREAD_MIN_PARTICLES: usize = 1000;
+/// The spread issue 21 allows: each method's slowest scene within this factor of its median
+/// rate over the scenes.
+pub const SPREAD_BOUND: f64 = 3.0;
+
+/// The median of `v` (the mean of the middle two for an even count); `None` when empty.
+fn median(mut v: Vec<f64>) -> Option<f64> {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    match n {
+        0 => None,
+        _ if n % 2 == 1 => Some(v[n / 2]),
+        _ => Some(0.5 * (v[n / 2 - 1] + v[n / 2])),
+    }
+}
+
+/// Per method, its one-thread rate (particles/s, default parameters) over the scenes of at
+/// least [`SPREAD_MIN_PARTICLES`]: the median, the slowest scene and the ratio between them,
+/// flagged beyond [`SPREAD_BOUND`]; beside it, how much denser that scene's neighbourhoods
+/// are than the median scene's (mean neighbours within `2r`), since every method reads them.
+fn speed_spread(outcome: &Outcome) -> String {
+    let neighbours = |scene: &str| {
+        outcome
+            .neighbours
+            .iter()
+            .find(|(s, _)| s == scene)
+            .map(|&(_, k)| k)
+    };
+    let mut methods: Vec<&str> = Vec::new();
+    for row in &outcome.rows {
+        if row.is_default && !methods.contains(&row.method.as_str()) {
+            methods.push(&row.method);
+        }
+    }
+    let mut lines = Vec::new();
+    for method in methods {
+        let timed: Vec<(&Row, f64)> = outcome
+            .rows
+            .iter()
+            .filter(|r| {
+                r.method == method
+                    && r.is_default
+                    && r.error.is_none()
+                    && r.n >= SPREAD_MIN_PARTICLES
+            })
+            .filter_map(|r| {
+                r.seconds_1
+                    .filter(|&s| s > 0.0)
+                    .map(|s| (r, r.n as f64 / s))
+            })
+            .collect();
+        let Some(mid) = median(timed.iter().map(|&(_, rate)| rate).collect()) else {
+            continue;
+        };
+        let Some(&(slowest, low)) = timed.iter().min_by(|a, b| a.1.total_cmp(&b.1)) else {
+            continue;
+        };
+        let ratio = mid / low;
+        let density = match (
+            neighbours(&slowest.scene),
+            median(
+                timed
+                    .iter()
+                    .filter_map(|(r, _)| neighbours(&r.scene))
+                    .collect(),
+            ),
+        ) {
+            (Some(k), Some(k_mid)) if k_mid > 0.0 => {
+                format!("{k:.0} / {k_mid:.0} = {:.2}", k / k_mid)
+            }
+            _ => "-".into(),
+        };
+        lines.push(format!(
+            "| {method} | {} | {mid:.3e} | `{}` | {low:.3e} | {ratio:.2}{} | {density} |",
+            timed.len(),
+            slowest.scene,
+            if ratio > SPREAD_BOUND {
+                format!(" (> {SPREAD_BOUND}x)")
+            } else {
+                String::new()
+            }
+        ));
+    }
+    if lines.is_empty() {
+        return String::new();
+    }
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "
+Speed across scenes: one-thread particles/s at default parameters over the scenes of \
+         at least {SPREAD_MIN_PARTICLES} particles; the goal is the slowest within \
+         {SPREAD_BOUND}x of the median. Neighbours: mean number of particles within 2r on the \
+         slowest scene / the median over the same scenes (one run):\n\n| Method | scenes | \
+         median | slowest scene | its particles/s | median / slowest | neighbours |\n\
+         |---|---|---|---|---|---|---|"
     );
     for line in lines {
         let _ = writeln!(md, "{line}");
@@ -642,6 +748,61 @@ mod tests {
             skipped: vec![("gone".into(), "no such file".into())],
             ..Default::default()
         }
+    }
+
+    /// The spread takes one-thread rates of default rows on scenes of at least
+    /// SPREAD_MIN_PARTICLES, flags a slowest scene beyond SPREAD_BOUND and sets its
+    /// neighbour count beside the median scene's.
+    #[test]
+    fn speed_spread_reports_the_slowest_scene_against_the_median() {
+        let c = Confusion {
+            tp: 1,
+            tn: 1,
+            fp: 0,
+            fn_: 0,
+        };
+        let mut rows = Vec::new();
+        let mut neighbours = Vec::new();
+        // ge: 1000/0.01 = 1e5, 2000/0.01 = 2e5, 4000/0.01 = 4e5 and 3000/0.1 = 3e4 per s:
+        // median (1e5 + 2e5)/2 = 1.5e5, slowest 3e4: 5.00x. A small scene (very slow) and a
+        // swept row (slower still) are left out.
+        for (scene, n, t1, k) in [
+            ("a", 1000, 0.01, 20.0),
+            ("b", 2000, 0.01, 30.0),
+            ("c", 4000, 0.01, 40.0),
+            ("dense", 3000, 0.1, 140.0),
+            ("tiny", 10, 1.0, 5.0),
+        ] {
+            let mut r = row("ge", "depth=6", c, t1, t1);
+            r.scene = scene.into();
+            r.n = n;
+            rows.push(r);
+            let mut swept = row("ge", "depth=8", c, 100.0, 100.0);
+            swept.scene = scene.into();
+            swept.n = n;
+            rows.push(swept);
+            neighbours.push((scene.to_owned(), k));
+        }
+        let outcome = Outcome {
+            rows,
+            neighbours,
+            ..Default::default()
+        };
+        let md = report_md(&outcome, "test");
+        // Neighbours: 140 against the median of 20, 30, 40, 140 = 35.
+        assert!(
+            md.contains("| ge | 4 | 1.500e5 | `dense` | 3.000e4 | 5.00 (> 3x) | 140 / 35 = 4.00 |"),
+            "{md}"
+        );
+        // Within the bound: no flag.
+        let mut fast = outcome;
+        for r in &mut fast.rows {
+            if r.scene == "dense" {
+                r.seconds_1 = Some(0.03);
+            }
+        }
+        // 3000/0.03 = 1e5: median of 1e5, 1e5, 2e5, 4e5 = 1.5e5, slowest 1e5: 1.50.
+        assert!(report_md(&fast, "test").contains("| ge | 4 | 1.500e5 | `a` | 1.000e5 | 1.50 |"));
     }
 
     #[test]
