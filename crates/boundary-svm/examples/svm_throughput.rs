@@ -1,5 +1,5 @@
 //! `svm` and `exact` in the same run on the jittered ball of the bench (spacing 1, jitter
-//! ±0.15, r = 1.2): `cargo run --release -p boundary-svm --example throughput [N [THREADS…]]`
+//! ±0.15, r = 1.2): `cargo run --release -p boundary-svm --example svm_throughput [N [THREADS…]]`
 //! (default 1,000,000 particles, 1 and 2 threads). `BOUNDARY_SKIP_EXACT=1` times `svm` only
 //! (for `valgrind --tool=callgrind`).
 #![allow(clippy::unwrap_used, clippy::print_stdout)] // a measuring tool: failing loudly is fine
