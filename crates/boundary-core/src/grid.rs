@@ -172,6 +172,12 @@ impl<const D: usize> NeighbourGrid<D> {
         &self.order
     }
 
+    /// The positions in [`NeighbourGrid::cell_order`]: entry `s` is the position of particle
+    /// `cell_order()[s]`.
+    pub fn cell_sorted_positions(&self) -> &[Point<D>] {
+        &self.sorted
+    }
+
     /// The cell side.
     pub fn cell_size(&self) -> f64 {
         self.cell
@@ -208,15 +214,16 @@ impl<const D: usize> NeighbourGrid<D> {
         });
     }
 
-    /// Appends `make(j, d2)` to `out` for every particle `j` within `radius` of `q`: the
-    /// particles [`NeighbourGrid::for_each_within`] reports, in the same order, with the same
-    /// `d2`. Faster where many candidates fail the distance test: no branch per candidate.
+    /// Appends `make(j, slot, d2)` to `out` for every particle `j` within `radius` of `q`:
+    /// the particles [`NeighbourGrid::for_each_within`] reports, in the same order, with the
+    /// same `d2`; `slot` is the particle's place in [`NeighbourGrid::cell_sorted_positions`].
+    /// Faster where many candidates fail the distance test: no branch per candidate.
     pub fn gather_within<T: Copy + Default>(
         &self,
         q: &Point<D>,
         radius: f64,
         out: &mut Vec<T>,
-        make: impl Fn(usize, f64) -> T,
+        make: impl Fn(usize, usize, f64) -> T,
     ) {
         let r2 = radius * radius;
         // Every candidate is written; only those within the radius are kept (`len` advances
@@ -229,9 +236,14 @@ impl<const D: usize> NeighbourGrid<D> {
             }
             let slots = &mut out[len..len + range.len()];
             let mut k = 0;
-            for (p, &j) in self.sorted[range.clone()].iter().zip(&self.order[range]) {
+            let first = range.start;
+            for (i, (p, &j)) in self.sorted[range.clone()]
+                .iter()
+                .zip(&self.order[range])
+                .enumerate()
+            {
                 let d2 = dist2(p, q);
-                slots[k] = make(j as usize, d2);
+                slots[k] = make(j as usize, first + i, d2);
                 k += (d2 <= r2) as usize;
             }
             len += k;

@@ -347,6 +347,56 @@ impl Clipper<3> for Polyhedron {
 /// caller then uses [`Polyhedron`]); a Voronoi cell of an ordinary particle set has a few dozen.
 const SIMPLE_MAX_VERTS: usize = 255;
 
+/// `PREVIOUS[s]`: the slot before `s` in a cyclic list of three, `(s + 2) % 3` (the fourth
+/// entry is never used).
+const PREVIOUS: [u8; 4] = [2, 0, 1, 0];
+
+/// The box's neighbour lists: vertex `k` is `(±1, ±1, ±1)` with bit 0, 1, 2 of `k` set for
+/// `+` in x, y, z; its neighbours differ in one bit each, in (x, y, z) order at the corners
+/// with an even number of negative coordinates (counter-clockwise seen from outside there)
+/// and in (x, z, y) order at the others.
+const BOX_NBRS: [[u8; 3]; 8] = box_nbrs();
+
+/// `BOX_BACK[v][i]`: the slot of `v` in the list of `BOX_NBRS[v][i]`.
+const BOX_BACK: [[u8; 3]; 8] = box_back();
+
+const fn box_nbrs() -> [[u8; 3]; 8] {
+    let mut t = [[0u8; 3]; 8];
+    let mut k = 0u8;
+    while k < 8 {
+        let negatives = (k & 1 == 0) as u8 + (k & 2 == 0) as u8 + (k & 4 == 0) as u8;
+        t[k as usize] = if negatives % 2 == 0 {
+            [k ^ 1, k ^ 2, k ^ 4]
+        } else {
+            [k ^ 1, k ^ 4, k ^ 2]
+        };
+        k += 1;
+    }
+    t
+}
+
+const fn box_back() -> [[u8; 3]; 8] {
+    let n = box_nbrs();
+    let mut t = [[0u8; 3]; 8];
+    let mut v = 0;
+    while v < 8 {
+        let mut i = 0;
+        while i < 3 {
+            let x = n[v][i] as usize;
+            let mut j = 0;
+            while j < 3 {
+                if n[x][j] as usize == v {
+                    t[v][i] = j as u8;
+                }
+                j += 1;
+            }
+            i += 1;
+        }
+        v += 1;
+    }
+    t
+}
+
 /// The fast 3D cell: a *simple* convex polyhedron (every vertex has exactly three edges),
 /// stored as vertices with their three neighbours in counter-clockwise order seen from
 /// outside. A clip touches only the vertices it cuts off and their neighbours: the new face is
@@ -372,10 +422,13 @@ pub(crate) struct SimplePolyhedron {
     norm2: Box<[f64; 256]>,
     /// The three neighbours of each vertex, counter-clockwise seen from outside.
     nbrs: Box<[[u8; 3]; 256]>,
+    /// `back[v][i]`: the slot of `v` in the list of its neighbour `nbrs[v][i]` (no search).
+    back: Box<[[u8; 3]; 256]>,
     /// Signed distance of each vertex from the plane of the clip in progress.
     side: Box<[f64; 256]>,
-    /// Per new vertex of the clip in progress: the cut-off vertex at the outer end of its edge.
-    new_out: Box<[u8; 256]>,
+    /// Per new vertex of the clip in progress: the cut-off vertex at the outer end of its edge
+    /// and the slot of the kept one in its list.
+    new_out: Box<[(u8, u8); 256]>,
     /// The cut-off vertices of the clip in progress, ascending.
     outs: Box<[u8; 256]>,
     /// `max norm2`.
@@ -390,8 +443,9 @@ impl Default for SimplePolyhedron {
             xyz: Box::new([[0.0; 256]; 3]),
             norm2: Box::new([0.0; 256]),
             nbrs: Box::new([[0; 3]; 256]),
+            back: Box::new([[0; 3]; 256]),
             side: Box::new([0.0; 256]),
-            new_out: Box::new([0; 256]),
+            new_out: Box::new([(0, 0); 256]),
             outs: Box::new([0; 256]),
             max2: 0.0,
             degenerate: false,
@@ -402,12 +456,6 @@ impl Default for SimplePolyhedron {
 }
 
 impl SimplePolyhedron {
-    /// Slot of `x` in `v`'s neighbour list (`x` must be a neighbour).
-    fn slot(&self, v: u8, x: u8) -> usize {
-        let n = &self.nbrs[v as usize];
-        (n[1] == x) as usize + 2 * (n[2] == x) as usize
-    }
-
     fn vertex(&self, v: u8) -> [f64; 3] {
         let v = v as usize;
         [self.xyz[0][v], self.xyz[1][v], self.xyz[2][v]]
@@ -432,15 +480,9 @@ impl Clipper<3> for SimplePolyhedron {
             let c = |bit: u8| if k & bit != 0 { 1.0 } else { -1.0 };
             self.set_vertex(k, [c(1), c(2), c(4)]);
             self.norm2[k as usize] = 3.0;
-            // The neighbours differ in one bit each; (x, y, z) order is counter-clockwise seen
-            // from outside at the corners with an even number of negative coordinates.
-            let negatives = (k & 1 == 0) as u8 + (k & 2 == 0) as u8 + (k & 4 == 0) as u8;
-            self.nbrs[k as usize] = if negatives % 2 == 0 {
-                [k ^ 1, k ^ 2, k ^ 4]
-            } else {
-                [k ^ 1, k ^ 4, k ^ 2]
-            };
         }
+        self.nbrs[..8].copy_from_slice(&BOX_NBRS);
+        self.back[..8].copy_from_slice(&BOX_BACK);
         self.len = 8;
         self.max2 = 3.0;
         self.degenerate = false;
@@ -460,7 +502,8 @@ impl Clipper<3> for SimplePolyhedron {
             }
         }
         // Whether it cuts, and whether a vertex lies within PLANE_EPS of the plane: the
-        // largest signed distance, and the smallest absolute one (branch-free reductions).
+        // largest signed distance, and the smallest absolute one (branch-free reductions,
+        // which the compiler vectorises in a loop of their own).
         let mut top = f64::NEG_INFINITY;
         let mut closest = f64::INFINITY;
         for &s in &self.side[..nv] {
@@ -491,8 +534,8 @@ impl Clipper<3> for SimplePolyhedron {
         let mut len = nv;
         for k in 0..nout {
             let o = self.outs[k as u8 as usize];
-            for slot in 0..3 {
-                let u = self.nbrs[o as usize][slot];
+            for i in 0..3 {
+                let u = self.nbrs[o as usize][i];
                 let su = self.side[u as usize];
                 if su < 0.0 {
                     if len >= SIMPLE_MAX_VERTS {
@@ -502,15 +545,17 @@ impl Clipper<3> for SimplePolyhedron {
                     let w = len as u8;
                     let so = self.side[o as usize];
                     let x = crossing(&self.vertex(u), &self.vertex(o), su, so);
-                    let s = self.slot(u, o);
-                    self.nbrs[u as usize][s] = w;
+                    let s = self.back[o as usize][i];
+                    self.nbrs[u as usize][s as usize] = w;
+                    self.back[u as usize][s as usize] = 0;
                     self.set_vertex(w, x);
                     let x2 = norm2(&x);
                     self.norm2[w as usize] = x2;
                     max_in = if x2 > max_in { x2 } else { max_in };
                     self.nbrs[w as usize] = [u, 0, 0];
+                    self.back[w as usize] = [s, 0, 0];
                     self.side[w as usize] = -1.0;
-                    self.new_out[w as usize] = o;
+                    self.new_out[w as usize] = (o, i as u8);
                     len += 1;
                 }
             }
@@ -528,18 +573,20 @@ impl Clipper<3> for SimplePolyhedron {
         }
         // The new face: from the new vertex `w` on the edge `u → o`, walk the face left of
         // that edge (seen from outside) through cut-off vertices to the edge where it comes
-        // back in, `cur → next`; the new vertex on that edge follows `w` on the new face.
+        // back in, `cur → next`; the new vertex on that edge (now in `next`'s slot of `cur`)
+        // follows `w` on the new face. `s` is the slot of the previous vertex in `cur`'s list.
         for w in nv..len {
             let w = w as u8;
-            let (mut prev, mut cur) = (self.nbrs[w as usize][0], self.new_out[w as usize]);
+            let (mut cur, mut s) = self.new_out[w as usize];
             let mut steps = 0;
-            let next = loop {
-                let s = self.slot(cur, prev);
-                let next = self.nbrs[cur as usize][(s + 2) % 3];
+            let w2 = loop {
+                let j = PREVIOUS[s as usize & 3] as usize;
+                let next = self.nbrs[cur as usize][j];
+                let back = self.back[cur as usize][j];
                 if self.side[next as usize] < 0.0 {
-                    break next;
+                    break self.nbrs[next as usize][back as usize];
                 }
-                (prev, cur) = (cur, next);
+                (cur, s) = (next, back);
                 steps += 1;
                 if steps > 3 * nv {
                     // Not a simple polyhedron after all: give up (never seen; defensive).
@@ -547,20 +594,14 @@ impl Clipper<3> for SimplePolyhedron {
                     return;
                 }
             };
-            let m = self.nbrs[next as usize];
-            let is_w2 = |x: u8| x as usize >= nv && self.new_out[x as usize] == cur;
-            let w2 = if is_w2(m[0]) {
-                m[0]
-            } else if is_w2(m[1]) {
-                m[1]
-            } else if is_w2(m[2]) {
-                m[2]
-            } else {
-                self.degenerate = true;
+            if (w2 as usize) < nv {
+                self.degenerate = true; // defensive, as above
                 return;
-            };
+            }
             self.nbrs[w as usize][2] = w2;
+            self.back[w as usize][2] = 1;
             self.nbrs[w2 as usize][1] = w;
+            self.back[w2 as usize][1] = 2;
         }
         // Refill the cut-off vertices' slots from the end (ascending: the tail is trimmed of
         // cut-off vertices first, so the vertex moved is always a kept one).
@@ -576,10 +617,12 @@ impl Clipper<3> for SimplePolyhedron {
             self.set_vertex(o, self.vertex(last));
             self.norm2[o as usize] = self.norm2[last as usize];
             self.nbrs[o as usize] = self.nbrs[last as usize];
+            self.back[o as usize] = self.back[last as usize];
             self.side[o as usize] = self.side[last as usize];
-            for x in self.nbrs[o as usize] {
-                let s = self.slot(x, last);
-                self.nbrs[x as usize][s] = o;
+            for i in 0..3 {
+                let x = self.nbrs[o as usize][i];
+                let b = self.back[o as usize][i];
+                self.nbrs[x as usize][b as usize] = o;
             }
             len = last as usize;
         }
@@ -717,9 +760,12 @@ mod tests {
                 n[0] != n[1] && n[1] != n[2] && n[0] != n[2],
                 "vertex {v}: {n:?}"
             );
-            for x in n {
+            for (i, x) in n.into_iter().enumerate() {
                 assert!((x as usize) < c.len);
-                assert!(c.nbrs[x as usize].contains(&(v as u8)), "{v} -> {x}");
+                assert_eq!(
+                    c.nbrs[x as usize][c.back[v][i] as usize], v as u8,
+                    "{v} -> {x}"
+                );
             }
         }
     }
