@@ -365,7 +365,7 @@ const fn box_nbrs() -> [[u8; 3]; 8] {
     let mut k = 0u8;
     while k < 8 {
         let negatives = (k & 1 == 0) as u8 + (k & 2 == 0) as u8 + (k & 4 == 0) as u8;
-        t[k as usize] = if negatives % 2 == 0 {
+        t[k as usize] = if negatives.is_multiple_of(2) {
             [k ^ 1, k ^ 2, k ^ 4]
         } else {
             [k ^ 1, k ^ 4, k ^ 2]

@@ -47,10 +47,10 @@
 //! the faces of the cut-off region instead of sorting the new face by angle). It computes each
 //! new vertex by the same expression from the same edge endpoints as the full polyhedron, so
 //! wherever that one flags no clip, the vertices, margin and bound are the same bit for bit
-//! (where it flags only near-equal angles, the fast cell's are the right ones); it stops at the first
-//! clip with a vertex within `PLANE_EPS` of the plane or two new vertices within `1e-12`
-//! (or over 255 vertices), and such a particle is decided again by the full polyhedron and the
-//! steps below, unchanged (tests: random clip sequences against the full polyhedron, and every
+//! (where it flags only near-equal angles, the fast cell's are the right ones). It stops at
+//! the first clip with a vertex within `PLANE_EPS` of the plane or two new vertices within
+//! `1e-12` (or over 255 vertices), and such a particle is decided again by the full polyhedron
+//! and the steps below, unchanged (tests: random clip sequences against the full polyhedron, and every
 //! margin of whole detections against a brute-force full-list reference, 2D and 3D). Its
 //! cell is the exact clip of the float cell whenever every vertex is classified correctly
 //! (fact 3 below), so the bound covers it; it needs no flag for near-equal angles because it
