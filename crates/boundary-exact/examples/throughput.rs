@@ -1,5 +1,6 @@
-//! Quick throughput check: `cargo run --release -p boundary-exact --example throughput [N]`.
-//! Jittered cubic lattice ball (spacing 1, jitter ±0.15, r = 1.2), 1 thread and all threads.
+//! Quick throughput check: `cargo run --release -p boundary-exact --example throughput [N]
+//! [THREADS,...]`. Jittered cubic lattice ball (spacing 1, jitter ±0.15, r = 1.2), by default
+//! on 1 and 2 threads (`... throughput 50000 1` runs one thread only, e.g. under callgrind).
 #![allow(clippy::unwrap_used)] // a measuring tool: failing loudly is fine
 use boundary_core::{BoundaryDetector, ParticleSet, Point, Radius};
 use boundary_exact::ExactDetector;
@@ -36,7 +37,11 @@ fn main() {
         .unwrap_or(1_000_000);
     let set = ball(n);
     let r = Radius::new(1.2).unwrap();
-    for threads in [1, 2] {
+    let threads: Vec<usize> = std::env::args()
+        .nth(2)
+        .map(|s| s.split(',').filter_map(|t| t.trim().parse().ok()).collect())
+        .unwrap_or_else(|| vec![1, 2]);
+    for threads in threads {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
@@ -44,8 +49,13 @@ fn main() {
         let t = Instant::now();
         let d = pool.install(|| ExactDetector.detect_3d(&set, r).unwrap());
         let s = t.elapsed().as_secs_f64();
+        // A checksum of the margins' bit patterns: a change of the float path that should
+        // leave the output bit for bit the same must leave it unchanged.
+        let checksum = d.margin.unwrap().iter().fold(0u64, |h, m| {
+            (h ^ m.to_bits()).wrapping_mul(0x0100_0000_01b3)
+        });
         println!(
-            "n = {} threads = {threads}: {:.3} s, {:.0} particles/s, {} boundary",
+            "n = {} threads = {threads}: {:.3} s, {:.0} particles/s, {} boundary, margins {checksum:016x}",
             set.len(),
             s,
             set.len() as f64 / s,

@@ -16,21 +16,32 @@ const MERGE_EPS2: f64 = 1e-24;
 /// clip near-degenerate (their order may be wrong in floating point).
 const ANGLE_EPS: f64 = 1e-12;
 
-/// Operations the cell-clipping driver needs from a cell.
-pub(crate) trait ConvexCell<const D: usize> {
+/// The clipping operations of a cell (all the float cell driver needs).
+pub(crate) trait Clipper<const D: usize> {
     /// Resets the cell to the box `[-1, 1]^D`.
     fn reset_box(&mut self);
     /// Intersects the cell with `n·x <= offset` (`n` a unit vector, `offset > 0`).
     fn clip(&mut self, n: &[f64; D], offset: f64);
     /// Largest squared distance of a vertex from the origin.
     fn max_norm2(&self) -> f64;
-    /// The cell's vertices.
-    fn vertices(&self) -> &[[f64; D]];
     /// Whether a clip since the last reset was near-degenerate: it cut the cell while a vertex
     /// lay within [`PLANE_EPS`] of the plane, or (3D) it merged cap points or met two cap
     /// points at nearly the same angle. The error bound of the crate docs assumes no such clip;
     /// a flagged particle is decided by the exact predicate.
     fn degenerate(&self) -> bool;
+}
+
+/// A cell the certificates can use: clipping, and its vertices.
+pub(crate) trait ConvexCell<const D: usize>: Clipper<D> {
+    /// A faster cell for a first pass (`exact`'s float path at a uniform radius): it computes
+    /// the same vertices for every clip sequence it does not flag, and flags at least every
+    /// near-degenerate clip this cell flags except the near-equal angles of two cap points
+    /// (crate docs, "Exactness"), so a decision it reaches is the decision of this cell.
+    type Fast: Clipper<D> + Default + Clone + Send;
+    /// Whether [`ConvexCell::Fast`] is another type (worth a first pass) rather than `Self`.
+    const HAS_FAST: bool;
+    /// The cell's vertices.
+    fn vertices(&self) -> &[[f64; D]];
 }
 
 fn dot<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
@@ -60,6 +71,15 @@ pub(crate) struct Polygon {
 }
 
 impl ConvexCell<2> for Polygon {
+    type Fast = Polygon;
+    const HAS_FAST: bool = false;
+
+    fn vertices(&self) -> &[[f64; 2]] {
+        &self.verts
+    }
+}
+
+impl Clipper<2> for Polygon {
     fn reset_box(&mut self) {
         self.verts.clear();
         self.verts
@@ -106,10 +126,6 @@ impl ConvexCell<2> for Polygon {
 
     fn max_norm2(&self) -> f64 {
         self.verts.iter().map(norm2).fold(0.0, f64::max)
-    }
-
-    fn vertices(&self) -> &[[f64; 2]] {
-        &self.verts
     }
 
     fn degenerate(&self) -> bool {
@@ -227,6 +243,15 @@ fn normalised(a: [f64; 3]) -> [f64; 3] {
 }
 
 impl ConvexCell<3> for Polyhedron {
+    type Fast = SimplePolyhedron;
+    const HAS_FAST: bool = true;
+
+    fn vertices(&self) -> &[[f64; 3]] {
+        &self.verts
+    }
+}
+
+impl Clipper<3> for Polyhedron {
     fn reset_box(&mut self) {
         self.verts.clear();
         for k in 0..8u32 {
@@ -312,8 +337,301 @@ impl ConvexCell<3> for Polyhedron {
         self.verts.iter().map(norm2).fold(0.0, f64::max)
     }
 
-    fn vertices(&self) -> &[[f64; 3]] {
-        &self.verts
+    fn degenerate(&self) -> bool {
+        self.degenerate
+    }
+}
+
+/// Most vertices of a [`SimplePolyhedron`]: its vertex indices are `u8`, so its arrays of 256
+/// entries are indexed without bounds checks. A clip that would exceed it flags the cell (the
+/// caller then uses [`Polyhedron`]); a Voronoi cell of an ordinary particle set has a few dozen.
+const SIMPLE_MAX_VERTS: usize = 255;
+
+/// `PREVIOUS[s]`: the slot before `s` in a cyclic list of three, `(s + 2) % 3` (the fourth
+/// entry is never used).
+const PREVIOUS: [u8; 4] = [2, 0, 1, 0];
+
+/// The box's neighbour lists: vertex `k` is `(±1, ±1, ±1)` with bit 0, 1, 2 of `k` set for
+/// `+` in x, y, z; its neighbours differ in one bit each, in (x, y, z) order at the corners
+/// with an even number of negative coordinates (counter-clockwise seen from outside there)
+/// and in (x, z, y) order at the others.
+const BOX_NBRS: [[u8; 3]; 8] = box_nbrs();
+
+/// `BOX_BACK[v][i]`: the slot of `v` in the list of `BOX_NBRS[v][i]`.
+const BOX_BACK: [[u8; 3]; 8] = box_back();
+
+const fn box_nbrs() -> [[u8; 3]; 8] {
+    let mut t = [[0u8; 3]; 8];
+    let mut k = 0u8;
+    while k < 8 {
+        let negatives = (k & 1 == 0) as u8 + (k & 2 == 0) as u8 + (k & 4 == 0) as u8;
+        t[k as usize] = if negatives.is_multiple_of(2) {
+            [k ^ 1, k ^ 2, k ^ 4]
+        } else {
+            [k ^ 1, k ^ 4, k ^ 2]
+        };
+        k += 1;
+    }
+    t
+}
+
+const fn box_back() -> [[u8; 3]; 8] {
+    let n = box_nbrs();
+    let mut t = [[0u8; 3]; 8];
+    let mut v = 0;
+    while v < 8 {
+        let mut i = 0;
+        while i < 3 {
+            let x = n[v][i] as usize;
+            let mut j = 0;
+            while j < 3 {
+                if n[x][j] as usize == v {
+                    t[v][i] = j as u8;
+                }
+                j += 1;
+            }
+            i += 1;
+        }
+        v += 1;
+    }
+    t
+}
+
+/// The fast 3D cell: a *simple* convex polyhedron (every vertex has exactly three edges),
+/// stored as vertices with their three neighbours in counter-clockwise order seen from
+/// outside. A clip touches only the vertices it cuts off and their neighbours: the new face is
+/// found by walking the faces of the cut-off region (no sorting by angle), and the cut-off
+/// vertices' slots are refilled from the end of the arrays. Coordinates are stored by axis, so
+/// the signed distances of all vertices are one vectorisable loop.
+///
+/// It computes the same vertices as [`Polyhedron`] (each new vertex is the crossing point of
+/// the same edge, computed by the same expression from the same endpoints), so the same
+/// `max_norm2` bit for bit, for every clip sequence that [`Polyhedron`] does not flag. It stays
+/// simple only while no clip is near-degenerate: a clip that would cut with a vertex within
+/// [`PLANE_EPS`] of its plane, or that makes two new vertices closer than `MERGE_EPS2`, is
+/// not performed; the cell is flagged [`Clipper::degenerate`] and must be discarded (the
+/// caller decides the particle with [`Polyhedron`] instead). A polyhedron that starts as the
+/// box and only takes such clean cuts is simple: each new vertex lies strictly inside an edge
+/// and has degree 3.
+#[derive(Debug, Clone)]
+pub(crate) struct SimplePolyhedron {
+    len: usize,
+    /// Coordinates by axis: `xyz[k][v]` is coordinate `k` of vertex `v`.
+    xyz: Box<[[f64; 256]; 3]>,
+    /// `|v|²` of each vertex.
+    norm2: Box<[f64; 256]>,
+    /// The three neighbours of each vertex, counter-clockwise seen from outside.
+    nbrs: Box<[[u8; 3]; 256]>,
+    /// `back[v][i]`: the slot of `v` in the list of its neighbour `nbrs[v][i]` (no search).
+    back: Box<[[u8; 3]; 256]>,
+    /// Signed distance of each vertex from the plane of the clip in progress.
+    side: Box<[f64; 256]>,
+    /// Per new vertex of the clip in progress: the cut-off vertex at the outer end of its edge
+    /// and the slot of the kept one in its list.
+    new_out: Box<[(u8, u8); 256]>,
+    /// The cut-off vertices of the clip in progress, ascending.
+    outs: Box<[u8; 256]>,
+    /// `max norm2`.
+    max2: f64,
+    degenerate: bool,
+}
+
+impl Default for SimplePolyhedron {
+    fn default() -> Self {
+        let mut cell = SimplePolyhedron {
+            len: 0,
+            xyz: Box::new([[0.0; 256]; 3]),
+            norm2: Box::new([0.0; 256]),
+            nbrs: Box::new([[0; 3]; 256]),
+            back: Box::new([[0; 3]; 256]),
+            side: Box::new([0.0; 256]),
+            new_out: Box::new([(0, 0); 256]),
+            outs: Box::new([0; 256]),
+            max2: 0.0,
+            degenerate: false,
+        };
+        cell.reset_box();
+        cell
+    }
+}
+
+impl SimplePolyhedron {
+    fn vertex(&self, v: u8) -> [f64; 3] {
+        let v = v as usize;
+        [self.xyz[0][v], self.xyz[1][v], self.xyz[2][v]]
+    }
+
+    fn set_vertex(&mut self, v: u8, x: [f64; 3]) {
+        for (axis, c) in self.xyz.iter_mut().zip(x) {
+            axis[v as usize] = c;
+        }
+    }
+
+    /// The vertices, for tests.
+    #[cfg(test)]
+    fn vertex_list(&self) -> Vec<[f64; 3]> {
+        (0..self.len).map(|v| self.vertex(v as u8)).collect()
+    }
+}
+
+impl Clipper<3> for SimplePolyhedron {
+    fn reset_box(&mut self) {
+        for k in 0..8u8 {
+            let c = |bit: u8| if k & bit != 0 { 1.0 } else { -1.0 };
+            self.set_vertex(k, [c(1), c(2), c(4)]);
+            self.norm2[k as usize] = 3.0;
+        }
+        self.nbrs[..8].copy_from_slice(&BOX_NBRS);
+        self.back[..8].copy_from_slice(&BOX_BACK);
+        self.len = 8;
+        self.max2 = 3.0;
+        self.degenerate = false;
+    }
+
+    fn clip(&mut self, n: &[f64; 3], offset: f64) {
+        if self.degenerate {
+            return;
+        }
+        let nv = self.len;
+        // Signed distances, as `dot(n, v) - offset` (the same roundings: `0 + a` is `a`).
+        {
+            let [xs, ys, zs] = &*self.xyz;
+            let side = &mut self.side[..nv];
+            for (((s, x), y), z) in side.iter_mut().zip(&xs[..nv]).zip(&ys[..nv]).zip(&zs[..nv]) {
+                *s = n[0] * x + n[1] * y + n[2] * z - offset;
+            }
+        }
+        // Whether it cuts, and whether a vertex lies within PLANE_EPS of the plane: the
+        // largest signed distance, and the smallest absolute one (branch-free reductions,
+        // which the compiler vectorises in a loop of their own).
+        let mut top = f64::NEG_INFINITY;
+        let mut closest = f64::INFINITY;
+        for &s in &self.side[..nv] {
+            top = if s > top { s } else { top };
+            let a = s.abs();
+            closest = if a < closest { a } else { closest };
+        }
+        if top <= PLANE_EPS {
+            return;
+        }
+        if closest <= PLANE_EPS {
+            self.degenerate = true;
+            return;
+        }
+        // The cut-off vertices, ascending, and the largest norm among the kept ones.
+        let mut nout = 0usize;
+        let mut max_in = 0.0f64;
+        for v in 0..nv {
+            let v = v as u8 as usize;
+            let out = self.side[v] > PLANE_EPS;
+            self.outs[nout as u8 as usize] = v as u8;
+            nout += out as usize;
+            let x = if out { 0.0 } else { self.norm2[v] };
+            max_in = if x > max_in { x } else { max_in };
+        }
+        // New vertices on the edges from a kept vertex `u` to a cut-off one `o`, appended
+        // after the old ones; `u` now points to the new vertex in the slot of `o`.
+        let mut len = nv;
+        for k in 0..nout {
+            let o = self.outs[k as u8 as usize];
+            for i in 0..3 {
+                let u = self.nbrs[o as usize][i];
+                let su = self.side[u as usize];
+                if su < 0.0 {
+                    if len >= SIMPLE_MAX_VERTS {
+                        self.degenerate = true;
+                        return;
+                    }
+                    let w = len as u8;
+                    let so = self.side[o as usize];
+                    let x = crossing(&self.vertex(u), &self.vertex(o), su, so);
+                    let s = self.back[o as usize][i];
+                    self.nbrs[u as usize][s as usize] = w;
+                    self.back[u as usize][s as usize] = 0;
+                    self.set_vertex(w, x);
+                    let x2 = norm2(&x);
+                    self.norm2[w as usize] = x2;
+                    max_in = if x2 > max_in { x2 } else { max_in };
+                    self.nbrs[w as usize] = [u, 0, 0];
+                    self.back[w as usize] = [s, 0, 0];
+                    self.side[w as usize] = -1.0;
+                    self.new_out[w as usize] = (o, i as u8);
+                    len += 1;
+                }
+            }
+        }
+        // Two new vertices (nearly) on top of each other: near-degenerate (as `Polyhedron`).
+        for a in nv..len {
+            let x = self.vertex(a as u8);
+            for b in nv..a {
+                let y = self.vertex(b as u8);
+                if norm2(&[x[0] - y[0], x[1] - y[1], x[2] - y[2]]) <= MERGE_EPS2 {
+                    self.degenerate = true;
+                    return;
+                }
+            }
+        }
+        // The new face: from the new vertex `w` on the edge `u → o`, walk the face left of
+        // that edge (seen from outside) through cut-off vertices to the edge where it comes
+        // back in, `cur → next`; the new vertex on that edge (now in `next`'s slot of `cur`)
+        // follows `w` on the new face. `s` is the slot of the previous vertex in `cur`'s list.
+        for w in nv..len {
+            let w = w as u8;
+            let (mut cur, mut s) = self.new_out[w as usize];
+            let mut steps = 0;
+            let w2 = loop {
+                let j = PREVIOUS[s as usize & 3] as usize;
+                let next = self.nbrs[cur as usize][j];
+                let back = self.back[cur as usize][j];
+                if self.side[next as usize] < 0.0 {
+                    break self.nbrs[next as usize][back as usize];
+                }
+                (cur, s) = (next, back);
+                steps += 1;
+                if steps > 3 * nv {
+                    // Not a simple polyhedron after all: give up (never seen; defensive).
+                    self.degenerate = true;
+                    return;
+                }
+            };
+            if (w2 as usize) < nv {
+                self.degenerate = true; // defensive, as above
+                return;
+            }
+            self.nbrs[w as usize][2] = w2;
+            self.back[w as usize][2] = 1;
+            self.nbrs[w2 as usize][1] = w;
+            self.back[w2 as usize][1] = 2;
+        }
+        // Refill the cut-off vertices' slots from the end (ascending: the tail is trimmed of
+        // cut-off vertices first, so the vertex moved is always a kept one).
+        for k in 0..nout {
+            let o = self.outs[k as u8 as usize];
+            while len > 0 && self.side[(len - 1) as u8 as usize] > 0.0 {
+                len -= 1;
+            }
+            if o as usize >= len {
+                break;
+            }
+            let last = (len - 1) as u8;
+            self.set_vertex(o, self.vertex(last));
+            self.norm2[o as usize] = self.norm2[last as usize];
+            self.nbrs[o as usize] = self.nbrs[last as usize];
+            self.back[o as usize] = self.back[last as usize];
+            self.side[o as usize] = self.side[last as usize];
+            for i in 0..3 {
+                let x = self.nbrs[o as usize][i];
+                let b = self.back[o as usize][i];
+                self.nbrs[x as usize][b as usize] = o;
+            }
+            len = last as usize;
+        }
+        self.len = len;
+        self.max2 = max_in;
+    }
+
+    fn max_norm2(&self) -> f64 {
+        self.max2
     }
 
     fn degenerate(&self) -> bool {
@@ -425,5 +743,93 @@ mod tests {
         assert!(r > 1.0 && r < 1.2, "{r}");
         // Euler: every vertex of a simple polyhedron has degree >= 3, so E >= 3V/2.
         assert!(2 * c.edges.len() >= 3 * c.verts.len());
+    }
+
+    fn sorted_bits(v: &[[f64; 3]]) -> Vec<[u64; 3]> {
+        let mut b: Vec<[u64; 3]> = v.iter().map(|x| x.map(f64::to_bits)).collect();
+        b.sort_unstable();
+        b
+    }
+
+    /// Checks the simple polyhedron's invariants: three distinct neighbours per vertex, each
+    /// listing the vertex back.
+    fn assert_simple(c: &SimplePolyhedron) {
+        for v in 0..c.len {
+            let n = c.nbrs[v];
+            assert!(
+                n[0] != n[1] && n[1] != n[2] && n[0] != n[2],
+                "vertex {v}: {n:?}"
+            );
+            for (i, x) in n.into_iter().enumerate() {
+                assert!((x as usize) < c.len);
+                assert_eq!(
+                    c.nbrs[x as usize][c.back[v][i] as usize], v as u8,
+                    "{v} -> {x}"
+                );
+            }
+        }
+    }
+
+    // The fast cell computes the same vertices as `Polyhedron`, bit for bit, after every clip
+    // of random sequences (random unit normals, offsets 0.2..1.3); it flags a clip only where
+    // `Polyhedron` flags one too, and stops there.
+    #[test]
+    fn simple_polyhedron_has_the_polyhedron_vertices_bit_for_bit() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut uniform = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut compared = 0;
+        for _ in 0..300 {
+            let mut old = Polyhedron::default();
+            let mut fast = SimplePolyhedron::default();
+            old.reset_box();
+            fast.reset_box();
+            for _ in 0..40 {
+                let z = 2.0 * uniform() - 1.0;
+                let a = std::f64::consts::TAU * uniform();
+                let rho = (1.0 - z * z).sqrt();
+                let n = [rho * a.cos(), rho * a.sin(), z];
+                let offset = 0.2 + 1.1 * uniform();
+                old.clip(&n, offset);
+                fast.clip(&n, offset);
+                if fast.degenerate() {
+                    assert!(old.degenerate());
+                    break;
+                }
+                if old.degenerate() {
+                    break;
+                }
+                assert_simple(&fast);
+                assert_eq!(
+                    sorted_bits(&fast.vertex_list()),
+                    sorted_bits(old.vertices())
+                );
+                assert_eq!(fast.max_norm2().to_bits(), old.max_norm2().to_bits());
+                compared += 1;
+            }
+        }
+        assert!(compared > 5000, "{compared}");
+    }
+
+    // Planes through vertices (a perfect lattice's bisectors) are near-degenerate: the fast
+    // cell flags one that cuts, and does not cut; one that cuts nothing changes nothing.
+    #[test]
+    fn simple_polyhedron_flags_a_cutting_plane_through_a_vertex() {
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let mut fast = SimplePolyhedron::default();
+        fast.clip(&[1.0, 0.0, 0.0], 0.5);
+        assert!(!fast.degenerate());
+        assert_eq!(fast.vertex_list().len(), 8);
+        assert!(close(fast.max_norm2(), 3.0)); // the corners at x = -1 remain
+        fast.clip(&[1.0, 0.0, 0.0], 0.5); // through 4 vertices, cuts nothing
+        assert!(!fast.degenerate());
+        assert_eq!(fast.vertex_list().len(), 8);
+        fast.clip(&[0.0, s, s], 0.0); // y + z <= 0: through (x, 1, -1), (x, -1, 1)
+        assert!(fast.degenerate());
+        assert_eq!(fast.vertex_list().len(), 8, "a flagged clip does not cut");
     }
 }
