@@ -53,7 +53,9 @@
 //!   children; a ball covering it ends the subdivision). Two orderings speed up the search for
 //!   a covering ball without changing any label: the ball that covered the previous box is tried
 //!   first, and a box's children try its partial balls by increasing `max f_j` over the box (the
-//!   ball that came closest to holding the parent first).
+//!   ball that came closest to holding the parent first; sorted on 20 mantissa bits). The
+//!   `2^D` boxes of depth 1 are labelled in one pass over the neighbours (every box against
+//!   every ball, as box by box, with the same floating-point images).
 //!
 //! # A radius per particle (ours)
 //! With per-particle radii ([`boundary_core::ParticleSet::with_radii`]) the frame is scaled by

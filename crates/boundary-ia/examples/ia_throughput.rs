@@ -1,4 +1,4 @@
-//! Quick throughput check: `cargo run --release -p boundary-ia --example throughput [N [R]]`.
+//! Quick throughput check: `cargo run --release -p boundary-ia --example ia_throughput [N [R]]`.
 //! Jittered cubic lattice ball (spacing 1, jitter ±0.15, r = R, default 1.2: the generator of
 //! `boundary-exact`'s throughput example), `ia` at depth 6 and `exact` for reference in the same
 //! run, 1 and 2 threads. `R` about 2.2 gives a dense neighbourhood (about 150 neighbours within
