@@ -69,7 +69,10 @@ fn main() {
             );
         }
         if let [ge, exact] = rates[..] {
-            println!("ge/exact rate ratio, threads = {threads}: {:.4}", ge / exact);
+            println!(
+                "ge/exact rate ratio, threads = {threads}: {:.4}",
+                ge / exact
+            );
         }
     }
 }

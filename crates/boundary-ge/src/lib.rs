@@ -150,6 +150,9 @@ const DEEP_SLACK: f64 = 1e-9;
 /// first); the rest of the list follows unsorted.
 const NEAREST: usize = 2;
 
+/// The neighbours are ordered by shells of equal width in `d²/(2r)²`, nearest first.
+const SHELLS: usize = 16;
+
 /// An element whose reach ball has at least this radius passes its whole list to its
 /// children: balls lie within 2 of the origin (units of r) and the reach centre on the unit
 /// sphere, so a filter radius `1 + reach >= 2` drops few of them, and building the filtered,
@@ -312,7 +315,7 @@ struct Node<E> {
 /// Per-thread working memory.
 #[derive(Debug)]
 struct Scratch<const D: usize, E: Element<D>> {
-    /// Neighbour centres `q_j = (p_j − p_i)/r`, nearest first.
+    /// Neighbour centres `q_j = (p_j − p_i)/r`, nearest first (by shells, [`SHELLS`]).
     centres: Vec<Point<D>>,
     /// Their balls with per-particle radii: `(s, s², inner)`, `s = r_j/r_i`, `inner` the
     /// squared distance a vertex must not exceed to count as inside ([`against_ball`]).
@@ -323,11 +326,10 @@ struct Scratch<const D: usize, E: Element<D>> {
     candidates: Vec<u32>,
     stack: Vec<Node<E>>,
     children: Vec<E>,
-    /// Kept balls of the current element with their distance ([`sort_key`]); in `gather`,
-    /// the neighbours with their distance from `p_i`.
+    /// Kept balls of the current element with their distance ([`sort_key`]).
     keys: Vec<u64>,
-    /// Unsorted neighbour centres in `gather`.
-    unsorted: Vec<Point<D>>,
+    /// Neighbour centres with their shell, in the grid's order (`gather`).
+    unsorted: Vec<(usize, Point<D>)>,
     /// The neighbour that covered the last covered element.
     last_cover: usize,
 }
@@ -398,25 +400,33 @@ fn inner(s2: f64) -> f64 {
 }
 
 impl<const D: usize, E: Element<D>> Scratch<D, E> {
-    /// Scaled neighbour centres of particle `i`, nearest first (by [`sort_key`], sorting
-    /// integers); duplicates of `p_i` skipped.
+    /// Scaled neighbour centres of particle `i`, nearest first (by shells of `d²`);
+    /// duplicates of `p_i` skipped.
     fn gather(&mut self, positions: &[Point<D>], grid: &NeighbourGrid<D>, i: usize, r: f64) {
         let p = positions[i];
-        let (unsorted, keys) = (&mut self.unsorted, &mut self.keys);
+        let unsorted = &mut self.unsorted;
         unsorted.clear();
-        keys.clear();
+        // Counting sort into SHELLS shells of equal width in d²/(2r)² (nearest shell first,
+        // the grid's order within a shell): as fast a start as a full sort, at a tenth of its
+        // cost on dense sets.
+        let mut starts = [0usize; SHELLS + 1];
+        let scale = SHELLS as f64 / (4.0 * r * r);
         grid.for_each_within(&p, 2.0 * r, |j, d2| {
             if d2 > 0.0 {
-                let k = u32::try_from(unsorted.len()).expect("fewer than 2^32 neighbours");
-                keys.push(sort_key(d2, k));
-                unsorted.push((positions[j] - p) / r);
+                let shell = ((d2 * scale) as usize).min(SHELLS - 1);
+                starts[shell + 1] += 1;
+                unsorted.push((shell, (positions[j] - p) / r));
             }
         });
-        keys.sort_unstable();
+        for k in 1..=SHELLS {
+            starts[k] += starts[k - 1];
+        }
         self.centres.clear();
-        self.centres
-            .extend(keys.iter().map(|&key| unsorted[key as u32 as usize]));
-        keys.clear();
+        self.centres.resize(unsorted.len(), Point::<D>::zeros());
+        for &(shell, q) in unsorted.iter() {
+            self.centres[starts[shell]] = q;
+            starts[shell] += 1;
+        }
         self.last_cover = usize::MAX;
     }
 

@@ -69,7 +69,10 @@ fn main() {
             );
         }
         if let [ia, exact] = rates[..] {
-            println!("ia/exact rate ratio, threads = {threads}: {:.4}", ia / exact);
+            println!(
+                "ia/exact rate ratio, threads = {threads}: {:.4}",
+                ia / exact
+            );
         }
     }
 }

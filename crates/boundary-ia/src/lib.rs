@@ -343,8 +343,45 @@ fn min(a: f64, b: f64) -> f64 {
 #[inline]
 fn sort_key(max_f: f64, j: u32) -> u64 {
     let bits = max_f.to_bits();
-    let ordered = if bits >> 63 == 1 { !bits } else { bits | (1 << 63) };
+    let ordered = if bits >> 63 == 1 {
+        !bits
+    } else {
+        bits | (1 << 63)
+    };
     (ordered & !0xffff_ffff) | u64::from(j)
+}
+
+/// How many of a box's partial balls are put in order for its children (smallest `max f_j`
+/// first); the rest follow in the box's order.
+const NEAREST: usize = 8;
+
+/// Appends the neighbour indices of `keys` ([`sort_key`]) to `out`: the [`NEAREST`] smallest
+/// keys in order, then the others in their order (keys are distinct: the index is in them, so
+/// the others are exactly those above the last of the head). A full sort cost 17% of the run
+/// on dense sets; the head holds the covering ball of nearly every child.
+fn extend_nearest_first(out: &mut Vec<u32>, keys: &[u64]) {
+    let mut head = [u64::MAX; NEAREST];
+    for &key in keys {
+        if key < head[NEAREST - 1] {
+            let mut at = NEAREST - 1;
+            while at > 0 && head[at - 1] > key {
+                head[at] = head[at - 1];
+                at -= 1;
+            }
+            head[at] = key;
+        }
+    }
+    let h = keys.len().min(NEAREST);
+    let Some(&last) = head[..h].last() else {
+        return;
+    };
+    // The low 32 bits of a key: the index.
+    out.extend(head[..h].iter().map(|&key| key as u32));
+    out.extend(
+        keys.iter()
+            .filter(|&&key| key > last)
+            .map(|&key| key as u32),
+    );
 }
 
 /// How a box relates to one ball.
@@ -424,7 +461,8 @@ fn is_boundary_box<const D: usize>(lo: &Point<D>, size: f64) -> bool {
     }
     // The corners are exact dyadic numbers; a sum carries at most (D + 1)u of rounding,
     // relative. A vertex within that of the sphere counts as on both sides: the box is kept.
-    lo2 <= 1.0 + 8.0 * f64::EPSILON * max(lo2, 1.0) && hi2 > 1.0 - 8.0 * f64::EPSILON * max(hi2, 1.0)
+    lo2 <= 1.0 + 8.0 * f64::EPSILON * max(lo2, 1.0)
+        && hi2 > 1.0 - 8.0 * f64::EPSILON * max(hi2, 1.0)
 }
 
 impl<const D: usize> Scratch<D> {
@@ -518,9 +556,7 @@ impl<const D: usize> Scratch<D> {
             }
             // R3. The children try first the balls that come closest to holding this box
             // (smallest max f_j): the likeliest to cover them.
-            self.keyed.sort_unstable();
-            self.candidates
-                .extend(self.keyed.iter().map(|&key| key as u32)); // the low 32 bits: j
+            extend_nearest_first(&mut self.candidates, &self.keyed);
             let partial = self.candidates.len() - list_start;
             self.push_children(&q.lo, q.size, q.depth, list_start, partial);
         }
@@ -579,9 +615,7 @@ impl<const D: usize> Scratch<D> {
             }
             // R3, the children trying first the balls closest to holding the orthant.
             let start = self.candidates.len();
-            self.orthant_keys[o].sort_unstable();
-            self.candidates
-                .extend(self.orthant_keys[o].iter().map(|&key| key as u32));
+            extend_nearest_first(&mut self.candidates, &self.orthant_keys[o]);
             let lo = Point::<D>::from_fn(|a, _| if o >> a & 1 == 1 { 0.0 } else { -1.0 });
             let len = self.candidates.len() - start;
             self.push_children(&lo, 1.0, 1, start, len);
