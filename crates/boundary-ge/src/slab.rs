@@ -8,9 +8,9 @@
 use boundary_core::Point;
 
 /// A patch of the unit sphere with its slab and its refinement.
-pub(crate) trait Element<const D: usize>: Copy {
+pub(crate) trait Element<const D: usize>: Copy + std::fmt::Debug {
     /// The slab's vertices.
-    type Slab: AsRef<[Point<D>]>;
+    type Slab: AsRef<[Point<D>]> + Copy + std::fmt::Debug + Send + Sync;
 
     /// The roots of the refinement trees, at depth 0: the coarse inscribed mesh (triangle
     /// sides, tetrahedron faces).

@@ -53,7 +53,9 @@
 //!   children; a ball covering it ends the subdivision). Two orderings speed up the search for
 //!   a covering ball without changing any label: the ball that covered the previous box is tried
 //!   first, and a box's children try its partial balls by increasing `max f_j` over the box (the
-//!   ball that came closest to holding the parent first).
+//!   ball that came closest to holding the parent first; sorted on 20 mantissa bits). The
+//!   `2^D` boxes of depth 1 are labelled in one pass over the neighbours (every box against
+//!   every ball, as box by box, with the same floating-point images).
 //!
 //! # A radius per particle (ours)
 //! With per-particle radii ([`boundary_core::ParticleSet::with_radii`]) the frame is scaled by
@@ -215,7 +217,9 @@ fn detect_with<const D: usize>(
     let radii = set.resolved_radii(r)?;
     let r = r.get();
     let grids = match &radii {
-        None => (Some(NeighbourGrid::new(set, 2.0 * r)?), None),
+        // Cells of side r: a query of radius 2r scans 5^D cells, (5/6)^D of the volume of
+        // the 3^D cells of side 2r (fewer particles to test, the same neighbours).
+        None => (Some(NeighbourGrid::new(set, r)?), None),
         Some(radii) => (None, Some(RadiusGrid::new(set, radii)?)),
     };
     let labels: Labels = (0..count)
@@ -257,21 +261,26 @@ struct QueryBox<const D: usize> {
 /// Per-thread working memory.
 #[derive(Debug)]
 struct Scratch<const D: usize> {
-    /// Neighbour centres `q_j = (p_j − p_i)/r`, nearest first.
+    /// Neighbour centres `q_j = (p_j − p_i)/r`, in the grid's order (the depth-1 boxes test
+    /// every one; their children get the partial ones sorted).
     centres: Vec<Point<D>>,
     /// Per neighbour with per-particle radii: its squared radius in units of `r_i²` and the
     /// bound on the rounding of its box images (at a uniform radius: `(1, IMAGE_ERROR)`, not
     /// stored).
     balls: Vec<(f64, f64)>,
-    /// Squared distances for sorting, with the centres.
-    order: Vec<(f64, Point<D>)>,
     /// Neighbours from [`RadiusGrid::scaled_neighbours`] (per-particle radii).
     scaled: Vec<(f64, Point<D>, f64)>,
     /// Arena of neighbour index lists, shared by sibling boxes.
     candidates: Vec<u32>,
     stack: Vec<QueryBox<D>>,
     /// Straddling neighbours of the current box with their `max f_j`, for ordering.
-    keyed: Vec<(f64, u32)>,
+    keyed: Vec<u64>,
+    /// Per orthant of the first level, the keys of its straddling balls ([`sort_key`]).
+    orthant_keys: Vec<Vec<u64>>,
+    /// Per orthant of the first level, the image of the current ball over it.
+    sums: Vec<(f64, f64)>,
+    /// Per orthant of the first level, whether a ball holds it.
+    covered: Vec<bool>,
     /// The neighbour that covered the last covered box: tried first.
     last_cover: usize,
 }
@@ -281,27 +290,98 @@ impl<const D: usize> Default for Scratch<D> {
         Scratch {
             centres: Vec::new(),
             balls: Vec::new(),
-            order: Vec::new(),
             scaled: Vec::new(),
             candidates: Vec::new(),
             stack: Vec::new(),
             keyed: Vec::new(),
+            orthant_keys: Vec::new(),
+            sums: Vec::new(),
+            covered: Vec::new(),
             last_cover: usize::MAX,
         }
     }
 }
 
 /// The image `[min, max]` of `t ↦ (t − c)²` over `[lo, hi]` (Appendix, `square`).
+///
+/// Branch-free: with `a = lo − c <= b = hi − c`, the point of `[a, b]` nearest 0 is
+/// `max(a, 0) + min(b, 0)` (`a` if `a >= 0`, `b` if `b <= 0`, else 0) and the farthest is an
+/// end. The same floating-point values as the case analysis `a >= 0`: `(a², b²)`; `b <= 0`:
+/// `(b², a²)`; else `(0, max(a², b²))`.
 #[inline]
 fn square(lo: f64, hi: f64, c: f64) -> (f64, f64) {
     let (a, b) = (lo - c, hi - c);
-    if a >= 0.0 {
-        (a * a, b * b)
-    } else if b <= 0.0 {
-        (b * b, a * a)
+    let near = max(a, 0.0) + min(b, 0.0);
+    (near * near, max(a * a, b * b))
+}
+
+/// `max` and `min` of two numbers that are not NaN (one `maxsd`/`minsd`; `f64::max` also
+/// handles NaN, which cannot occur here: every input is finite).
+#[inline(always)]
+fn max(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
     } else {
-        (0.0, (a * a).max(b * b))
+        b
     }
+}
+
+#[inline(always)]
+fn min(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The key of a straddling ball for ordering a box's children: `max f_j` over the box, as
+/// the high 32 bits of an order-preserving integer image of the f64 (sign-magnitude to two's
+/// complement order, as `f64::total_cmp`), the neighbour index in the low 32. Sorting these
+/// integers orders by `max f_j` truncated to 20 mantissa bits (ties by index); the
+/// order only speeds up the search for a covering ball, it changes no label.
+#[inline]
+fn sort_key(max_f: f64, j: u32) -> u64 {
+    let bits = max_f.to_bits();
+    let ordered = if bits >> 63 == 1 {
+        !bits
+    } else {
+        bits | (1 << 63)
+    };
+    (ordered & !0xffff_ffff) | u64::from(j)
+}
+
+/// How many of a box's partial balls are put in order for its children (smallest `max f_j`
+/// first); the rest follow in the box's order.
+const NEAREST: usize = 8;
+
+/// Appends the neighbour indices of `keys` ([`sort_key`]) to `out`: the [`NEAREST`] smallest
+/// keys in order, then the others in their order (keys are distinct: the index is in them, so
+/// the others are exactly those above the last of the head). A full sort cost 17% of the run
+/// on dense sets; the head holds the covering ball of nearly every child.
+fn extend_nearest_first(out: &mut Vec<u32>, keys: &[u64]) {
+    let mut head = [u64::MAX; NEAREST];
+    for &key in keys {
+        if key < head[NEAREST - 1] {
+            let mut at = NEAREST - 1;
+            while at > 0 && head[at - 1] > key {
+                head[at] = head[at - 1];
+                at -= 1;
+            }
+            head[at] = key;
+        }
+    }
+    let h = keys.len().min(NEAREST);
+    let Some(&last) = head[..h].last() else {
+        return;
+    };
+    // The low 32 bits of a key: the index.
+    out.extend(head[..h].iter().map(|&key| key as u32));
+    out.extend(
+        keys.iter()
+            .filter(|&&key| key > last)
+            .map(|&key| key as u32),
+    );
 }
 
 /// How a box relates to one ball.
@@ -366,48 +446,38 @@ fn classify((min, max): (f64, f64), error: f64) -> Relation {
     }
 }
 
-/// Whether the box meets the unit sphere `S_i` (depth >= 1 boxes only: signs of `f_i` at the
-/// vertices differ; see the crate docs).
+/// Whether the box meets the unit sphere `S_i` (depth >= 1 boxes only; see the crate docs):
+/// the exact image `[min, max]` of `|x|²` over the box contains 1. At depth >= 1 a box lies in
+/// one closed orthant (`p_i` is on a grid line of every level), so `min` and `max` are the
+/// values at its nearest and farthest vertex: the same as "the signs of `f_i` at the vertices
+/// differ", with 2 vertices instead of `2^D`.
 #[inline]
 fn is_boundary_box<const D: usize>(lo: &Point<D>, size: f64) -> bool {
-    let (mut inside, mut outside) = (0usize, 0usize);
-    for corner in 0..(1usize << D) {
-        let mut n2 = 0.0;
-        for a in 0..D {
-            let x = if corner >> a & 1 == 1 {
-                lo[a] + size
-            } else {
-                lo[a]
-            };
-            n2 += x * x;
-        }
-        // The corners are exact dyadic numbers; n2 carries at most (D + 1)u·n2 of rounding.
-        // A corner within that of the sphere counts as on both sides: the box is kept.
-        let slack = 8.0 * f64::EPSILON * n2.max(1.0);
-        if n2 <= 1.0 + slack {
-            inside += 1;
-        }
-        if n2 > 1.0 - slack {
-            outside += 1;
-        }
+    let (mut lo2, mut hi2) = (0.0, 0.0);
+    for a in 0..D {
+        let (s_min, s_max) = square(lo[a], lo[a] + size, 0.0);
+        lo2 += s_min;
+        hi2 += s_max;
     }
-    inside != 0 && outside != 0
+    // The corners are exact dyadic numbers; a sum carries at most (D + 1)u of rounding,
+    // relative. A vertex within that of the sphere counts as on both sides: the box is kept.
+    lo2 <= 1.0 + 8.0 * f64::EPSILON * max(lo2, 1.0)
+        && hi2 > 1.0 - 8.0 * f64::EPSILON * max(hi2, 1.0)
 }
 
 impl<const D: usize> Scratch<D> {
-    /// Scaled neighbour centres of particle `i`, nearest first; duplicates of `p_i` skipped.
+    /// Scaled neighbour centres of particle `i`, duplicates of `p_i` skipped. Not sorted: the
+    /// depth-1 boxes test every neighbour, and their children get the partial ones sorted by
+    /// how close they come to holding the box (sorting here cost 5% and gained nothing).
     fn gather(&mut self, positions: &[Point<D>], grid: &NeighbourGrid<D>, i: usize, r: f64) {
         let p = positions[i];
-        let order = &mut self.order;
-        order.clear();
+        let centres = &mut self.centres;
+        centres.clear();
         grid.for_each_within(&p, 2.0 * r, |j, d2| {
             if d2 > 0.0 {
-                order.push((d2, (positions[j] - p) / r));
+                centres.push((positions[j] - p) / r);
             }
         });
-        order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-        self.centres.clear();
-        self.centres.extend(order.iter().map(|&(_, q)| q));
         self.last_cover = usize::MAX;
     }
 
@@ -440,12 +510,12 @@ impl<const D: usize> Scratch<D> {
         if self.centres.is_empty() {
             return true;
         }
-        let n = u32::try_from(self.centres.len()).expect("fewer than 2^32 neighbours");
         self.candidates.clear();
-        self.candidates.extend(0..n);
         self.stack.clear();
         // Algorithm 2: start with the 2^D children of the bounding box [-1, 1]^D.
-        self.push_children(&Point::<D>::from_element(-1.0), 2.0, 0, 0, n as usize);
+        if self.first_level::<UNIFORM>(max_depth) {
+            return true;
+        }
         while let Some(q) = self.stack.pop() {
             if !is_boundary_box(&q.lo, q.size) {
                 continue;
@@ -473,7 +543,7 @@ impl<const D: usize> Scratch<D> {
                         self.last_cover = j as usize;
                         break;
                     }
-                    Relation::Straddles => self.keyed.push((f.1, j)),
+                    Relation::Straddles => self.keyed.push(sort_key(f.1, j)),
                     Relation::Outside => {}
                 }
             }
@@ -486,10 +556,69 @@ impl<const D: usize> Scratch<D> {
             }
             // R3. The children try first the balls that come closest to holding this box
             // (smallest max f_j): the likeliest to cover them.
-            self.keyed.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-            self.candidates.extend(self.keyed.iter().map(|&(_, j)| j));
+            extend_nearest_first(&mut self.candidates, &self.keyed);
             let partial = self.candidates.len() - list_start;
             self.push_children(&q.lo, q.size, q.depth, list_start, partial);
+        }
+        false
+    }
+
+    /// The first level of Algorithm 2, the `2^D` orthants of `[-1, 1]^D` (depth 1; each meets
+    /// `S_i`), labelled against every neighbour in one pass: true if R1 or R4 decides
+    /// *boundary* there, else the children of the partial orthants are on the stack with their
+    /// partial balls. Every orthant is tested against every neighbour (a covering ball at this
+    /// depth is rare, so the loop of [`Self::is_boundary`] would rarely stop early), and the
+    /// orthants share per axis the images over the halves `[-1, 0]` and `[0, 1]`. The sums run
+    /// in the order of [`image`] (`−s² + x + y + z`), so every image and label is the same
+    /// floating-point value as box by box.
+    fn first_level<const UNIFORM: bool>(&mut self, max_depth: u32) -> bool {
+        let m = 1usize << D;
+        self.orthant_keys.resize_with(m, Vec::new);
+        for keys in &mut self.orthant_keys {
+            keys.clear();
+        }
+        self.sums.resize(m, (0.0, 0.0));
+        self.covered.clear();
+        self.covered.resize(m, false);
+        for (j, c) in self.centres.iter().enumerate() {
+            let j = u32::try_from(j).expect("fewer than 2^32 neighbours");
+            let (s2, error) = self.ball::<UNIFORM>(j as usize);
+            // sums[o] = image over orthant o (bit a of o: the half [0, 1] on axis a), built
+            // axis by axis.
+            self.sums[0] = (-s2, -s2);
+            for a in 0..D {
+                let low = square(-1.0, 0.0, c[a]);
+                let high = square(0.0, 1.0, c[a]);
+                for k in 0..1usize << a {
+                    let (min, max) = self.sums[k];
+                    self.sums[k | 1 << a] = (min + high.0, max + high.1);
+                    self.sums[k] = (min + low.0, max + low.1);
+                }
+            }
+            for (o, &f) in self.sums.iter().enumerate() {
+                match classify(f, error) {
+                    Relation::Inside => {
+                        self.covered[o] = true;
+                        self.last_cover = j as usize;
+                    }
+                    Relation::Straddles => self.orthant_keys[o].push(sort_key(f.1, j)),
+                    Relation::Outside => {}
+                }
+            }
+        }
+        for o in 0..m {
+            if self.covered[o] {
+                continue; // R2
+            }
+            if self.orthant_keys[o].is_empty() || max_depth <= 1 {
+                return true; // R1 or R4
+            }
+            // R3, the children trying first the balls closest to holding the orthant.
+            let start = self.candidates.len();
+            extend_nearest_first(&mut self.candidates, &self.orthant_keys[o]);
+            let lo = Point::<D>::from_fn(|a, _| if o >> a & 1 == 1 { 0.0 } else { -1.0 });
+            let len = self.candidates.len() - start;
+            self.push_children(&lo, 1.0, 1, start, len);
         }
         false
     }
