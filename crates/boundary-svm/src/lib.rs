@@ -112,20 +112,22 @@
 //! `1e-9` below the tie every particle is boundary by the definition (the certificate
 //! sees the uncovered diagonal points).
 //!
-//! **Speed.** The thesis' case for the SVM is speed, and here it is made in 3D. One thread,
-//! features included, the 1M-particle jittered ball of `benches/svm.rs`
-//! (`RAYON_NUM_THREADS=1 BOUNDARY_BENCH_N=1000000 cargo bench -p boundary-svm --
-//! 'jittered_ball/(svm|exact)$'`), one criterion run on the shared 2-core machine (load
-//! average 5–7 from other builds): svm 6.82 s, `exact` 7.27 s per pass, **svm at 1.07x the
-//! speed of `exact`** (earlier runs, before the ascent of the cover margin and before recent
-//! changes to `exact`: 1.32x and, more loaded, 1.24x; before the polynomial kernel and the
-//! chunked feature sums: 0.59x). Instruction counts are steadier (callgrind, one thread,
-//! the 30,000-particle ball at `r` = 1.2, set construction excluded): svm 718 M, `exact`
-//! 884 M (1.23x); the ascent adds 2.6 M (0.4%). The 3D model's decision is a quadratic form
-//! of the seven standardised features (56 multiply-adds); what remains is the feature pass:
-//! the neighbour query, the sums over the neighbours and the cover margin over 17 sample
-//! directions and the ascent. In 2D, where `exact` is cheaper, svm is about as fast as `exact` (trainer's
-//! timing on a jittered disc: 0.95x).
+//! **Speed.** The thesis' case for the SVM is speed; here it held in 3D until `exact` itself
+//! became 1.6–1.8x faster (issue 21: a simpler cell and a staged neighbour query). One
+//! thread, features included, the 1M-particle jittered ball, both in one run on the idle
+//! 2-core machine (`cargo run --release -p boundary-svm --example svm_throughput 1000000 1`):
+//! svm 5.15 s, `exact` 3.62 s, **svm at 0.70x the speed of `exact`** (0.57x in a loaded
+//! run). Before that change: 1.07x (criterion, `benches/svm.rs`), 1.32x and 1.24x before the
+//! ascent of the cover margin, 0.59x before the polynomial kernel and the chunked feature
+//! sums. Instruction counts are steadier (callgrind, one thread, 50,000-particle ball,
+//! `BOUNDARY_SKIP_EXACT=1` for svm alone): svm 1.126e9 (of which the neighbour query and
+//! gathering about half, the cover search 16%, the model 4%), `exact` 0.887e9. The cover
+//! search scans the neighbours within `1.5r` first (−7.8% instructions, the same features).
+//! The 3D model's decision is a quadratic form of the seven standardised features (56
+//! multiply-adds); what remains is the feature pass: the neighbour query, the sums over the
+//! neighbours and the cover margin over 17 sample directions and the ascent. In 2D, where
+//! `exact` is cheaper, svm was about as fast as `exact` before its change (trainer's timing
+//! on a jittered disc: 0.95x).
 //!
 //! # Trade-off: support vectors against M and speed
 //! `cargo xtask train-svm` trains every model of its grid (training-sample size 800, 1600
@@ -137,7 +139,8 @@
 //! Polynomial kernels of degree 3 are trained at `C = 1` only and of degree 2 at `C` up to
 //! 10 (linfa's SMO took minutes beyond). In 3D, the rows of the largest sample (the shipped
 //! model among them) and the smallest polynomial model (features 4.88 µs, `exact` 6.37 µs
-//! per particle in that run, on a loaded machine):
+//! per particle in that run, on a loaded machine, against `exact` before issue 21 made it
+//! 1.6–1.8x faster: the ratios between models hold, the column against `exact` does not):
 //!
 //! | sample | C | kernel | support vectors | validation M | held-out mean M | speed vs `exact` |
 //! |---|---|---|---|---|---|---|
