@@ -29,6 +29,20 @@ pub(crate) trait Clipper<const D: usize> {
     /// points at nearly the same angle. The error bound of the crate docs assumes no such clip;
     /// a flagged particle is decided by the exact predicate.
     fn degenerate(&self) -> bool;
+    /// Whether [`Clipper::clip`] by `n·x <= offset` would cut the cell while a vertex lies
+    /// within [`PLANE_EPS`] of the plane (the first kind of near-degenerate clip), computed
+    /// with the same expressions as `clip`, without changing the cell.
+    fn touches(&self, n: &[f64; D], offset: f64) -> bool;
+}
+
+/// Whether signed distances cut (one beyond [`PLANE_EPS`]) while one lies within it.
+fn cuts_while_touching(sides: impl Iterator<Item = f64>) -> bool {
+    let (mut out, mut near) = (false, false);
+    for s in sides {
+        out |= s > PLANE_EPS;
+        near |= s.abs() <= PLANE_EPS;
+    }
+    out && near
 }
 
 /// A cell the certificates can use: clipping, and its vertices.
@@ -130,6 +144,10 @@ impl Clipper<2> for Polygon {
 
     fn degenerate(&self) -> bool {
         self.degenerate
+    }
+
+    fn touches(&self, n: &[f64; 2], offset: f64) -> bool {
+        cuts_while_touching(self.verts.iter().map(|v| dot(n, v) - offset))
     }
 }
 
@@ -339,6 +357,10 @@ impl Clipper<3> for Polyhedron {
 
     fn degenerate(&self) -> bool {
         self.degenerate
+    }
+
+    fn touches(&self, n: &[f64; 3], offset: f64) -> bool {
+        cuts_while_touching(self.verts.iter().map(|v| dot(n, v) - offset))
     }
 }
 
@@ -637,6 +659,18 @@ impl Clipper<3> for SimplePolyhedron {
     fn degenerate(&self) -> bool {
         self.degenerate
     }
+
+    fn touches(&self, n: &[f64; 3], offset: f64) -> bool {
+        let [xs, ys, zs] = &*self.xyz;
+        let nv = self.len;
+        cuts_while_touching(
+            xs[..nv]
+                .iter()
+                .zip(&ys[..nv])
+                .zip(&zs[..nv])
+                .map(|((x, y), z)| n[0] * x + n[1] * y + n[2] * z - offset),
+        )
+    }
 }
 
 #[cfg(test)]
@@ -695,6 +729,41 @@ mod tests {
         assert_eq!(c.verts.len(), 8);
         assert_eq!(c.edges.len(), 12);
         assert!(close(c.max_norm2(), 0.75));
+    }
+
+    /// `touches` says, before clipping, whether the clip would be flagged for cutting
+    /// through (within PLANE_EPS of) a vertex: checked against the flag of the clip itself, on
+    /// the three cells, for planes through a corner of the box (cutting or not) and clear of
+    /// every vertex.
+    #[test]
+    fn touches_predicts_a_clip_through_a_vertex() {
+        fn check<const D: usize, C: Clipper<D> + Default + Clone>(n: [f64; D], offsets: &[f64]) {
+            for &offset in offsets {
+                let mut cell = C::default();
+                cell.reset_box();
+                let predicted = cell.touches(&n, offset);
+                cell.clip(&n, offset);
+                assert_eq!(predicted, cell.degenerate(), "n {n:?}, offset {offset}");
+            }
+        }
+        let s2 = std::f64::consts::FRAC_1_SQRT_2;
+        // x + y <= √2 passes through the corners (1, 1, ±1) and cuts nothing; at 0 it cuts
+        // through the corners (1, −1, ±1) and (−1, 1, ±1); at 0.5 it cuts clear of every vertex.
+        let offsets = [2.0 * s2, 0.0 + 1e-300, 0.5, 2.0 * s2 + 1e-13, 1e-13];
+        check::<3, Polyhedron>([s2, s2, 0.0], &offsets);
+        check::<3, SimplePolyhedron>([s2, s2, 0.0], &offsets);
+        check::<2, Polygon>([s2, s2], &offsets);
+        let mut c = SimplePolyhedron::default();
+        c.reset_box();
+        assert!(
+            c.touches(&[s2, s2, 0.0], 1e-13),
+            "through four corners, cutting two"
+        );
+        assert!(!c.touches(&[s2, s2, 0.0], 0.5), "clear of every vertex");
+        assert!(
+            !c.touches(&[s2, s2, 0.0], 2.0 * s2),
+            "touches two corners, cuts nothing"
+        );
     }
 
     #[test]
