@@ -767,6 +767,14 @@ fn interior_certificate<const D: usize, C: ConvexCell<D> + Clone>(
     full_interior_certificate(p, positions, r, &mut scratch.cell, &mut scratch.near)
 }
 
+/// The bisector of `p` and `q` in units of `r` about `p`: the unit normal `n` and the offset
+/// of `n·x <= offset` (the expressions the error bound of the crate docs assumes).
+fn bisector<const D: usize>(p: &Point<D>, q: &Point<D>, r: f64) -> ([f64; D], f64) {
+    let d: [f64; D] = std::array::from_fn(|k| (q[k] - p[k]) / r);
+    let len = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+    (std::array::from_fn(|k| d[k] / len), 0.5 * len)
+}
+
 /// [`interior_certificate`] on the full cell: a near-degenerate clip is undone from a copy.
 fn full_interior_certificate<const D: usize, C: Clipper<D> + Clone>(
     p: &Point<D>,
@@ -781,14 +789,10 @@ fn full_interior_certificate<const D: usize, C: Clipper<D> + Clone>(
     let mut rho0 = 1.0f64;
     let mut clips = 0usize;
     for &(_, _, j) in near.iter() {
-        let j = j as usize;
-        let q: [f64; D] = std::array::from_fn(|k| (positions[j][k] - p[k]) / r);
-        let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
-        let offset = 0.5 * len;
+        let (n, offset) = bisector(p, &positions[j as usize], r);
         if offset >= reach {
             break;
         }
-        let n: [f64; D] = std::array::from_fn(|k| q[k] / len);
         let saved = cell.clone();
         // The plane itself, then moved outward (a larger half-space) until the clip is not
         // near-degenerate; skipped if none is.
@@ -834,14 +838,10 @@ fn fast_interior_certificate<const D: usize, F: Clipper<D>>(
     let mut rho0 = 1.0f64;
     let mut clips = 0usize;
     for &(_, _, j) in near.iter() {
-        let j = j as usize;
-        let q: [f64; D] = std::array::from_fn(|k| (positions[j][k] - p[k]) / r);
-        let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
-        let offset = 0.5 * len;
+        let (n, offset) = bisector(p, &positions[j as usize], r);
         if offset >= reach {
             break;
         }
-        let n: [f64; D] = std::array::from_fn(|k| q[k] / len);
         let Some(&shift) = CERTIFICATE_SHIFTS
             .iter()
             .find(|&&shift| !cell.touches(&n, offset + shift))

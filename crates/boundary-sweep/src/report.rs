@@ -264,17 +264,23 @@ pub fn report_md(outcome: &Outcome, header: &str) -> String {
     md
 }
 
-/// Per method, pooled over the scenes timed both ways at default parameters: the speedup
-/// `Σ t(1 thread) / Σ t(all threads)` and the parallel efficiency `speedup / threads`, flagged
-/// where more threads made the method slower.
-fn parallel_efficiency(outcome: &Outcome) -> String {
-    let mut md = String::new();
+/// The methods with a row at default parameters, in the order of their first row.
+fn default_methods(outcome: &Outcome) -> Vec<&str> {
     let mut methods: Vec<&str> = Vec::new();
     for row in &outcome.rows {
         if row.is_default && !methods.contains(&row.method.as_str()) {
             methods.push(&row.method);
         }
     }
+    methods
+}
+
+/// Per method, pooled over the scenes timed both ways at default parameters: the speedup
+/// `Σ t(1 thread) / Σ t(all threads)` and the parallel efficiency `speedup / threads`, flagged
+/// where more threads made the method slower.
+fn parallel_efficiency(outcome: &Outcome) -> String {
+    let mut md = String::new();
+    let methods = default_methods(outcome);
     let mut lines = Vec::new();
     for method in methods {
         let timed: Vec<&Row> = outcome
@@ -347,12 +353,7 @@ fn speed_spread(outcome: &Outcome) -> String {
             .find(|(s, _)| s == scene)
             .map(|&(_, k)| k)
     };
-    let mut methods: Vec<&str> = Vec::new();
-    for row in &outcome.rows {
-        if row.is_default && !methods.contains(&row.method.as_str()) {
-            methods.push(&row.method);
-        }
-    }
+    let methods = default_methods(outcome);
     let mut lines = Vec::new();
     for method in methods {
         let timed: Vec<(&Row, f64)> = outcome
