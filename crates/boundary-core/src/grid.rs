@@ -19,6 +19,9 @@
 
 use crate::{CoreError, ParticleSet, Point};
 use rayon::prelude::*;
+
+mod blocks;
+pub use blocks::Neighbourhood;
 use rustc_hash::FxHashMap;
 
 /// Largest `extent / cell` ratio accepted: cell coordinates stay exactly representable and

@@ -45,7 +45,7 @@ pub use detector::{
     write_label, BoundaryDetector, DetectError, Detection, Labels, ParamError, ParamInfo, Params,
 };
 pub use error::CoreError;
-pub use grid::NeighbourGrid;
+pub use grid::{NeighbourGrid, Neighbourhood};
 pub use metrics::Confusion;
 pub use particles::{AnyParticleSet, ParticleSet, Point, Radius};
 pub use radius_grid::RadiusGrid;

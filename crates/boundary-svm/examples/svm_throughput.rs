@@ -30,19 +30,30 @@ fn main() {
             .unwrap();
         let time = |d: &dyn BoundaryDetector| {
             let start = Instant::now();
-            let labels = pool.install(|| d.detect_3d(&set, r).unwrap()).labels;
-            (start.elapsed().as_secs_f64(), labels.boundary_count())
+            let detection = pool.install(|| d.detect_3d(&set, r).unwrap());
+            let seconds = start.elapsed().as_secs_f64();
+            // A checksum of the margins' bit patterns (svm: the decision values): a change of
+            // the float path that should leave the output bit for bit the same must leave it
+            // unchanged.
+            let checksum = detection
+                .margin
+                .unwrap_or_default()
+                .iter()
+                .fold(0u64, |h, m| {
+                    (h ^ m.to_bits()).wrapping_mul(0x0100_0000_01b3)
+                });
+            (seconds, detection.labels.boundary_count(), checksum)
         };
-        let (s_svm, b_svm) = time(&svm);
+        let (s_svm, b_svm, c_svm) = time(&svm);
         print!(
-            "n = {} threads = {t}: svm {s_svm:.3} s ({:.0}/s, {b_svm} boundary)",
+            "n = {} threads = {t}: svm {s_svm:.3} s ({:.0}/s, {b_svm} boundary, margins {c_svm:016x})",
             set.len(),
             set.len() as f64 / s_svm
         );
         if skip_exact {
             println!();
         } else {
-            let (s_exact, b_exact) = time(&ExactDetector);
+            let (s_exact, b_exact, _) = time(&ExactDetector);
             println!(
                 ", exact {s_exact:.3} s ({:.0}/s, {b_exact} boundary), svm/exact rate {:.2}",
                 set.len() as f64 / s_exact,

@@ -59,9 +59,8 @@
 //! is undefined).
 
 use boundary_core::nalgebra::SMatrix;
-use boundary_core::{CoreError, NeighbourGrid, ParticleSet, Point, Radius};
+use boundary_core::{CoreError, NeighbourGrid, Neighbourhood, ParticleSet, Point, Radius};
 use boundary_sph::SymmetricEigen; // the fallback of `extreme_eigen`
-use rayon::prelude::*;
 
 /// Number of features per particle.
 pub const N_FEATURES: usize = 7;
@@ -121,7 +120,7 @@ pub fn compute_features<const D: usize>(
 }
 
 /// One particle's features and what the detector needs besides them.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ParticleFeatures {
     /// The features.
     pub features: Features,
@@ -160,14 +159,15 @@ pub fn particle_features<const D: usize>(
     // better than 3^D cells of the full reach (fewer distance tests, as `exact` does).
     let grid = NeighbourGrid::new(set, 0.5 * reach)?;
     let positions = set.positions();
-    let count = count.min(set.len());
     let directions = sample_directions::<D>();
-    Ok((0..count)
-        .into_par_iter()
-        .map_init(Offsets::<D>::default, |buffer, i| {
-            one_particle(&grid, positions, i, r, reach, &directions, buffer)
-        })
-        .collect())
+    // One pass over the neighbourhoods, a block of neighbouring particles at a time (the
+    // grid's candidate rows are shared within a block).
+    Ok(grid.par_map_within(
+        reach,
+        count,
+        Offsets::<D>::default,
+        |buffer, i, neighbours| one_particle(&positions[i], i, neighbours, r, &directions, buffer),
+    ))
 }
 
 /// The fixed sample directions, normalised: in 2D the 8 of `{−1, 0, 1}² \ 0`; in 3D the 6
@@ -294,22 +294,37 @@ impl<const D: usize> Offsets<D> {
         let mut gradient = [[0.0; CHUNK]; D];
         let mut first = [[0.0; CHUNK]; D];
         let mut second = [[[0.0; CHUNK]; D]; D];
+        // Element-wise loops over the lanes of a chunk, one quantity at a time: the shape the
+        // compiler vectorises (a loop over lanes doing everything at once stayed scalar:
+        // `perf` showed only scalar arithmetic in it).
         for chunk in &self.chunks {
+            let m = &chunk.inside;
+            let mut f = [0.0; CHUNK];
+            let mut w = [0.0; CHUNK];
             for lane in 0..CHUNK {
-                let m = chunk.inside[lane];
-                let q2 = chunk.norms[lane];
                 // Zero weights from q = 2 on (f(2) = w(2) = 0) and for padding.
-                let (f, w) = wendland(q2.sqrt().min(2.0));
-                let (f, w) = (m * f, m * w);
-                density[lane] += f;
-                divergence[lane] += w * q2;
-                count[lane] += m;
-                for a in 0..D {
-                    let da = chunk.coords[a][lane];
-                    gradient[a][lane] += w * da;
-                    first[a][lane] += m * da;
-                    for (b, sum) in second[a].iter_mut().enumerate().skip(a) {
-                        sum[lane] += m * da * chunk.coords[b][lane];
+                // (`if`, not `f64::min`: the norms are never NaN, and it vectorises.)
+                let q = chunk.norms[lane].sqrt();
+                let (fl, wl) = wendland(if q < 2.0 { q } else { 2.0 });
+                f[lane] = m[lane] * fl;
+                w[lane] = m[lane] * wl;
+            }
+            for lane in 0..CHUNK {
+                density[lane] += f[lane];
+                divergence[lane] += w[lane] * chunk.norms[lane];
+                count[lane] += m[lane];
+            }
+            for a in 0..D {
+                let da = &chunk.coords[a];
+                let mut md = [0.0; CHUNK];
+                for lane in 0..CHUNK {
+                    gradient[a][lane] += w[lane] * da[lane];
+                    md[lane] = m[lane] * da[lane];
+                    first[a][lane] += md[lane];
+                }
+                for (db, sum) in chunk.coords[a..].iter().zip(&mut second[a][a..]) {
+                    for lane in 0..CHUNK {
+                        sum[lane] += md[lane] * db[lane];
                     }
                 }
             }
@@ -393,18 +408,37 @@ fn put<const D: usize>(
 
 /// `min_j (|d_j|² − 2 d_j·n)` over `chunks` (padding gives about `1e300`), stopping after
 /// the first chunk that brings it to `floor` or below.
+///
+/// The values of a chunk are computed lane by lane and then reduced pairwise (a running
+/// `f64::min` across lanes kept the loop scalar and NaN-aware). The minimum does not depend
+/// on the order: the values are never NaN and never `−0` (`|d|²` is `+0` or positive, and
+/// `x − x = +0`).
 fn min_over<const D: usize>(chunks: &[Chunk<D>], n: &Point<D>, floor: f64) -> f64 {
     let mut lowest = f64::INFINITY;
     for chunk in chunks {
-        let mut chunk_min = f64::INFINITY;
-        for lane in 0..CHUNK {
-            let mut dot = 0.0;
-            for k in 0..D {
-                dot += chunk.coords[k][lane] * n[k];
+        let mut dot = [0.0; CHUNK];
+        for (coords, nk) in chunk.coords.iter().zip(n.iter()) {
+            for (d, c) in dot.iter_mut().zip(coords) {
+                *d += c * nk;
             }
-            chunk_min = chunk_min.min(chunk.norms[lane] - 2.0 * dot);
         }
-        lowest = lowest.min(chunk_min);
+        let mut v = [0.0; CHUNK];
+        for lane in 0..CHUNK {
+            v[lane] = chunk.norms[lane] - 2.0 * dot[lane];
+        }
+        // `if b < a { b } else { a }`, not `f64::min`: the same value for numbers that are
+        // not NaN, one `minpd`/`minsd` instead of a NaN-aware sequence.
+        let mut width = CHUNK / 2;
+        while width > 0 {
+            for lane in 0..width {
+                let (a, b) = (v[lane], v[lane + width]);
+                v[lane] = if b < a { b } else { a };
+            }
+            width /= 2;
+        }
+        if v[0] < lowest {
+            lowest = v[0];
+        }
         if lowest <= floor {
             break;
         }
@@ -555,31 +589,29 @@ fn ascend<const D: usize>(offsets: &Offsets<D>, start: Point<D>) -> f64 {
 }
 
 fn one_particle<const D: usize>(
-    grid: &NeighbourGrid<D>,
-    positions: &[Point<D>],
+    xi: &Point<D>,
     i: usize,
+    neighbours: &Neighbourhood<'_, D>,
     r: f64,
-    reach: f64,
     directions: &[Point<D>],
     offsets: &mut Offsets<D>,
 ) -> ParticleFeatures {
-    let xi = positions[i];
     let inv_r = 1.0 / r;
     offsets.clear();
     let mut duplicates = 0usize;
     let inside2 = 4.0 * r * r;
     // The query only gathers the offsets; the sums run over them afterwards.
-    grid.for_each_within(&xi, reach, |j, dist2| {
+    for (j, dist2, pj) in neighbours.iter() {
         if j == i {
-            return;
+            continue;
         }
         if dist2 == 0.0 {
             // A duplicate: a neighbour with density f(0) = 1 that covers nothing.
             duplicates += 1;
-            return;
+            continue;
         }
-        offsets.push(&((positions[j] - xi) * inv_r), dist2 <= inside2);
-    });
+        offsets.push(&((pj - xi) * inv_r), dist2 <= inside2);
+    }
     let sums = offsets.sums();
     let distinct = sums.count;
     let count = distinct + duplicates;
