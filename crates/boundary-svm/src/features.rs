@@ -166,7 +166,7 @@ pub fn particle_features<const D: usize>(
         reach,
         count,
         Offsets::<D>::default,
-        |buffer, i, neighbours| one_particle(&positions[i], i, neighbours, r, &directions, buffer),
+        |buffer, i, neighbours| one_particle(&positions[i], neighbours, r, &directions, buffer),
     ))
 }
 
@@ -267,11 +267,20 @@ struct Sums<const D: usize> {
 }
 
 impl<const D: usize> Offsets<D> {
+    /// Empties the offsets; the chunks stay allocated (and are reset as they are reused).
     fn clear(&mut self) {
-        self.chunks.clear();
         self.len = 0;
-        self.near.clear();
         self.near_len = 0;
+    }
+
+    /// The chunks in use.
+    fn chunks(&self) -> &[Chunk<D>] {
+        &self.chunks[..self.len.div_ceil(CHUNK)]
+    }
+
+    /// The chunks of the near offsets in use.
+    fn near_chunks(&self) -> &[Chunk<D>] {
+        &self.near[..self.near_len.div_ceil(CHUNK)]
     }
 
     #[inline(always)]
@@ -297,7 +306,7 @@ impl<const D: usize> Offsets<D> {
         // Element-wise loops over the lanes of a chunk, one quantity at a time: the shape the
         // compiler vectorises (a loop over lanes doing everything at once stayed scalar:
         // `perf` showed only scalar arithmetic in it).
-        for chunk in &self.chunks {
+        for chunk in self.chunks() {
             let m = &chunk.inside;
             let mut f = [0.0; CHUNK];
             let mut w = [0.0; CHUNK];
@@ -345,7 +354,7 @@ impl<const D: usize> Offsets<D> {
     fn nearest(&self, n: &Point<D>) -> Option<(f64, Point<D>)> {
         let mut lowest = f64::INFINITY;
         let mut at = None;
-        for (c, chunk) in self.chunks.iter().enumerate() {
+        for (c, chunk) in self.chunks().iter().enumerate() {
             for lane in 0..CHUNK {
                 if c * CHUNK + lane >= self.len {
                     break;
@@ -376,15 +385,16 @@ impl<const D: usize> Offsets<D> {
     /// always the minimum over every offset, the same as without the near scan (`min` is
     /// exact in floating point), so the features do not depend on it.
     fn cover_value(&self, n: &Point<D>, floor: f64) -> f64 {
-        let near = min_over(&self.near, n, floor);
+        let near = min_over(self.near_chunks(), n, floor);
         if near <= floor {
             return near;
         }
-        min_over(&self.chunks, n, floor)
+        min_over(self.chunks(), n, floor)
     }
 }
 
-/// Writes offset number `index` into `chunks` (a new chunk of padding every [`CHUNK`]).
+/// Writes offset number `index` into `chunks` (a chunk of padding every [`CHUNK`], reused
+/// where `chunks` already holds it).
 #[inline(always)]
 fn put<const D: usize>(
     chunks: &mut Vec<Chunk<D>>,
@@ -393,11 +403,19 @@ fn put<const D: usize>(
     norm: f64,
     inside: bool,
 ) {
-    let lane = index % CHUNK;
+    let (c, lane) = (index / CHUNK, index % CHUNK);
     if lane == 0 {
-        chunks.push(Chunk::FAR);
+        match chunks.get_mut(c) {
+            // A chunk left from an earlier particle: padding needs only a far norm and a zero
+            // weight (its stale coordinates are finite: they cover and weigh nothing).
+            Some(stale) => {
+                stale.norms = Chunk::<D>::FAR.norms;
+                stale.inside = Chunk::<D>::FAR.inside;
+            }
+            None => chunks.push(Chunk::FAR),
+        }
     }
-    if let Some(chunk) = chunks.last_mut() {
+    if let Some(chunk) = chunks.get_mut(c) {
         for k in 0..D {
             chunk.coords[k][lane] = d[k];
         }
@@ -590,7 +608,6 @@ fn ascend<const D: usize>(offsets: &Offsets<D>, start: Point<D>) -> f64 {
 
 fn one_particle<const D: usize>(
     xi: &Point<D>,
-    i: usize,
     neighbours: &Neighbourhood<'_, D>,
     r: f64,
     directions: &[Point<D>],
@@ -598,20 +615,19 @@ fn one_particle<const D: usize>(
 ) -> ParticleFeatures {
     let inv_r = 1.0 / r;
     offsets.clear();
-    let mut duplicates = 0usize;
     let inside2 = 4.0 * r * r;
-    // The query only gathers the offsets; the sums run over them afterwards.
-    for (j, dist2, pj) in neighbours.iter() {
-        if j == i {
-            continue;
-        }
+    // The query only gathers the offsets; the sums run over them afterwards. The particle
+    // itself is among the neighbours at distance 0, with its duplicates: each duplicate is a
+    // neighbour with density f(0) = 1 that covers nothing.
+    let mut zeros = 0usize;
+    for (dist2, pj) in neighbours.distances_and_positions() {
         if dist2 == 0.0 {
-            // A duplicate: a neighbour with density f(0) = 1 that covers nothing.
-            duplicates += 1;
+            zeros += 1;
             continue;
         }
         offsets.push(&((pj - xi) * inv_r), dist2 <= inside2);
     }
+    let duplicates = zeros.saturating_sub(1);
     let sums = offsets.sums();
     let distinct = sums.count;
     let count = distinct + duplicates;

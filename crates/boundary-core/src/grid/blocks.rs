@@ -44,6 +44,16 @@ impl<'a, const D: usize> Neighbourhood<'a, D> {
         self.slots.is_empty()
     }
 
+    /// `(d2, p_j)` for each, as [`Neighbourhood::iter`] without the input index (one load
+    /// less per neighbour).
+    pub fn distances_and_positions(&self) -> impl Iterator<Item = (f64, &'a Point<D>)> + 'a {
+        let sorted = &self.grid.sorted;
+        self.d2
+            .iter()
+            .zip(self.slots)
+            .map(move |(&d2, &s)| (d2, &sorted[s as usize]))
+    }
+
     /// `(j, d2, p_j)` for each: the input index, the squared distance (as
     /// [`NeighbourGrid::for_each_within`] computes it) and the position.
     pub fn iter(&self) -> impl Iterator<Item = (usize, f64, &'a Point<D>)> + 'a {
