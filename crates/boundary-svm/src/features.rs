@@ -283,14 +283,51 @@ impl<const D: usize> Offsets<D> {
         &self.near[..self.near_len.div_ceil(CHUNK)]
     }
 
-    #[inline(always)]
+    /// Appends one offset (`inside`: the neighbour is within `2r`).
+    #[cfg(test)]
     fn push(&mut self, d: &Point<D>, inside: bool) {
+        self.reserve(self.len + 1);
+        self.write(d, inside);
+        self.pad();
+    }
+
+    /// Makes room for `n` offsets in all (chunks of padding where there were none).
+    fn reserve(&mut self, n: usize) {
+        let need = n.div_ceil(CHUNK);
+        for chunks in [&mut self.chunks, &mut self.near] {
+            if chunks.len() < need {
+                chunks.resize(need, Chunk::FAR);
+            }
+        }
+    }
+
+    /// Writes one offset after the others, to the near ones too, with no branch: it is
+    /// written at the end of the near ones either way and kept (the count advances) only
+    /// if `|d| <= NEAR`. Needs the room ([`Offsets::reserve`]); [`Offsets::pad`] after the
+    /// last.
+    #[inline(always)]
+    fn write(&mut self, d: &Point<D>, inside: bool) {
         let norm = d.norm_squared();
+        let inside = if inside { 1.0 } else { 0.0 };
         put(&mut self.chunks, self.len, d, norm, inside);
         self.len += 1;
-        if norm <= NEAR * NEAR {
-            put(&mut self.near, self.near_len, d, norm, inside);
-            self.near_len += 1;
+        put(&mut self.near, self.near_len, d, norm, inside);
+        self.near_len += (norm <= NEAR * NEAR) as usize;
+    }
+
+    /// Pads the last chunk in use of both lists: far norms and zero weights in the lanes
+    /// past the offsets (stale coordinates there are finite: they cover and weigh nothing).
+    fn pad(&mut self) {
+        for (chunks, len) in [
+            (&mut self.chunks, self.len),
+            (&mut self.near, self.near_len),
+        ] {
+            if let Some(chunk) = chunks.get_mut(len / CHUNK) {
+                for lane in len % CHUNK..CHUNK {
+                    chunk.norms[lane] = Chunk::<D>::FAR.norms[lane];
+                    chunk.inside[lane] = Chunk::<D>::FAR.inside[lane];
+                }
+            }
         }
     }
 
@@ -393,34 +430,22 @@ impl<const D: usize> Offsets<D> {
     }
 }
 
-/// Writes offset number `index` into `chunks` (a chunk of padding every [`CHUNK`], reused
-/// where `chunks` already holds it).
+/// Writes offset number `index` into its lane of `chunks` (which has room for it).
 #[inline(always)]
 fn put<const D: usize>(
-    chunks: &mut Vec<Chunk<D>>,
+    chunks: &mut [Chunk<D>],
     index: usize,
     d: &Point<D>,
     norm: f64,
-    inside: bool,
+    inside: f64,
 ) {
-    let (c, lane) = (index / CHUNK, index % CHUNK);
-    if lane == 0 {
-        match chunks.get_mut(c) {
-            // A chunk left from an earlier particle: padding needs only a far norm and a zero
-            // weight (its stale coordinates are finite: they cover and weigh nothing).
-            Some(stale) => {
-                stale.norms = Chunk::<D>::FAR.norms;
-                stale.inside = Chunk::<D>::FAR.inside;
-            }
-            None => chunks.push(Chunk::FAR),
-        }
-    }
-    if let Some(chunk) = chunks.get_mut(c) {
+    if let Some(chunk) = chunks.get_mut(index / CHUNK) {
+        let lane = index % CHUNK;
         for k in 0..D {
             chunk.coords[k][lane] = d[k];
         }
         chunk.norms[lane] = norm;
-        chunk.inside[lane] = if inside { 1.0 } else { 0.0 };
+        chunk.inside[lane] = inside;
     }
 }
 
@@ -620,13 +645,15 @@ fn one_particle<const D: usize>(
     // itself is among the neighbours at distance 0, with its duplicates: each duplicate is a
     // neighbour with density f(0) = 1 that covers nothing.
     let mut zeros = 0usize;
+    offsets.reserve(neighbours.len());
     for (dist2, pj) in neighbours.distances_and_positions() {
         if dist2 == 0.0 {
             zeros += 1;
             continue;
         }
-        offsets.push(&((pj - xi) * inv_r), dist2 <= inside2);
+        offsets.write(&((pj - xi) * inv_r), dist2 <= inside2);
     }
+    offsets.pad();
     let duplicates = zeros.saturating_sub(1);
     let sums = offsets.sums();
     let distinct = sums.count;
