@@ -293,11 +293,11 @@ impl<const D: usize> NeighbourGrid<D> {
                 let wide = radius * (1.0 + 1e-9);
                 let wide2 = wide * wide;
                 // Squared distance from `q` to the slab of cell `c` along axis `k`, less its
-                // slack, for the cells of the box (rows of a box wider than GAPS cells along an
-                // axis other than x are not trimmed: gap 0).
+                // slack, for the cells of the box (axes whose box is wider than GAPS cells
+                // are not trimmed: gap 0; along x such a box is trimmed per row as below).
                 const GAPS: usize = 16;
                 let mut gaps = [[0.0f64; GAPS]; D];
-                for k in 1..D {
+                for k in 0..D {
                     if hi[k] - lo[k] < GAPS as i64 {
                         let slack = 16.0
                             * f64::EPSILON
@@ -310,6 +310,8 @@ impl<const D: usize> NeighbourGrid<D> {
                         }
                     }
                 }
+                let narrow_x = hi[0] - lo[0] < GAPS as i64;
+                let gx = &gaps[0][..(if narrow_x { hi[0] - lo[0] + 1 } else { 0 }) as usize];
                 // Cells along x are contiguous: one slice per (y, z) row.
                 let mut c = lo;
                 loop {
@@ -321,10 +323,23 @@ impl<const D: usize> NeighbourGrid<D> {
                         }
                     }
                     if yz2 <= wide2 {
-                        let half = (wide2 - yz2).sqrt();
-                        let pad = half * (1.0 + 1e-9) + q[0].abs() * 4.0 * f64::EPSILON;
-                        let x0 = self.axis_cell(q[0] - pad, 0).max(lo[0]);
-                        let x1 = self.axis_cell(q[0] + pad, 0).min(hi[0]);
+                        // The cells of the row within reach: where the x gap fits in what the
+                        // row's y and z gaps leave (the gaps grow away from q's cell, so these
+                        // cells are contiguous); from the half-width left for a wide box.
+                        let (x0, x1) = if narrow_x {
+                            let fits = |g: &f64| g + yz2 <= wide2;
+                            match (gx.iter().position(fits), gx.iter().rposition(fits)) {
+                                (Some(a), Some(b)) => (lo[0] + a as i64, lo[0] + b as i64),
+                                _ => (1, 0),
+                            }
+                        } else {
+                            let half = (wide2 - yz2).sqrt();
+                            let pad = half * (1.0 + 1e-9) + q[0].abs() * 4.0 * f64::EPSILON;
+                            (
+                                self.axis_cell(q[0] - pad, 0).max(lo[0]),
+                                self.axis_cell(q[0] + pad, 0).min(hi[0]),
+                            )
+                        };
                         if x0 <= x1 {
                             let mut row = 0i64;
                             for k in (1..D).rev() {

@@ -108,7 +108,7 @@ impl<const D: usize> NeighbourGrid<D> {
     {
         let count = count.min(self.order.len());
         let r2 = radius * radius;
-        // Results in the cell order, then moved to input order.
+        // Results in the cell order, then permuted to input order.
         let mut sorted_out: Vec<T> = Vec::with_capacity(self.order.len());
         sorted_out.resize_with(self.order.len(), T::default);
         sorted_out.par_chunks_mut(TASK).enumerate().for_each_init(
@@ -130,15 +130,28 @@ impl<const D: usize> NeighbourGrid<D> {
                 }
             },
         );
-        let mut out: Vec<T> = Vec::with_capacity(count);
-        out.resize_with(count, T::default);
-        for (s, t) in sorted_out.into_iter().enumerate() {
-            let i = self.order[s] as usize;
-            if i < count {
-                out[i] = t;
+        // In place (no second buffer of results): entry `s` belongs at `order[s]`; each cycle
+        // of that permutation is closed by swaps through its first place. The particles
+        // `>= count` (not computed) end up past `count`.
+        let mut placed = vec![false; sorted_out.len()];
+        for start in 0..sorted_out.len() {
+            if placed[start] {
+                continue;
+            }
+            let mut at = start;
+            loop {
+                let dest = self.order[at] as usize;
+                if dest == start {
+                    placed[start] = true;
+                    break;
+                }
+                sorted_out.swap(start, dest);
+                placed[dest] = true;
+                at = dest;
             }
         }
-        out
+        sorted_out.truncate(count);
+        sorted_out
     }
 
     /// Writes the slots and squared distances of the particles within `radius` of `q`
