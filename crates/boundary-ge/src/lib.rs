@@ -74,7 +74,14 @@
 //!   element is tried first; a ball whose centre lies within `1 − reach` of the reach centre
 //!   covers the element (every vertex is within `reach` of it); and once some ball straddles
 //!   the element, the others are only tested for covering it, which no ball whose centre is at
-//!   least its radius from the reach centre (a point of the patch) can do.
+//!   least its radius from the reach centre (a point of the patch) can do. At a uniform radius
+//!   no unit ball can hold a slab of the 3D first level (each has two vertices at least 2.07
+//!   apart), so those 16 elements are only tested for a vertex inside or on some ball
+//!   (partial) or none (uncovered). The slabs and reach balls of the first three levels are
+//!   computed once per detection by the same functions (bit for bit the same values). A test
+//!   checks all of these shortcuts against Algorithm 3 written plainly (every element against
+//!   every ball), particle by particle, on the hard cases, the near-tie lattices, sparse to
+//!   dense jittered lattices and per-particle radii.
 //!
 //! # A radius per particle (ours)
 //! With per-particle radii ([`boundary_core::ParticleSet::with_radii`]) the frame is scaled by
@@ -120,6 +127,8 @@
 //! assert_eq!(detection.labels.boundary_count(), 125 - 27);
 //! ```
 
+#[cfg(test)]
+mod reference;
 mod slab;
 
 use boundary_core::{
@@ -261,7 +270,7 @@ fn detect_with<const D: usize, E: Element<D> + Send + Sync>(
     depth: u32,
 ) -> Result<Detection, CoreError> {
     let positions = set.positions();
-    let first = E::first_level();
+    let mesh = Mesh::<D, E>::new(depth.min(TABLE_DEPTH));
     let radii = set.resolved_radii(r)?;
     let r = r.get();
     let grids = match &radii {
@@ -281,9 +290,9 @@ fn detect_with<const D: usize, E: Element<D> + Send + Sync>(
             // Monomorphised twice: at a uniform radius every ball is the unit ball, as
             // constants, so that path costs what it did before per-particle radii.
             if radii.is_none() {
-                scratch.is_boundary::<true>(&first, depth)
+                scratch.is_boundary::<true>(&mesh, depth)
             } else {
-                scratch.is_boundary::<false>(&first, depth)
+                scratch.is_boundary::<false>(&mesh, depth)
             }
         })
         .collect::<Vec<bool>>()
@@ -308,8 +317,92 @@ enum Label {
 #[derive(Debug, Clone, Copy)]
 struct Node<E> {
     element: E,
+    /// The element's entry in the [`Mesh`] table, or [`NOT_IN_TABLE`] (deeper than the table).
+    entry: u32,
     start: usize,
     len: usize,
+}
+
+/// [`Node::entry`] of an element below the table's depth: its slab and reach are computed.
+const NOT_IN_TABLE: u32 = u32::MAX;
+
+/// Depth of the precomputed part of the mesh (3D: 16 + 64 + 256 elements). Deeper elements
+/// (fewer than one per particle on the jittered balls) are computed when visited.
+const TABLE_DEPTH: u32 = 3;
+
+/// An element of the fixed mesh of `S_i` with what `label` needs of it, computed once per
+/// detection by the same functions ([`Element::slab`], [`Element::reach`]), so the values are
+/// bit for bit those computed per particle before: the labels cannot change.
+#[derive(Debug, Clone, Copy)]
+struct Entry<const D: usize, E: Element<D>> {
+    element: E,
+    slab: E::Slab,
+    /// [`Element::reach`].
+    centre: Point<D>,
+    reach: f64,
+    /// Two slab vertices lie more than `2·(1 + 1e-6)` apart, so no unit ball holds both: at a
+    /// uniform radius the element can only be partial or uncovered (the 16 elements of the 3D
+    /// first level, whose slabs are at least 2.07 wide).
+    uncoverable: bool,
+    /// Index of the first of the four (3D) or two (2D) children, [`NOT_IN_TABLE`] at the
+    /// table's last level.
+    children: u32,
+}
+
+/// The mesh elements from the first level to a fixed depth, each level's children stored
+/// together in the order of [`Element::children`].
+#[derive(Debug)]
+struct Mesh<const D: usize, E: Element<D>> {
+    entries: Vec<Entry<D, E>>,
+    /// How many entries the first level has (they come first).
+    first: usize,
+    /// How many children an element has (2 in 2D, 4 in 3D).
+    arity: usize,
+}
+
+impl<const D: usize, E: Element<D>> Mesh<D, E> {
+    fn new(depth: u32) -> Self {
+        let entry = |element: E| {
+            let slab = element.slab();
+            let (centre, reach) = element.reach();
+            let vertices = slab.as_ref();
+            let wide = vertices.iter().any(|v| {
+                vertices
+                    .iter()
+                    .any(|w| (v - w).norm_squared() > 4.0 * (1.0 + 1e-6))
+            });
+            Entry {
+                element,
+                slab,
+                centre,
+                reach,
+                uncoverable: wide,
+                children: NOT_IN_TABLE,
+            }
+        };
+        let level = E::first_level();
+        let first = level.len();
+        let mut entries: Vec<Entry<D, E>> = level.into_iter().map(entry).collect();
+        let mut from = 0;
+        let mut kids = Vec::new();
+        E::first_level()[0].children(&mut kids);
+        let arity = kids.len();
+        for _ in 1..depth {
+            let to = entries.len();
+            for k in from..to {
+                kids.clear();
+                entries[k].element.children(&mut kids);
+                entries[k].children = entries.len() as u32;
+                entries.extend(kids.iter().map(|&c| entry(c)));
+            }
+            from = to;
+        }
+        Mesh {
+            entries,
+            first,
+            arity,
+        }
+    }
 }
 
 /// Per-thread working memory.
@@ -463,7 +556,29 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
         }
     }
 
-    fn label<const UNIFORM: bool>(&mut self, node: &Node<E>, slab: &[Point<D>]) -> Label {
+    fn label<const UNIFORM: bool>(
+        &mut self,
+        node: &Node<E>,
+        slab: &[Point<D>],
+        (centre, reach): (Point<D>, f64),
+        uncoverable: bool,
+    ) -> Label {
+        let list = node.start..node.start + node.len;
+        if UNIFORM && uncoverable && reach >= WIDE_REACH {
+            // No unit ball holds the slab ([`Entry::uncoverable`]): the label is partial as
+            // soon as one ball has a vertex inside or on it (`against_ball` gives `None`: never
+            // `Some(true)`), uncovered if none has. The children inherit the whole list.
+            let centres = &self.centres;
+            let touched = self.candidates[list.clone()].iter().any(|&j| {
+                let q = centres[j as usize];
+                slab.iter().any(|v| (v - q).norm_squared() <= 1.0)
+            });
+            if !touched {
+                return Label::Uncovered;
+            }
+            self.candidates.extend_from_within(list);
+            return Label::Partial;
+        }
         // The ball that covered the previous element first: consecutive elements of the
         // depth-first order are neighbours on S_i, often inside the same ball.
         if let Some(q) = self.centres.get(self.last_cover) {
@@ -471,7 +586,6 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
                 return Label::Covered;
             }
         }
-        let (centre, reach) = node.element.reach();
         // At a uniform radius, a ball whose centre lies within `1 − DEEP_SLACK − reach` of the
         // reach centre holds every slab vertex (they lie within `reach` of it) by more than
         // COVER_MARGIN: the label `against_ball` would give, without the vertex loop.
@@ -503,7 +617,7 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
             last_cover,
             ..
         } = self;
-        for &j in &candidates[node.start..node.start + node.len] {
+        for &j in &candidates[list] {
             let q = centres[j as usize];
             let d2 = (q - centre).norm_squared();
             if d2 <= deep2 {
@@ -580,7 +694,7 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
     }
 
     /// Algorithm 3 for the gathered neighbours: true if boundary.
-    fn is_boundary<const UNIFORM: bool>(&mut self, first: &[E], max_depth: u32) -> bool {
+    fn is_boundary<const UNIFORM: bool>(&mut self, mesh: &Mesh<D, E>, max_depth: u32) -> bool {
         if self.centres.is_empty() {
             return true;
         }
@@ -589,15 +703,36 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
         self.candidates
             .extend(0..u32::try_from(n).expect("fewer than 2^32 neighbours"));
         self.stack.clear();
-        self.stack.extend(first.iter().rev().map(|&element| Node {
-            element,
-            start: 0,
-            len: n,
-        }));
+        self.stack.extend(
+            mesh.entries[..mesh.first]
+                .iter()
+                .enumerate()
+                .rev()
+                .map(|(k, e)| Node {
+                    element: e.element,
+                    entry: k as u32,
+                    start: 0,
+                    len: n,
+                }),
+        );
         while let Some(node) = self.stack.pop() {
-            let slab = node.element.slab();
             let list_start = self.candidates.len();
-            match self.label::<UNIFORM>(&node, slab.as_ref()) {
+            let (label, children) = if node.entry == NOT_IN_TABLE {
+                let slab = node.element.slab();
+                let reach = node.element.reach();
+                let label = self.label::<UNIFORM>(&node, slab.as_ref(), reach, false);
+                (label, NOT_IN_TABLE)
+            } else {
+                let e = &mesh.entries[node.entry as usize];
+                let label = self.label::<UNIFORM>(
+                    &node,
+                    e.slab.as_ref(),
+                    (e.centre, e.reach),
+                    e.uncoverable,
+                );
+                (label, e.children)
+            };
+            match label {
                 Label::Covered => self.candidates.truncate(list_start), // R2
                 Label::Uncovered => return true,                        // R1
                 Label::Partial if node.element.depth() >= max_depth => return true, // R4
@@ -605,13 +740,26 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
                     // R3: the children inherit the neighbours that may still reach them.
                     let len = self.candidates.len() - list_start;
                     self.children.clear();
-                    node.element.children(&mut self.children);
-                    for &element in self.children.iter().rev() {
-                        self.stack.push(Node {
-                            element,
-                            start: list_start,
-                            len,
-                        });
+                    if children == NOT_IN_TABLE {
+                        node.element.children(&mut self.children);
+                        for &element in self.children.iter().rev() {
+                            self.stack.push(Node {
+                                element,
+                                entry: NOT_IN_TABLE,
+                                start: list_start,
+                                len,
+                            });
+                        }
+                    } else {
+                        let first = children as usize;
+                        for k in (first..first + mesh.arity).rev() {
+                            self.stack.push(Node {
+                                element: mesh.entries[k].element,
+                                entry: k as u32,
+                                start: list_start,
+                                len,
+                            });
+                        }
                     }
                 }
             }
