@@ -70,11 +70,21 @@
 //!   dropped for the whole subtree (the children inherit the shorter list, as the boxes of `ia`
 //!   do; where the reach is 1 or more, as on the 3D first level, the list is passed on whole:
 //!   such a filter drops few balls); the children's lists start with the two balls nearest the
-//!   element's reach centre, the likeliest to cover them; the ball that covered the previous
-//!   element is tried first; a ball whose centre lies within `1 − reach` of the reach centre
-//!   covers the element (every vertex is within `reach` of it); and once some ball straddles
-//!   the element, the others are only tested for covering it, which no ball whose centre is at
-//!   least its radius from the reach centre (a point of the patch) can do.
+//!   element's reach centre, the likeliest to cover them; the ball that covered the last
+//!   covered element is tried first (consecutive elements of the depth-first order are
+//!   neighbours on `S_i`); a ball whose centre lies within `1 − reach` of the reach centre
+//!   covers the element (every vertex is within `reach` of it). The label takes two passes
+//!   over the list: first for a ball that covers the element (nearly every element below the
+//!   first level is covered), which no ball whose centre is at least its radius from the reach
+//!   centre (a point of the patch) can do; only if none does, for a ball with a vertex inside
+//!   or on it (partial; none: uncovered), keeping the balls the children need. At a uniform
+//!   radius no unit ball can hold a slab of the 3D first level (each has two vertices at least
+//!   2.07 apart), so those 16 elements are only tested for a vertex inside or on some ball
+//!   (partial) or none (uncovered), and their children share their list. The slabs and reach balls of the first three levels are
+//!   computed once per detection by the same functions (bit for bit the same values). A test
+//!   checks all of these shortcuts against Algorithm 3 written plainly (every element against
+//!   every ball), particle by particle, on the hard cases, the near-tie lattices, sparse to
+//!   dense jittered lattices and per-particle radii.
 //!
 //! # A radius per particle (ours)
 //! With per-particle radii ([`boundary_core::ParticleSet::with_radii`]) the frame is scaled by
@@ -120,6 +130,8 @@
 //! assert_eq!(detection.labels.boundary_count(), 125 - 27);
 //! ```
 
+#[cfg(test)]
+mod reference;
 mod slab;
 
 use boundary_core::{
@@ -145,6 +157,12 @@ pub const COVER_MARGIN: f64 = 1e-12;
 /// vertex test would find: every vertex at most `1 − DEEP_SLACK` from the centre, inside by
 /// more than [`COVER_MARGIN`].
 const DEEP_SLACK: f64 = 1e-9;
+
+/// How many of the last covering balls (distinct, most recent first) are tried first on each
+/// element. Measured with the two-pass `label` (callgrind, 30k ball, r = 1.2a): 1, 2, 3, 4, 8,
+/// 12 balls cost 1.279e9, 1.293e9, 1.300e9, 1.338e9, 1.378e9, 1.409e9 instructions; 1 and 2
+/// ran as fast as each other and 4% faster than 8 (200k ball, one thread, one run).
+const RECENT: usize = 1;
 
 /// How many balls of a partial element's list are put in order for its children (nearest
 /// first); the rest of the list follows unsorted.
@@ -261,7 +279,7 @@ fn detect_with<const D: usize, E: Element<D> + Send + Sync>(
     depth: u32,
 ) -> Result<Detection, CoreError> {
     let positions = set.positions();
-    let first = E::first_level();
+    let mesh = Mesh::<D, E>::new(depth.min(TABLE_DEPTH));
     let radii = set.resolved_radii(r)?;
     let r = r.get();
     let grids = match &radii {
@@ -281,9 +299,9 @@ fn detect_with<const D: usize, E: Element<D> + Send + Sync>(
             // Monomorphised twice: at a uniform radius every ball is the unit ball, as
             // constants, so that path costs what it did before per-particle radii.
             if radii.is_none() {
-                scratch.is_boundary::<true>(&first, depth)
+                scratch.is_boundary::<true>(&mesh, depth)
             } else {
-                scratch.is_boundary::<false>(&first, depth)
+                scratch.is_boundary::<false>(&mesh, depth)
             }
         })
         .collect::<Vec<bool>>()
@@ -308,8 +326,100 @@ enum Label {
 #[derive(Debug, Clone, Copy)]
 struct Node<E> {
     element: E,
+    /// The element's entry in the [`Mesh`] table, or [`NOT_IN_TABLE`] (deeper than the table).
+    entry: u32,
     start: usize,
     len: usize,
+}
+
+/// [`Node::entry`] of an element below the table's depth: its slab and reach are computed.
+const NOT_IN_TABLE: u32 = u32::MAX;
+
+/// Depth of the precomputed part of the mesh (3D: 16 + 64 + 256 elements). Deeper elements
+/// (fewer than one per particle on the jittered balls) are computed when visited.
+const TABLE_DEPTH: u32 = 3;
+
+/// An element of the fixed mesh of `S_i` with what `label` needs of it, computed once per
+/// detection by the same functions ([`Element::slab`], [`Element::reach`]), so the values are
+/// bit for bit those computed per particle before: the labels cannot change.
+#[derive(Debug, Clone, Copy)]
+struct Entry<const D: usize, E: Element<D>> {
+    element: E,
+    slab: E::Slab,
+    /// [`Element::reach`].
+    centre: Point<D>,
+    reach: f64,
+    /// Two slab vertices lie more than `2·(1 + 1e-6)` apart, so no unit ball holds both: at a
+    /// uniform radius the element can only be partial or uncovered (the 16 elements of the 3D
+    /// first level, whose slabs are at least 2.07 wide).
+    uncoverable: bool,
+    /// Index of the first of the four (3D) or two (2D) children, [`NOT_IN_TABLE`] at the
+    /// table's last level.
+    children: u32,
+}
+
+/// The mesh elements from the first level to a fixed depth, each level's children stored
+/// together in the order of [`Element::children`].
+#[derive(Debug)]
+struct Mesh<const D: usize, E: Element<D>> {
+    entries: Vec<Entry<D, E>>,
+    /// How many entries the first level has (they come first).
+    first: usize,
+    /// How many children an element has (2 in 2D, 4 in 3D).
+    arity: usize,
+}
+
+impl<const D: usize, E: Element<D>> Mesh<D, E> {
+    fn new(depth: u32) -> Self {
+        let entry = |element: E| {
+            let slab = element.slab();
+            let (centre, reach) = element.reach();
+            let vertices = slab.as_ref();
+            let wide = vertices.iter().any(|v| {
+                vertices
+                    .iter()
+                    .any(|w| (v - w).norm_squared() > 4.0 * (1.0 + 1e-6))
+            });
+            Entry {
+                element,
+                slab,
+                centre,
+                reach,
+                uncoverable: wide,
+                children: NOT_IN_TABLE,
+            }
+        };
+        let level = E::first_level();
+        let first = level.len();
+        let mut entries: Vec<Entry<D, E>> = level.into_iter().map(entry).collect();
+        let mut from = 0;
+        let mut kids = Vec::new();
+        E::first_level()[0].children(&mut kids);
+        let arity = kids.len();
+        for _ in 1..depth {
+            let to = entries.len();
+            for k in from..to {
+                kids.clear();
+                entries[k].element.children(&mut kids);
+                entries[k].children = entries.len() as u32;
+                entries.extend(kids.iter().map(|&c| entry(c)));
+            }
+            from = to;
+        }
+        Mesh {
+            entries,
+            first,
+            arity,
+        }
+    }
+}
+
+/// A neighbour in a list of [`Scratch::candidates`]: its scaled centre and its index in
+/// [`Scratch::centres`].
+#[derive(Debug, Clone, Copy)]
+struct Cand<const D: usize> {
+    q: Point<D>,
+    j: u32,
 }
 
 /// Per-thread working memory.
@@ -318,12 +428,13 @@ struct Scratch<const D: usize, E: Element<D>> {
     /// Neighbour centres `q_j = (p_j − p_i)/r`, nearest first (by shells, [`SHELLS`]).
     centres: Vec<Point<D>>,
     /// Their balls with per-particle radii: `(s, s², inner)`, `s = r_j/r_i`, `inner` the
-    /// squared distance a vertex must not exceed to count as inside ([`against_ball`]).
+    /// squared distance a vertex must not exceed to count as inside (`against_ball`).
     balls: Vec<(f64, f64, f64)>,
     /// Neighbours from [`RadiusGrid::scaled_neighbours`] (per-particle radii).
     scaled: Vec<(f64, Point<D>, f64)>,
-    /// Arena of neighbour index lists, shared by sibling elements.
-    candidates: Vec<u32>,
+    /// Arena of neighbour lists (centre and index, so that a pass streams through memory),
+    /// shared by sibling elements; the first `centres.len()` entries are the whole list.
+    candidates: Vec<Cand<D>>,
     stack: Vec<Node<E>>,
     children: Vec<E>,
     /// Kept balls of the current element with their distance ([`sort_key`]).
@@ -331,7 +442,7 @@ struct Scratch<const D: usize, E: Element<D>> {
     /// Neighbour centres with their shell, in the grid's order (`gather`).
     unsorted: Vec<(usize, Point<D>)>,
     /// The neighbour that covered the last covered element.
-    last_cover: usize,
+    last_cover: [usize; RECENT],
 }
 
 impl<const D: usize, E: Element<D>> Default for Scratch<D, E> {
@@ -345,7 +456,7 @@ impl<const D: usize, E: Element<D>> Default for Scratch<D, E> {
             children: Vec::new(),
             keys: Vec::new(),
             unsorted: Vec::new(),
-            last_cover: usize::MAX,
+            last_cover: [usize::MAX; RECENT],
         }
     }
 }
@@ -354,7 +465,10 @@ impl<const D: usize, E: Element<D>> Default for Scratch<D, E> {
 /// radius): `Some(true)` if every vertex is inside (`|v − q|² <= inner`, where `inner = s2 −`
 /// [`COVER_MARGIN`]`·max(1, s2)`: [`inner`]), `Some(false)` if every vertex is outside,
 /// `None` otherwise.
-#[inline]
+///
+/// This is the label as the paper defines it, which the tests' plain Algorithm 3 uses;
+/// `Scratch::label` computes the same label in two passes (first "covers?", then "touches?").
+#[cfg(test)]
 fn against_ball<const D: usize>(
     slab: &[Point<D>],
     q: &Point<D>,
@@ -378,7 +492,7 @@ fn against_ball<const D: usize>(
 }
 
 /// Whether every vertex of the slab is inside the ball at `q` (`|v − q|² <= inner`): the
-/// covered case of [`against_ball`], stopping at the first vertex that is not.
+/// covered case of `against_ball`, stopping at the first vertex that is not.
 #[inline]
 fn covers<const D: usize>(slab: &[Point<D>], q: &Point<D>, inner: f64) -> bool {
     slab.iter().all(|v| (v - q).norm_squared() <= inner)
@@ -386,11 +500,22 @@ fn covers<const D: usize>(slab: &[Point<D>], q: &Point<D>, inner: f64) -> bool {
 
 /// The key of a kept ball for ordering the children's list: the squared distance `d2 >= 0`
 /// of its centre from the element's reach centre, as the high 32 bits of its f64 bits
-/// (monotone for non-negative floats; truncated to 20 mantissa bits), the neighbour index in
-/// the low 32. The order only speeds up the search for a covering ball; it changes no label.
+/// (monotone for non-negative floats; truncated to 20 mantissa bits), its place `k` in the
+/// element's list in the low 32. The order only speeds up the search for a covering ball; it changes no label.
 #[inline]
-fn sort_key(d2: f64, j: u32) -> u64 {
-    (d2.to_bits() & !0xffff_ffff) | u64::from(j)
+fn sort_key(d2: f64, k: u32) -> u64 {
+    (d2.to_bits() & !0xffff_ffff) | u64::from(k)
+}
+
+/// Puts `j` first in the list of recent covering balls, moving the first `k` entries one place
+/// down (`k = RECENT − 1` for a ball that was not in the list: the oldest drops out). A loop
+/// of at most `RECENT − 1` moves: `copy_within` was a library call costing 4% of the run.
+#[inline]
+fn remember(recent: &mut [usize; RECENT], k: usize, j: usize) {
+    for m in (1..=k).rev() {
+        recent[m] = recent[m - 1];
+    }
+    recent[0] = j;
 }
 
 /// The squared distance within which a slab vertex counts as inside a ball of squared radius
@@ -427,7 +552,7 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
             self.centres[starts[shell]] = q;
             starts[shell] += 1;
         }
-        self.last_cover = usize::MAX;
+        self.last_cover = [usize::MAX; RECENT];
     }
 
     /// [`Self::gather`] with a radius per particle ([`RadiusGrid::scaled_neighbours`]):
@@ -442,7 +567,7 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
                 .iter()
                 .map(|&(_, _, s)| (s, s * s, inner(s * s))),
         );
-        self.last_cover = usize::MAX;
+        self.last_cover = [usize::MAX; RECENT];
     }
 
     /// `label(Q, i)` of Algorithm 3 for the element of `node`: covered if some ball holds every
@@ -453,7 +578,7 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
     /// Only the order of the tests differs from the paper's loop, never the label: balls beyond
     /// the element's reach (see [`Element::reach`]) have every vertex outside, and the ball
     /// whose centre is nearest the element is tried first as the likeliest to cover it.
-    /// Ball `j` as `(s², inner)` for [`against_ball`]: constants at a uniform radius.
+    /// Ball `j` as `(s², inner)` for `against_ball`: constants at a uniform radius.
     #[inline]
     fn ball<const UNIFORM: bool>(&self, j: usize) -> (f64, f64) {
         if UNIFORM {
@@ -463,15 +588,45 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
         }
     }
 
-    fn label<const UNIFORM: bool>(&mut self, node: &Node<E>, slab: &[Point<D>]) -> Label {
+    fn label<const UNIFORM: bool>(
+        &mut self,
+        node: &Node<E>,
+        slab: &[Point<D>],
+        (centre, reach): (Point<D>, f64),
+        uncoverable: bool,
+    ) -> (Label, usize, usize) {
+        let list = node.start..node.start + node.len;
+        // A reach ball of radius >= WIDE_REACH drops few balls for the subtree (the first level
+        // in 3D): the children then share this element's list as it is (the same range of
+        // the arena), in its order, without the keys.
+        let narrow = reach < WIDE_REACH;
+        let whole = (Label::Partial, node.start, node.len);
+        if UNIFORM && uncoverable && !narrow {
+            // No unit ball holds the slab ([`Entry::uncoverable`]): the label is partial as
+            // soon as one ball has a vertex inside or on it (`against_ball` gives `None`: never
+            // `Some(true)`), uncovered if none has.
+            let touched = self.candidates[list]
+                .iter()
+                .any(|c| slab.iter().any(|v| (v - c.q).norm_squared() <= 1.0));
+            return if touched {
+                whole
+            } else {
+                (Label::Uncovered, 0, 0)
+            };
+        }
+        const COVERED: (Label, usize, usize) = (Label::Covered, 0, 0);
         // The ball that covered the previous element first: consecutive elements of the
         // depth-first order are neighbours on S_i, often inside the same ball.
-        if let Some(q) = self.centres.get(self.last_cover) {
-            if covers(slab, q, self.ball::<UNIFORM>(self.last_cover).1) {
-                return Label::Covered;
+        for k in 0..RECENT {
+            let j = self.last_cover[k];
+            let Some(q) = self.centres.get(j) else {
+                break;
+            };
+            if covers(slab, q, self.ball::<UNIFORM>(j).1) {
+                remember(&mut self.last_cover, k, j);
+                return COVERED;
             }
         }
-        let (centre, reach) = node.element.reach();
         // At a uniform radius, a ball whose centre lies within `1 − DEEP_SLACK − reach` of the
         // reach centre holds every slab vertex (they lie within `reach` of it) by more than
         // COVER_MARGIN: the label `against_ball` would give, without the vertex loop.
@@ -482,72 +637,76 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
             -1.0
         };
         let far_uniform = (1.0 + reach) * (1.0 + reach);
-        // A reach ball of radius >= WIDE_REACH drops few balls for the subtree (the first level
-        // in 3D): the children then inherit this element's list as it is, in its order,
-        // without the keys.
-        let narrow = reach < WIDE_REACH;
-        // One pass: the reach filter, the shortcut and the vertex test of each kept ball, in
-        // the order of the parent's list (nearest the parent first, so a covering ball comes
-        // early and ends the pass). Once a ball straddles, the label is at least partial and
-        // the other balls only need the test "covers?", which cannot pass for a ball whose
-        // centre is at least its radius from the reach centre (see [`Element::reach`]: that
-        // point is on the patch, so in the slab, and a covering ball holds it by more than the
-        // rounding), and otherwise stops at the first vertex not inside.
-        let mut label = Label::Uncovered;
         // Split borrows: the list is read while the keys grow.
         let Scratch {
-            centres,
             balls,
             candidates,
             keys,
             last_cover,
             ..
         } = self;
-        for &j in &candidates[node.start..node.start + node.len] {
-            let q = centres[j as usize];
-            let d2 = (q - centre).norm_squared();
-            if d2 <= deep2 {
-                *last_cover = j as usize;
-                keys.clear();
-                return Label::Covered;
-            }
-            // At a uniform radius the test of the paper, (1 + reach)²; else (s + reach)² with
-            // s rounded up. `ball`: `(s², inner)` as in [`Self::ball`].
-            let (far, ball) = if UNIFORM {
-                (far_uniform, (1.0, 1.0 - COVER_MARGIN))
+        let ball = |j: u32| -> (f64, f64) {
+            if UNIFORM {
+                (1.0, 1.0 - COVER_MARGIN)
             } else {
-                let (s, s2, inner) = balls[j as usize];
-                let s = s * (1.0 + 1e-12);
-                ((s + reach) * (s + reach), (s2, inner))
+                (balls[j as usize].1, balls[j as usize].2)
+            }
+        };
+        // Pass 1, for a ball that holds every vertex (the label of nearly every element below
+        // the first level), in the order of the parent's list (nearest the parent first, so a
+        // covering ball comes early and ends the pass). A ball whose centre is at least its
+        // radius from the reach centre cannot (see [`Element::reach`]: that point is on the
+        // patch, so in the slab, and a covering ball holds it by more than the rounding); for
+        // the others, the vertex test of `against_ball`'s covered case, stopping at the first
+        // vertex not inside.
+        for &Cand { q, j } in &candidates[list.clone()] {
+            let d2 = (q - centre).norm_squared();
+            let (s2, inner) = ball(j);
+            if d2 <= deep2 || (d2 < s2 && covers(slab, &q, inner)) {
+                remember(last_cover, RECENT - 1, j as usize);
+                return COVERED;
+            }
+        }
+        // Pass 2: no ball covers, so `against_ball` gives `None` (partial) for a ball with a
+        // vertex inside or on it and `Some(false)` for the others: the label is partial if
+        // some ball has such a vertex, else uncovered. Balls beyond the reach filter have every
+        // vertex outside (and are dropped for the subtree); the others are kept with their
+        // key for the children's list.
+        let mut label = Label::Uncovered;
+        for (k, &Cand { q, j }) in candidates[list].iter().enumerate() {
+            let d2 = (q - centre).norm_squared();
+            // At a uniform radius the test of the paper, (1 + reach)²; else (s + reach)² with
+            // s rounded up.
+            let far = if UNIFORM {
+                far_uniform
+            } else {
+                let s = balls[j as usize].0 * (1.0 + 1e-12);
+                (s + reach) * (s + reach)
             };
             if d2 > far {
                 continue; // every vertex of the subtree outside: dropped for it
             }
             if narrow {
-                keys.push(sort_key(d2, j));
+                keys.push(sort_key(d2, k as u32));
+            } else if label == Label::Partial {
+                break; // the children share this list: nothing more to learn
             }
-            let covered = if label == Label::Partial {
-                d2 < ball.0 && covers(slab, &q, ball.1)
-            } else {
-                match against_ball(slab, &q, ball) {
-                    Some(true) => true,
-                    Some(false) => false,
-                    None => {
-                        label = Label::Partial;
-                        false
-                    }
+            if label == Label::Uncovered {
+                let s2 = ball(j).0;
+                if slab.iter().any(|v| (v - q).norm_squared() <= s2) {
+                    label = Label::Partial;
                 }
-            };
-            if covered {
-                *last_cover = j as usize;
-                keys.clear();
-                return Label::Covered;
             }
         }
-        if label == Label::Partial && !narrow {
-            self.candidates
-                .extend_from_within(node.start..node.start + node.len);
-        } else if label == Label::Partial {
+        if label != Label::Partial {
+            self.keys.clear();
+            return (label, 0, 0);
+        }
+        if !narrow {
+            return whole;
+        }
+        let children_start = self.candidates.len();
+        {
             // The children's list: the NEAREST balls to this element's reach centre first, in
             // order (a child's covering ball is nearly always among them), then the rest in the
             // parent's order (a full sort cost a quarter of the run). Keys are distinct (the
@@ -565,53 +724,94 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
             }
             let h = self.keys.len().min(NEAREST);
             let last = head[h - 1];
-            // The low 32 bits of a key: j.
-            self.candidates
-                .extend(head[..h].iter().map(|&key| key as u32));
-            self.candidates.extend(
-                self.keys
-                    .iter()
-                    .filter(|&&key| key > last)
-                    .map(|&key| key as u32),
-            );
+            // The low 32 bits of a key: the place in this element's list.
+            for &key in head[..h]
+                .iter()
+                .chain(self.keys.iter().filter(|&&key| key > last))
+            {
+                let c = self.candidates[node.start + (key as u32) as usize];
+                self.candidates.push(c);
+            }
         }
         self.keys.clear();
-        label
+        (
+            Label::Partial,
+            children_start,
+            self.candidates.len() - children_start,
+        )
     }
 
     /// Algorithm 3 for the gathered neighbours: true if boundary.
-    fn is_boundary<const UNIFORM: bool>(&mut self, first: &[E], max_depth: u32) -> bool {
+    fn is_boundary<const UNIFORM: bool>(&mut self, mesh: &Mesh<D, E>, max_depth: u32) -> bool {
         if self.centres.is_empty() {
             return true;
         }
         let n = self.centres.len();
+        // `j as u32` is exact: a set holds at most `u32::MAX` particles.
         self.candidates.clear();
-        self.candidates
-            .extend(0..u32::try_from(n).expect("fewer than 2^32 neighbours"));
+        self.candidates.extend(
+            self.centres
+                .iter()
+                .enumerate()
+                .map(|(j, &q)| Cand { q, j: j as u32 }),
+        );
         self.stack.clear();
-        self.stack.extend(first.iter().rev().map(|&element| Node {
-            element,
-            start: 0,
-            len: n,
-        }));
+        self.stack.extend(
+            mesh.entries[..mesh.first]
+                .iter()
+                .enumerate()
+                .rev()
+                .map(|(k, e)| Node {
+                    element: e.element,
+                    entry: k as u32,
+                    start: 0,
+                    len: n,
+                }),
+        );
         while let Some(node) = self.stack.pop() {
-            let slab = node.element.slab();
-            let list_start = self.candidates.len();
-            match self.label::<UNIFORM>(&node, slab.as_ref()) {
-                Label::Covered => self.candidates.truncate(list_start), // R2
-                Label::Uncovered => return true,                        // R1
+            let ((label, start, len), children) = if node.entry == NOT_IN_TABLE {
+                let slab = node.element.slab();
+                let reach = node.element.reach();
+                let label = self.label::<UNIFORM>(&node, slab.as_ref(), reach, false);
+                (label, NOT_IN_TABLE)
+            } else {
+                let e = &mesh.entries[node.entry as usize];
+                let label = self.label::<UNIFORM>(
+                    &node,
+                    e.slab.as_ref(),
+                    (e.centre, e.reach),
+                    e.uncoverable,
+                );
+                (label, e.children)
+            };
+            match label {
+                Label::Covered => {}                                                // R2
+                Label::Uncovered => return true,                                    // R1
                 Label::Partial if node.element.depth() >= max_depth => return true, // R4
                 Label::Partial => {
-                    // R3: the children inherit the neighbours that may still reach them.
-                    let len = self.candidates.len() - list_start;
+                    // R3: the children inherit the neighbours that may still reach them
+                    // (`start..start + len` of the arena, left by `label`).
                     self.children.clear();
-                    node.element.children(&mut self.children);
-                    for &element in self.children.iter().rev() {
-                        self.stack.push(Node {
-                            element,
-                            start: list_start,
-                            len,
-                        });
+                    if children == NOT_IN_TABLE {
+                        node.element.children(&mut self.children);
+                        for &element in self.children.iter().rev() {
+                            self.stack.push(Node {
+                                element,
+                                entry: NOT_IN_TABLE,
+                                start,
+                                len,
+                            });
+                        }
+                    } else {
+                        let first = children as usize;
+                        for k in (first..first + mesh.arity).rev() {
+                            self.stack.push(Node {
+                                element: mesh.entries[k].element,
+                                entry: k as u32,
+                                start,
+                                len,
+                            });
+                        }
                     }
                 }
             }
