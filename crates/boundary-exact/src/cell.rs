@@ -423,7 +423,7 @@ const fn box_back() -> [[u8; 3]; 8] {
 /// stored as vertices with their three neighbours in counter-clockwise order seen from
 /// outside. A clip touches only the vertices it cuts off and their neighbours: the new face is
 /// found by walking the faces of the cut-off region (no sorting by angle), and the cut-off
-/// vertices' slots are refilled from the end of the arrays. Coordinates are stored by axis, so
+/// vertices' slots are left free for the new vertices of later clips (nothing is moved). Coordinates are stored by axis, so
 /// the signed distances of all vertices are one vectorisable loop.
 ///
 /// It computes the same vertices as [`Polyhedron`] (each new vertex is the crossing point of
@@ -453,6 +453,14 @@ pub(crate) struct SimplePolyhedron {
     new_out: Box<[(u8, u8); 256]>,
     /// The cut-off vertices of the clip in progress, ascending.
     outs: Box<[u8; 256]>,
+    /// The new vertices of the clip in progress.
+    news: Box<[u8; 256]>,
+    /// Free slots below `len` (vertices cut off by earlier clips), reused by new vertices
+    /// before the arrays grow: a dead slot holds the origin (`norm2` 0, signed distance
+    /// `−offset`, clearly inside every plane the cell is clipped by), which changes neither
+    /// `max_norm2` nor any flag, and no live vertex points to it.
+    free: Box<[u8; 256]>,
+    nfree: usize,
     /// `max norm2`.
     max2: f64,
     degenerate: bool,
@@ -469,6 +477,9 @@ impl Default for SimplePolyhedron {
             side: Box::new([0.0; 256]),
             new_out: Box::new([(0, 0); 256]),
             outs: Box::new([0; 256]),
+            news: Box::new([0; 256]),
+            free: Box::new([0; 256]),
+            nfree: 0,
             max2: 0.0,
             degenerate: false,
         };
@@ -492,7 +503,13 @@ impl SimplePolyhedron {
     /// The vertices, for tests.
     #[cfg(test)]
     fn vertex_list(&self) -> Vec<[f64; 3]> {
-        (0..self.len).map(|v| self.vertex(v as u8)).collect()
+        self.live().map(|v| self.vertex(v as u8)).collect()
+    }
+
+    /// The slots of the live vertices (not free), for tests.
+    #[cfg(test)]
+    fn live(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.len).filter(|v| !self.free[..self.nfree].contains(&(*v as u8)))
     }
 }
 
@@ -506,6 +523,7 @@ impl Clipper<3> for SimplePolyhedron {
         self.nbrs[..8].copy_from_slice(&BOX_NBRS);
         self.back[..8].copy_from_slice(&BOX_BACK);
         self.len = 8;
+        self.nfree = 0;
         self.max2 = 3.0;
         self.degenerate = false;
     }
@@ -551,20 +569,28 @@ impl Clipper<3> for SimplePolyhedron {
             let x = if out { 0.0 } else { self.norm2[v] };
             max_in = if x > max_in { x } else { max_in };
         }
-        // New vertices on the edges from a kept vertex `u` to a cut-off one `o`, appended
-        // after the old ones; `u` now points to the new vertex in the slot of `o`.
+        // New vertices on the edges from a kept vertex `u` to a cut-off one `o`, in free
+        // slots or appended after the old ones; `u` now points to the new vertex in the slot
+        // of `o`. A new vertex's signed distance is set to 0, which no old slot has (all are
+        // beyond PLANE_EPS, checked above).
         let mut len = nv;
+        let mut nnew = 0usize;
         for k in 0..nout {
             let o = self.outs[k as u8 as usize];
             for i in 0..3 {
                 let u = self.nbrs[o as usize][i];
                 let su = self.side[u as usize];
                 if su < 0.0 {
-                    if len >= SIMPLE_MAX_VERTS {
+                    let w = if self.nfree > 0 {
+                        self.nfree -= 1;
+                        self.free[self.nfree as u8 as usize]
+                    } else if len < SIMPLE_MAX_VERTS {
+                        len += 1;
+                        (len - 1) as u8
+                    } else {
                         self.degenerate = true;
                         return;
-                    }
-                    let w = len as u8;
+                    };
                     let so = self.side[o as usize];
                     let x = crossing(&self.vertex(u), &self.vertex(o), su, so);
                     let s = self.back[o as usize][i];
@@ -576,17 +602,19 @@ impl Clipper<3> for SimplePolyhedron {
                     max_in = if x2 > max_in { x2 } else { max_in };
                     self.nbrs[w as usize] = [u, 0, 0];
                     self.back[w as usize] = [s, 0, 0];
-                    self.side[w as usize] = -1.0;
+                    self.side[w as usize] = 0.0;
                     self.new_out[w as usize] = (o, i as u8);
-                    len += 1;
+                    self.news[nnew as u8 as usize] = w;
+                    nnew += 1;
                 }
             }
         }
+        let news = &self.news[..nnew.min(256)];
         // Two new vertices (nearly) on top of each other: near-degenerate (as `Polyhedron`).
-        for a in nv..len {
-            let x = self.vertex(a as u8);
-            for b in nv..a {
-                let y = self.vertex(b as u8);
+        for (a, &wa) in news.iter().enumerate() {
+            let x = self.vertex(wa);
+            for &wb in &news[..a] {
+                let y = self.vertex(wb);
                 if norm2(&[x[0] - y[0], x[1] - y[1], x[2] - y[2]]) <= MERGE_EPS2 {
                     self.degenerate = true;
                     return;
@@ -597,8 +625,8 @@ impl Clipper<3> for SimplePolyhedron {
         // that edge (seen from outside) through cut-off vertices to the edge where it comes
         // back in, `cur → next`; the new vertex on that edge (now in `next`'s slot of `cur`)
         // follows `w` on the new face. `s` is the slot of the previous vertex in `cur`'s list.
-        for w in nv..len {
-            let w = w as u8;
+        // (The walk never steps onto a new vertex: cut-off vertices still point to old ones.)
+        for &w in news {
             let (mut cur, mut s) = self.new_out[w as usize];
             let mut steps = 0;
             let w2 = loop {
@@ -610,14 +638,14 @@ impl Clipper<3> for SimplePolyhedron {
                 }
                 (cur, s) = (next, back);
                 steps += 1;
-                if steps > 3 * nv {
+                if steps > 3 * len {
                     // Not a simple polyhedron after all: give up (never seen; defensive).
                     self.degenerate = true;
                     return;
                 }
             };
-            if (w2 as usize) < nv {
-                self.degenerate = true; // defensive, as above
+            if self.side[w2 as usize] != 0.0 {
+                self.degenerate = true; // not a new vertex: defensive, as above
                 return;
             }
             self.nbrs[w as usize][2] = w2;
@@ -625,28 +653,13 @@ impl Clipper<3> for SimplePolyhedron {
             self.nbrs[w2 as usize][1] = w;
             self.back[w2 as usize][1] = 2;
         }
-        // Refill the cut-off vertices' slots from the end (ascending: the tail is trimmed of
-        // cut-off vertices first, so the vertex moved is always a kept one).
+        // The cut-off vertices' slots become free: the origin, which no clip cuts off.
         for k in 0..nout {
             let o = self.outs[k as u8 as usize];
-            while len > 0 && self.side[(len - 1) as u8 as usize] > 0.0 {
-                len -= 1;
-            }
-            if o as usize >= len {
-                break;
-            }
-            let last = (len - 1) as u8;
-            self.set_vertex(o, self.vertex(last));
-            self.norm2[o as usize] = self.norm2[last as usize];
-            self.nbrs[o as usize] = self.nbrs[last as usize];
-            self.back[o as usize] = self.back[last as usize];
-            self.side[o as usize] = self.side[last as usize];
-            for i in 0..3 {
-                let x = self.nbrs[o as usize][i];
-                let b = self.back[o as usize][i];
-                self.nbrs[x as usize][b as usize] = o;
-            }
-            len = last as usize;
+            self.set_vertex(o, [0.0; 3]);
+            self.norm2[o as usize] = 0.0;
+            self.free[self.nfree as u8 as usize] = o;
+            self.nfree += 1;
         }
         self.len = len;
         self.max2 = max_in;
@@ -823,14 +836,15 @@ mod tests {
     /// Checks the simple polyhedron's invariants: three distinct neighbours per vertex, each
     /// listing the vertex back.
     fn assert_simple(c: &SimplePolyhedron) {
-        for v in 0..c.len {
+        let live: Vec<usize> = c.live().collect();
+        for v in live.iter().copied() {
             let n = c.nbrs[v];
             assert!(
                 n[0] != n[1] && n[1] != n[2] && n[0] != n[2],
                 "vertex {v}: {n:?}"
             );
             for (i, x) in n.into_iter().enumerate() {
-                assert!((x as usize) < c.len);
+                assert!(live.contains(&(x as usize)));
                 assert_eq!(
                     c.nbrs[x as usize][c.back[v][i] as usize], v as u8,
                     "{v} -> {x}"
