@@ -442,7 +442,14 @@ mod tests {
         v
     }
 
-    fn random_set<const D: usize>(seed: u64, n: usize, scale: f64, offset: f64) -> ParticleSet<D> {
+    /// `n` particles uniform in the cube `[offset, offset + scale)^D` (also used by the
+    /// tests of `blocks`).
+    pub(super) fn random_set<const D: usize>(
+        seed: u64,
+        n: usize,
+        scale: f64,
+        offset: f64,
+    ) -> ParticleSet<D> {
         let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
         ParticleSet::new(
             (0..n)

@@ -38,9 +38,9 @@
 //! (neighbouring particles one after another: their queries share cached cells); each particle
 //! is independent, so the labels do not depend on the number of threads.
 //!
-//! *Speed, same result.* Neighbours are gathered in two stages: those within `1.2r` first,
+//! *Speed, same result.* Neighbours are gathered in two stages: those within `1.1r` first,
 //! whose nearest-first order is a prefix of the full order; every other neighbour has a
-//! bisector offset of at least `0.6(1 − 1e-9)` (units of `r`), so a cell that lies within that
+//! bisector offset of at least `0.55(1 − 1e-9)` (units of `r`), so a cell that lies within that
 //! after them is final, and only other cells (on a jittered ball, the boundary particles)
 //! gather everything within `2r` and go on in the same order. In 3D a first pass clips a
 //! *simple* polyhedron (every vertex of degree 3, neighbours kept in cyclic order: a clip walks

@@ -112,22 +112,27 @@
 //! `1e-9` below the tie every particle is boundary by the definition (the certificate
 //! sees the uncovered diagonal points).
 //!
-//! **Speed.** The thesis' case for the SVM is speed; here it held in 3D until `exact` itself
-//! became 1.6–1.8x faster (issue 21: a simpler cell and a staged neighbour query). One
-//! thread, features included, the 1M-particle jittered ball, both in one run on the idle
-//! 2-core machine (`cargo run --release -p boundary-svm --example svm_throughput 1000000 1`):
-//! svm 5.15 s, `exact` 3.62 s, **svm at 0.70x the speed of `exact`** (0.57x in a loaded
-//! run). Before that change: 1.07x (criterion, `benches/svm.rs`), 1.32x and 1.24x before the
-//! ascent of the cover margin, 0.59x before the polynomial kernel and the chunked feature
-//! sums. Instruction counts are steadier (callgrind, one thread, 50,000-particle ball,
-//! `BOUNDARY_SKIP_EXACT=1` for svm alone): svm 1.126e9 (of which the neighbour query and
-//! gathering about half, the cover search 16%, the model 4%), `exact` 0.887e9. The cover
-//! search scans the neighbours within `1.5r` first (−7.8% instructions, the same features).
-//! The 3D model's decision is a quadratic form of the seven standardised features (56
-//! multiply-adds); what remains is the feature pass: the neighbour query, the sums over the
-//! neighbours and the cover margin over 17 sample directions and the ascent. In 2D, where
-//! `exact` is cheaper, svm was about as fast as `exact` before its change (trainer's timing
-//! on a jittered disc: 0.95x).
+//! **Speed.** The thesis' case for the SVM is speed. One thread, features included, the
+//! 1M-particle jittered ball, both in one run on the otherwise idle 2-core machine (`cargo
+//! run --release -p boundary-svm --example svm_throughput 1000000 1`, two runs): svm 3.27 s
+//! and 3.66 s, `exact` 3.14 s and 2.82 s, **svm at 0.96x and 0.77x the speed of `exact`**:
+//! close to it, not reliably at it. Against `exact` it was 0.59x before the polynomial
+//! kernel and the chunked feature sums, 1.32x and 1.24x before the ascent of the cover
+//! margin, 1.07x (criterion, `benches/svm.rs`), then 0.70x once `exact` became 1.6–1.8x
+//! faster (issue 21: a simpler cell and a staged neighbour query). Its feature pass has since
+//! become about 1.4x cheaper with the same features bit for bit (the example prints a
+//! checksum of the decision values; unchanged): the neighbourhoods come from the core grid's
+//! `NeighbourGrid::par_map_within` (particles in cell order, a distance test without a branch
+//! per candidate), the cover search and the sums run lane by lane (they vectorise), and the
+//! offsets are written without a branch per neighbour (svm alone, one thread: 4.8–4.9 s →
+//! 3.3–3.7 s; callgrind, 10^5 ball, `BOUNDARY_SKIP_EXACT=1`: 2.27e9 → 2.00e9 instructions,
+//! mispredicted branches 13.6M → 5.2M under `--branch-sim=yes`), while `exact` gained
+//! another 1.1x. What remains is the feature pass itself: the neighbour query (a third of
+//! the time), the sums over the neighbours, and the cover margin over 17 sample directions
+//! and the ascent; the model's decision is 3%. The cover search scans the neighbours within
+//! `1.5r` first (−7.8% instructions, the same features). In 2D, where `exact` is cheaper, svm
+//! was about as fast as `exact` before these changes (trainer's timing on a jittered disc:
+//! 0.95x).
 //!
 //! # Trade-off: support vectors against M and speed
 //! `cargo xtask train-svm` trains every model of its grid (training-sample size 800, 1600

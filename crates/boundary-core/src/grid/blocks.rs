@@ -188,8 +188,8 @@ impl<const D: usize> NeighbourGrid<D> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::grid::tests::random_set;
     use crate::ParticleSet;
-    use rand::{Rng, SeedableRng};
 
     /// What `for_each_within` reports for every particle `i < count`, in its order.
     fn per_particle<const D: usize>(
@@ -241,16 +241,6 @@ mod tests {
                 );
             }
         }
-    }
-
-    fn random_set<const D: usize>(seed: u64, n: usize, scale: f64, offset: f64) -> ParticleSet<D> {
-        let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
-        ParticleSet::new(
-            (0..n)
-                .map(|_| Point::<D>::from_fn(|_, _| offset + scale * rng.gen::<f64>()))
-                .collect(),
-        )
-        .unwrap()
     }
 
     /// A perfect lattice of spacing 1 (coordinates are integers plus `offset`): many pairs at
