@@ -20,8 +20,8 @@
 use crate::{CoreError, ParticleSet, Point};
 use rayon::prelude::*;
 
-mod blocks;
-pub use blocks::Neighbourhood;
+mod neighbourhoods;
+pub use neighbourhoods::Neighbourhood;
 use rustc_hash::FxHashMap;
 
 /// Largest `extent / cell` ratio accepted: cell coordinates stay exactly representable and
@@ -443,7 +443,7 @@ mod tests {
     }
 
     /// `n` particles uniform in the cube `[offset, offset + scale)^D` (also used by the
-    /// tests of `blocks`).
+    /// tests of `neighbourhoods`).
     pub(super) fn random_set<const D: usize>(
         seed: u64,
         n: usize,

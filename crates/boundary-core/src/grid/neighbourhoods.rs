@@ -86,7 +86,7 @@ impl<const D: usize> NeighbourGrid<D> {
     /// [`NeighbourGrid::for_each_within`] reports them (same particles, order and `d2`; the
     /// particle itself included); the results in input order. The particles are visited in
     /// the grid's cell order, in parallel (rayon); `init` makes one `state` per worker (a
-    /// caller's scratch buffers). See the module documentation of `blocks`.
+    /// caller's scratch buffers). See the module documentation of `grid/neighbourhoods.rs`.
     ///
     /// ```
     /// use boundary_core::{NeighbourGrid, ParticleSet};
