@@ -214,8 +214,9 @@ pub mod features;
 mod model;
 
 pub use features::{
-    compute_features, feature_reach, particle_features, Features, ParticleFeatures,
-    CERTIFICATE_TOLERANCE, FEATURE_NAMES, FEATURE_VERSION, MARGIN_FEATURE, N_FEATURES,
+    compute_features, feature_reach, map_particle_features, particle_features, Features,
+    ParticleFeatures, CERTIFICATE_TOLERANCE, FEATURE_NAMES, FEATURE_VERSION, MARGIN_FEATURE,
+    N_FEATURES,
 };
 pub use model::{
     exp_nonpositive, Kernel, ModelError, PackedModel, SvmModel, MAX_DEGREE, MODEL_FORMAT,
@@ -227,7 +228,6 @@ use boundary_core::{
 };
 use boundary_exact::ExactDetector;
 use boundary_ge::GeDetector;
-use rayon::prelude::*;
 use std::sync::{Arc, OnceLock};
 
 /// Why `svm` rejects per-particle radii ([`DetectError::PerParticleRadii`]).
@@ -336,18 +336,16 @@ impl SvmDetector {
         AnyParticleSet: From<ParticleSet<D>>,
     {
         let model = self.model_for(D)?.packed();
-        let features = particle_features(set, count, r)?;
-        let mut decisions: Vec<f64> = features
-            .par_iter()
-            .map(|p| {
-                if p.certified_boundary(D) {
-                    0.0
-                } else {
-                    model.decision(&p.features)
-                }
-            })
-            .collect();
-        let near: Vec<bool> = features.iter().map(|p| p.near_tie(D)).collect();
+        // Each particle's decision right after its features (the features are not kept).
+        let decided = map_particle_features(set, count, r, |p| {
+            let decision = if p.certified_boundary(D) {
+                0.0
+            } else {
+                model.decision(&p.features)
+            };
+            (decision, p.near_tie(D))
+        })?;
+        let (mut decisions, near): (Vec<f64>, Vec<bool>) = decided.into_iter().unzip();
         if near.contains(&true) {
             let exact = refine_candidates(&ExactDetector, set, &near, r)?;
             for (i, d) in decisions.iter_mut().enumerate() {
