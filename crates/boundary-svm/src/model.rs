@@ -240,7 +240,7 @@ impl SvmModel {
             constant: 0.0,
             linear: [0.0; N_FEATURES],
             quadratic: [[0.0; N_FEATURES]; N_FEATURES],
-            cubic: [[[0.0; N_FEATURES]; N_FEATURES]; N_FEATURES],
+            cubic: [[[0.0; LANES]; N_FEATURES]; N_FEATURES],
         };
         for (s, &a) in self.support_vectors.iter().zip(&self.coefficients) {
             out.constant += a * w0;
@@ -249,7 +249,7 @@ impl SvmModel {
                 for j in 0..N_FEATURES {
                     out.quadratic[i][j] += a * w2 * s[i] * s[j];
                     for k in 0..N_FEATURES {
-                        out.cubic[i][j][k] += a * w3 * s[i] * s[j] * s[k];
+                        out.cubic[i][k][j] += a * w3 * s[i] * s[j] * s[k];
                     }
                 }
             }
@@ -269,7 +269,9 @@ struct Monomials {
     constant: f64,
     linear: [f64; N_FEATURES],
     quadratic: [[f64; N_FEATURES]; N_FEATURES],
-    cubic: [[[f64; N_FEATURES]; N_FEATURES]; N_FEATURES],
+    /// `cubic[i][k][j]` is the weight of `z_i z_j z_k` (`j` last, padded to [`LANES`] with
+    /// zeros: [`PackedModel::decision`] takes the sums over `k` for every `j` at once).
+    cubic: [[[f64; LANES]; N_FEATURES]; N_FEATURES],
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -311,15 +313,25 @@ impl PackedModel {
             } => rbf_sum(self.bias, &z, support_vectors, coefficients, *neg_gamma),
             Packed::Polynomial(m) => {
                 // Horner over the degrees: z_i (linear_i + z_j (quadratic_ij + z_k cubic_ijk)).
+                // The sums over k, one per j, run side by side (one vector lane per j), each
+                // in k order from the start value of `Iterator::sum`: the same values as one
+                // sum after the other, without their chains of dependent additions.
+                let start: f64 = std::iter::empty::<f64>().sum();
                 let mut sum = 0.0;
                 for ((zi, linear), (quadratic, cubic)) in z
                     .iter()
                     .zip(&m.linear)
                     .zip(m.quadratic.iter().zip(&m.cubic))
                 {
+                    let mut over_k = [start; LANES];
+                    for (row, zk) in cubic.iter().zip(&z) {
+                        for (acc, c) in over_k.iter_mut().zip(row) {
+                            *acc += c * zk;
+                        }
+                    }
                     let mut inner_i = *linear;
-                    for ((zj, q), cubic) in z.iter().zip(quadratic).zip(cubic) {
-                        let inner_j = q + cubic.iter().zip(&z).map(|(c, zk)| c * zk).sum::<f64>();
+                    for ((zj, q), over_k) in z.iter().zip(quadratic).zip(&over_k) {
+                        let inner_j = q + over_k;
                         inner_i += inner_j * zj;
                     }
                     sum += inner_i * zi;
