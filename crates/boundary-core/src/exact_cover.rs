@@ -27,10 +27,20 @@
 //! A vertex of the clipped cell is the solution of `D` plane equations, kept as integer
 //! numerators and a positive integer denominator (Cramer's rule, so no growth from one clip to
 //! the next). Which side of a plane a vertex lies on is the sign of an integer expression;
-//! whether it lies beyond `r` is `|N|²·4^t > r²·den²` in integers. The integers are `i128` when
-//! a bound on their size (`D·B_a + B_b + 2D + 2 <= 126` bits, `B_a`, `B_b` the bit lengths of
-//! the plane coefficients) proves that no product overflows, which is the case for lattices of
-//! small integers; otherwise arbitrary-precision `num_bigint::BigInt`.
+//! whether it lies beyond `r` is `|N|²·4^t > r²·den²` in integers. The integers are machine
+//! words when a bound on their size (`D·B_a + B_b + 2D + 2 <= W − 2` bits for `W`-bit words,
+//! `B_a`, `B_b` the bit lengths of the plane coefficients and offsets) proves that no sum of
+//! products overflows: `i64` (`W = 64`, lattices of small integers, one machine multiplication
+//! per product), else `i128`; otherwise arbitrary-precision `num_bigint::BigInt`. (The
+//! bound: `den` and each `N_k` are sums of `D!` products of `D` plane entries, below
+//! `2^(D·B_a + 3)` and `2^((D−1)·B_a + B_b + 3)`; a side test `a·N − b·den` sums `D + 1`
+//! products below `2^(D·B_a + B_b + 3)`.) With [`sphere_uncovered`] the set-up (integer
+//! coordinates, differences, squared distances, order) runs in `i128` too when every
+//! coordinate fits in 125 bits in the common unit and `r` in 60 bits (a neighbour with a
+//! coordinate difference of `2^61` or more then lies beyond `2r` and is skipped), and the
+//! final test `|N|²·4^t > r²·den²` in 256-bit integers when `|N_k| < 2^63`, `den < 2^64` and
+//! `r² < 2^128`, after a float estimate that settles vertices more than 2 % inside or outside
+//! `r²`. Nothing is allocated per integer on these paths.
 //!
 //! # Vertex enumeration
 //! - **2D**: Sutherland–Hodgman clipping of the box by every bisector, nearest first; each
@@ -53,9 +63,11 @@
 //! prefix doubles, up to all of them (which always decides).
 //!
 //! The cost is `O(m²·k)` exact operations in 3D for a prefix of `m` planes and faces of `k`
-//! vertices: well below a millisecond for lattices of small integers, a few milliseconds for
-//! generic `f64` input (big integers); callers use it only where their floating-point filters
-//! and certificates cannot decide.
+//! vertices: about 4 µs per call (38k instructions) for an inner particle of the cubic lattice
+//! at its tie radius (`i64` path; 200k instructions with `i128` and `BigInt` set-up before),
+//! a few milliseconds for generic `f64` input (big integers); callers use it only where their
+//! floating-point filters and certificates cannot decide. Measure with `cargo run --release
+//! -p boundary-exact --example tie_lattice`.
 //!
 //! # Per-particle radii: power cells ([`sphere_uncovered_power`])
 //! Particle `i` (centre `c`, radius `r_c`) is interior iff its sphere `S_c` is covered by the
@@ -126,7 +138,8 @@
 //! (`s = 0.875`, `i128`) 36 µs per call with every offset positive and 57 µs on the general
 //! path; `s = 0.9` or jittered positions (`BigInt`) 0.6 to 0.9 ms; 2D 7 µs (`i128`) to
 //! 60 µs (`BigInt`). With equal radii on the same points: 49 µs against 40 µs for
-//! [`sphere_uncovered`].
+//! [`sphere_uncovered`] (measured before its set-up moved to `i128` and its lattices to
+//! `i64`; not measured since).
 
 use crate::Point;
 use num_bigint::BigInt;
@@ -168,6 +181,9 @@ pub fn sphere_uncovered<const D: usize>(centre: &Point<D>, others: &[Point<D>], 
     note(r);
     centre.iter().for_each(|&x| note(x));
     others.iter().for_each(|p| p.iter().for_each(|&x| note(x)));
+    if let Some(answer) = sphere_uncovered_small(centre, others, r, e_min) {
+        return answer;
+    }
     let to_int = |x: f64| -> BigInt {
         match dyadic(x) {
             None => BigInt::from(0u8),
@@ -223,17 +239,138 @@ pub fn sphere_uncovered<const D: usize>(centre: &Point<D>, others: &[Point<D>], 
     for q in &qs {
         planes.push((q.clone().map(|x| x << 1usize), norm2_big(q)));
     }
-    let beyond = Beyond {
-        r2: &r_int * &r_int,
-        shift: 2 * t as usize,
-        r_f64: r,
-        unit_f64: 2f64.powi(e_min) * 2f64.powi(t as i32),
-    };
+    let beyond = Beyond::new(&r_int * &r_int, 2 * t as usize, r, e_min, t);
     if let Some(small) = as_i128(&planes) {
+        note_path(false, 128);
         nearest_first::<i128, D>(&small, &beyond)
     } else {
+        note_path(false, 0);
         nearest_first::<BigInt, D>(&planes, &beyond)
     }
+}
+
+#[cfg(test)]
+thread_local! {
+    /// The path the last [`sphere_uncovered`] call on this thread took: whether its set-up
+    /// ran in `i128`, and the width of the enumeration's integers (`0` for `BigInt`).
+    static PATH: std::cell::Cell<(bool, u32)> = const { std::cell::Cell::new((false, 0)) };
+}
+
+/// Records the path of a [`sphere_uncovered`] call (tests only).
+fn note_path(_small_set_up: bool, _width: u32) {
+    #[cfg(test)]
+    PATH.with(|p| p.set((_small_set_up, _width)));
+}
+
+/// [`sphere_uncovered`] with its set-up in `i128` (no allocation per integer): the same
+/// planes in the same order, or `None` when an integer of the set-up could leave the bounds
+/// below (then the caller builds them in `BigInt`).
+///
+/// Bounds: every coordinate in the unit `2^e_min` is `m·2^s` with `|m| < 2^53`, kept when
+/// `s <= 72` (below `2^125`, so differences fit); `r < 2^60` in that unit, so `4r² < 2^122`;
+/// a neighbour with some `|q_k| >= 2^61 > 2r` lies at `2r` or farther and is skipped (exactly,
+/// as the `BigInt` path skips it); the others have `|q|² < 3·2^122`. The planes then go to
+/// the enumeration in `i128` under the bound of [`as_i128`], else in `BigInt`.
+fn sphere_uncovered_small<const D: usize>(
+    centre: &Point<D>,
+    others: &[Point<D>],
+    r: f64,
+    e_min: i32,
+) -> Option<bool> {
+    let to_int = |x: f64| -> Option<i128> {
+        match dyadic(x) {
+            None => Some(0),
+            Some((m, e)) => {
+                let s = (e - e_min) as u32;
+                (s <= 125 - 53).then(|| i128::from(m) << s)
+            }
+        }
+    };
+    let r_int = to_int(r)?;
+    if r_int >= 1 << 60 {
+        return None;
+    }
+    let four_r2 = (r_int * r_int) << 2;
+    let mut c = [0i128; D];
+    for (k, x) in c.iter_mut().enumerate() {
+        *x = to_int(centre[k])?;
+    }
+    let mut near: Vec<(i128, [i128; D])> = Vec::with_capacity(others.len());
+    for p in others {
+        let mut q = [0i128; D];
+        let mut far = false;
+        for (k, x) in q.iter_mut().enumerate() {
+            *x = to_int(p[k])? - c[k];
+            far |= x.unsigned_abs() >= 1 << 61;
+        }
+        if far {
+            continue;
+        }
+        let d2: i128 = q.iter().map(|x| x * x).sum();
+        if d2 != 0 && d2 < four_r2 {
+            near.push((d2, q));
+        }
+    }
+    // The order and the repeats of the `BigInt` path (same integers, same comparisons).
+    near.sort_unstable();
+    near.dedup();
+    let bits = |x: i128| u64::from(128 - x.unsigned_abs().leading_zeros());
+    // Box half-width R = 2^k_box >= r (module docs), as `box_exponent`.
+    let k_box = bits(r_int) - u64::from(r_int.count_ones() == 1);
+    let mut t = k_box;
+    for (_, q) in &near {
+        for &x in q {
+            if x != 0 {
+                t = t.min(u64::from(x.trailing_zeros()));
+            }
+        }
+    }
+    let big_r: i128 = 1 << (k_box - t);
+    let mut planes: Vec<([i128; D], i128)> = Vec::with_capacity(2 * D + near.len());
+    for axis in 0..D {
+        for sign in [1i128, -1] {
+            let mut a = [0i128; D];
+            a[axis] = sign;
+            planes.push((a, big_r));
+        }
+    }
+    for (_, q) in &near {
+        let q = q.map(|x| x >> t);
+        planes.push((q.map(|x| x << 1), q.iter().map(|x| x * x).sum()));
+    }
+    let beyond = Beyond::new(BigInt::from(r_int * r_int), 2 * t as usize, r, e_min, t);
+    let bits_a = planes
+        .iter()
+        .flat_map(|(a, _)| a.iter().map(|&x| bits(x)))
+        .max()
+        .unwrap_or(0);
+    let bits_b = planes.iter().map(|&(_, b)| bits(b)).max().unwrap_or(0);
+    Some(if fits::<D>(bits_a, bits_b, 64) {
+        // Lattices of small integers: one machine multiplication per product.
+        note_path(true, 64);
+        let words: Vec<([i64; D], i64)> = planes
+            .iter()
+            .map(|(a, b)| (a.map(|x| x as i64), *b as i64))
+            .collect();
+        nearest_first::<i64, D>(&words, &beyond)
+    } else if fits::<D>(bits_a, bits_b, 128) {
+        note_path(true, 128);
+        nearest_first::<i128, D>(&planes, &beyond)
+    } else {
+        note_path(true, 0);
+        let big: Vec<([BigInt; D], BigInt)> = planes
+            .iter()
+            .map(|(a, b)| (a.map(BigInt::from), BigInt::from(*b)))
+            .collect();
+        nearest_first::<BigInt, D>(&big, &beyond)
+    })
+}
+
+/// The size bound of the enumeration in signed integers of `width` bits (module docs):
+/// `D·B_a + B_b + 2D + 2 <= width − 2` (`126` for `i128`, `62` for `i64`), `B_a`, `B_b` the
+/// largest bit lengths of the plane coefficients and offsets.
+fn fits<const D: usize>(bits_a: u64, bits_b: u64, width: u64) -> bool {
+    D as u64 * bits_a + bits_b + 2 * D as u64 + 2 <= width - 2
 }
 
 /// The exponent `k` of the box half-width `R = 2^k`: the smallest power of two `>= r`
@@ -258,7 +395,7 @@ fn as_i128<const D: usize>(planes: &[([BigInt; D], BigInt)]) -> Option<Vec<([i12
         .max()
         .unwrap_or(0);
     let bits_b = planes.iter().map(|(_, b)| b.bits()).max().unwrap_or(0);
-    (D as u64 * bits_a + bits_b + 2 * D as u64 + 2 <= 126).then(|| {
+    fits::<D>(bits_a, bits_b, 128).then(|| {
         planes
             .iter()
             .map(|(a, b)| {
@@ -407,12 +544,7 @@ pub fn sphere_uncovered_power<const D: usize>(
     // Every offset positive: the centre lies strictly inside every power half-space, so the
     // cell is full-dimensional and its minimum is 0 (module docs): the uniform test decides.
     let fast = planes.iter().all(|(_, b)| b.is_positive());
-    let beyond = Beyond {
-        r2: rc2,
-        shift: 2 * sh,
-        r_f64: r_centre,
-        unit_f64: 2f64.powi(e_min) * 2f64.powi(t as i32),
-    };
+    let beyond = Beyond::new(rc2, 2 * sh, r_centre, e_min, t);
     if let Some(small) = as_i128(&planes) {
         if fast {
             nearest_first::<i128, D>(&small, &beyond)
@@ -483,31 +615,43 @@ trait Ring: Clone + std::fmt::Debug {
     fn sign(&self) -> i8;
     fn big(&self) -> BigInt;
     fn approx(&self) -> f64;
+    /// The value as `i128`, when it fits.
+    fn small(&self) -> Option<i128>;
 }
 
-impl Ring for i128 {
-    fn add(&self, o: &Self) -> Self {
-        self + o
-    }
-    fn sub(&self, o: &Self) -> Self {
-        self - o
-    }
-    fn mul(&self, o: &Self) -> Self {
-        self * o
-    }
-    fn neg(&self) -> Self {
-        -self
-    }
-    fn sign(&self) -> i8 {
-        self.signum() as i8
-    }
-    fn big(&self) -> BigInt {
-        BigInt::from(*self)
-    }
-    fn approx(&self) -> f64 {
-        *self as f64
-    }
+/// The machine-word rings, used under the size bound of [`fits`] for their width.
+macro_rules! word_ring {
+    ($t:ty) => {
+        impl Ring for $t {
+            fn add(&self, o: &Self) -> Self {
+                self + o
+            }
+            fn sub(&self, o: &Self) -> Self {
+                self - o
+            }
+            fn mul(&self, o: &Self) -> Self {
+                self * o
+            }
+            fn neg(&self) -> Self {
+                -self
+            }
+            fn sign(&self) -> i8 {
+                self.signum() as i8
+            }
+            fn big(&self) -> BigInt {
+                BigInt::from(*self)
+            }
+            fn approx(&self) -> f64 {
+                *self as f64
+            }
+            fn small(&self) -> Option<i128> {
+                Some(i128::from(*self))
+            }
+        }
+    };
 }
+word_ring!(i64);
+word_ring!(i128);
 
 impl Ring for BigInt {
     fn add(&self, o: &Self) -> Self {
@@ -537,12 +681,18 @@ impl Ring for BigInt {
     fn approx(&self) -> f64 {
         self.to_f64().unwrap_or(f64::INFINITY)
     }
+    fn small(&self) -> Option<i128> {
+        self.to_i128()
+    }
 }
 
 /// The final test `|v| > r` for a vertex `v = N/den` (in the unit `2^(E+t)`).
 struct Beyond {
     /// `r²` in the unit `2^(2E)`.
     r2: BigInt,
+    /// `r2` when it is below `2^128`: the exact test then runs in 256-bit integers whenever
+    /// `|N_k| < 2^63` and `den < 2^64` (see [`Beyond::test`]).
+    r2_small: Option<u128>,
     /// `2t`: `|v|² > r²` iff `|N|²·2^(2t) > r2·den²`.
     shift: usize,
     /// `r` and the unit `2^(E+t)` as floats, for a quick rejection of vertices well inside.
@@ -551,14 +701,52 @@ struct Beyond {
 }
 
 impl Beyond {
+    /// The test for `r² = r2` in the unit `2^(2E)`, `E = e_min`, vertices in the unit
+    /// `2^(E+t)` (`shift = 2t`).
+    fn new(r2: BigInt, shift: usize, r_f64: f64, e_min: i32, t: u64) -> Self {
+        Beyond {
+            r2_small: r2.to_u128(),
+            r2,
+            shift,
+            r_f64,
+            unit_f64: 2f64.powi(e_min) * 2f64.powi(t as i32),
+        }
+    }
+
     fn test<T: Ring, const D: usize>(&self, n: &[T; D], den: &T) -> bool {
-        // Quick rejection: |v| below 0.99 r by the float estimate (each conversion is within a
-        // relative 2^-52 of the integer, far inside the 1 % slack); otherwise decide exactly.
+        // Quick decision by the float estimate when |v|² is below 0.98 r² or above 1.02 r²:
+        // with every quantity a normal float, each conversion, product and quotient is
+        // within a relative 2^-52, so the estimate is within a relative 1e-14 of |v|²/r²,
+        // far inside the 2 % slack. Otherwise (or with a subnormal or non-finite quantity)
+        // decide exactly.
         let d = den.approx();
         let n2: f64 = n.iter().map(|x| x.approx() * x.approx()).sum();
-        let v2 = n2 / (d * d) * self.unit_f64 * self.unit_f64;
-        if v2.is_finite() && v2 > 0.0 && v2 < 0.98 * self.r_f64 * self.r_f64 && d.is_finite() {
-            return false;
+        let (d2, unit2, r2) = (
+            d * d,
+            self.unit_f64 * self.unit_f64,
+            self.r_f64 * self.r_f64,
+        );
+        let ratio = n2 / d2;
+        let v2 = ratio * unit2;
+        if [n2, d2, ratio, unit2, v2, r2].iter().all(|x| x.is_normal()) {
+            if v2 < 0.98 * r2 {
+                return false;
+            }
+            if v2 > 1.02 * r2 {
+                return true;
+            }
+        }
+        // Exact in 256 bits: |N|² < 3·2^126 and den² < 2^128 fit in u128, r2·den² < 2^256.
+        if let (Some(r2), Some(den)) = (self.r2_small, den.small()) {
+            let small = |x: &T| x.small().filter(|x| x.unsigned_abs() < 1 << 63);
+            if den > 0 && den < 1 << 64 && n.iter().all(|x| small(x).is_some()) {
+                let n2: u128 = n
+                    .iter()
+                    .map(|x| small(x).map_or(0, |x| x.unsigned_abs().pow(2)))
+                    .sum();
+                let den = den.unsigned_abs();
+                return shl_exceeds(n2, self.shift, mul_wide(r2, den * den));
+            }
         }
         let den = den.big();
         let lhs: BigInt = n.iter().map(|x| x.big() * x.big()).sum::<BigInt>() << self.shift;
@@ -566,20 +754,35 @@ impl Beyond {
     }
 }
 
-fn det<T: Ring, const D: usize>(m: &[[T; D]; D]) -> T {
-    match D {
-        2 => m[0][0].mul(&m[1][1]).sub(&m[0][1].mul(&m[1][0])),
-        3 => {
-            let minor = |a: usize, b: usize, c: usize, d: usize| {
-                m[1][a].mul(&m[2][b]).sub(&m[1][c].mul(&m[2][d]))
-            };
-            m[0][0]
-                .mul(&minor(1, 2, 2, 1))
-                .sub(&m[0][1].mul(&minor(0, 2, 2, 0)))
-                .add(&m[0][2].mul(&minor(0, 1, 1, 0)))
-        }
-        _ => unreachable!("D is 2 or 3"),
+/// The full product `a·b` as `(high, low)` 128-bit halves.
+fn mul_wide(a: u128, b: u128) -> (u128, u128) {
+    const LOW: u128 = (1 << 64) - 1;
+    let (a1, a0) = (a >> 64, a & LOW);
+    let (b1, b0) = (b >> 64, b & LOW);
+    let (p00, p01, p10, p11) = (a0 * b0, a0 * b1, a1 * b0, a1 * b1);
+    // Below 3·2^64: no overflow.
+    let mid = (p00 >> 64) + (p01 & LOW) + (p10 & LOW);
+    let low = (p00 & LOW) | (mid << 64);
+    let high = p11 + (p01 >> 64) + (p10 >> 64) + (mid >> 64);
+    (high, low)
+}
+
+/// Whether `x·2^shift > rhs`, `rhs = (high, low)` a 256-bit integer.
+fn shl_exceeds(x: u128, shift: usize, rhs: (u128, u128)) -> bool {
+    if x == 0 {
+        return false;
     }
+    let bits = 128 - x.leading_zeros() as usize;
+    if bits + shift > 256 {
+        // x·2^shift >= 2^256 > rhs.
+        return true;
+    }
+    let lhs = match shift {
+        0 => (0, x),
+        s if s < 128 => (x >> (128 - s), x << s),
+        s => (x << (s - 128), 0),
+    };
+    lhs > rhs
 }
 
 /// A vertex: `N/den` with `den > 0`, and the plane of the polygon edge leaving it.
@@ -591,21 +794,51 @@ struct Vertex<T, const D: usize> {
 }
 
 /// The intersection of the planes `ids` (Cramer's rule), `None` if they are not independent.
+/// With rows `a_k` and offsets `b_k`: in 2D `den = det(a_0, a_1)`; in 3D `den = a_0·(a_1×a_2)`
+/// and `N = b_0 (a_1×a_2) + b_1 (a_2×a_0) + b_2 (a_0×a_1)` (the cofactor expansion of each
+/// Cramer numerator, so the same integers as the determinants, with fewer products).
 fn solve<T: Ring, const D: usize>(planes: &[([T; D], T)], ids: [usize; D]) -> Option<([T; D], T)> {
-    let m: [[T; D]; D] = std::array::from_fn(|row| planes[ids[row]].0.clone());
-    let mut den = det(&m);
+    let a = |row: usize, col: usize| &planes[ids[row]].0[col];
+    let b = |row: usize| &planes[ids[row]].1;
+    let (mut n, mut den): ([T; D], T) = match D {
+        2 => {
+            let den = a(0, 0).mul(a(1, 1)).sub(&a(0, 1).mul(a(1, 0)));
+            let x = [
+                b(0).mul(a(1, 1)).sub(&a(0, 1).mul(b(1))),
+                a(0, 0).mul(b(1)).sub(&b(0).mul(a(1, 0))),
+            ];
+            (std::array::from_fn(|k| x[k].clone()), den)
+        }
+        3 => {
+            // cross(u, v)_k = u_{k+1} v_{k+2} − u_{k+2} v_{k+1}, written out (a closure per
+            // component through `array::from_fn` was not inlined).
+            let m = |u: usize, k1: usize, v: usize, k2: usize| a(u, k1).mul(a(v, k2));
+            let cross = |u: usize, v: usize| -> [T; 3] {
+                [
+                    m(u, 1, v, 2).sub(&m(u, 2, v, 1)),
+                    m(u, 2, v, 0).sub(&m(u, 0, v, 2)),
+                    m(u, 0, v, 1).sub(&m(u, 1, v, 0)),
+                ]
+            };
+            let (c12, c20, c01) = (cross(1, 2), cross(2, 0), cross(0, 1));
+            let den = a(0, 0)
+                .mul(&c12[0])
+                .add(&a(0, 1).mul(&c12[1]))
+                .add(&a(0, 2).mul(&c12[2]));
+            let num = |k: usize| {
+                b(0).mul(&c12[k])
+                    .add(&b(1).mul(&c20[k]))
+                    .add(&b(2).mul(&c01[k]))
+            };
+            let x = [num(0), num(1), num(2)];
+            (std::array::from_fn(|k| x[k].clone()), den)
+        }
+        _ => unreachable!("D is 2 or 3"),
+    };
     let s = den.sign();
     if s == 0 {
         return None;
     }
-    let mut n: [T; D] = std::array::from_fn(|col| {
-        let mc: [[T; D]; D] = std::array::from_fn(|row| {
-            let mut r = m[row].clone();
-            r[col] = planes[ids[row]].1.clone();
-            r
-        });
-        det(&mc)
-    });
     if s < 0 {
         den = den.neg();
         n = n.map(|x| x.neg());
@@ -631,7 +864,18 @@ fn clip<T: Ring, const D: usize>(
     fixed: Option<usize>,
     h: usize,
 ) {
-    let signs: Vec<i8> = poly.iter().map(|v| side(&planes[h], v)).collect();
+    // The signs on the stack for the usual faces (a few dozen vertices at most).
+    let mut stack = [0i8; 64];
+    let mut heap = Vec::new();
+    let signs: &mut [i8] = if poly.len() <= stack.len() {
+        &mut stack[..poly.len()]
+    } else {
+        heap.resize(poly.len(), 0);
+        &mut heap
+    };
+    for (s, v) in signs.iter_mut().zip(poly.iter()) {
+        *s = side(&planes[h], v);
+    }
     if signs.iter().all(|&s| s <= 0) {
         return;
     }
@@ -1068,6 +1312,207 @@ mod tests {
         assert!(sphere_uncovered(&c, &n, 0.7));
     }
 
+    /// The machine-word paths (set-up in `i128`, enumeration in `i64` / `i128`, the final
+    /// test in 256 bits) against `BigInt` arithmetic and the rational brute force of
+    /// `power`, at the bounds where the paths switch.
+    mod word_paths {
+        use super::super::*;
+        use super::power::brute_force;
+        use rand::{rngs::StdRng, Rng, SeedableRng};
+
+        fn big256((high, low): (u128, u128)) -> BigInt {
+            (BigInt::from(high) << 128usize) + BigInt::from(low)
+        }
+
+        #[test]
+        fn wide_products_and_shifted_comparisons_match_bigint() {
+            let mut rng = StdRng::seed_from_u64(11);
+            let edges = [
+                0u128,
+                1,
+                2,
+                u64::MAX as u128,
+                1 << 64,
+                u128::MAX,
+                u128::MAX - 1,
+            ];
+            let mut values: Vec<u128> = edges.to_vec();
+            for _ in 0..200 {
+                let bits = rng.gen_range(0..=128u32);
+                let x: u128 = rng.gen();
+                values.push(if bits == 128 {
+                    x
+                } else {
+                    x & ((1 << bits) - 1)
+                });
+            }
+            for (i, &a) in values.iter().enumerate() {
+                let b = values[(i * 7 + 3) % values.len()];
+                let p = mul_wide(a, b);
+                assert_eq!(big256(p), BigInt::from(a) * BigInt::from(b), "{a} * {b}");
+                for shift in [0usize, 1, 63, 64, 127, 128, 129, 200, 255, 256, 300] {
+                    let lhs = BigInt::from(a) << shift;
+                    for rhs in [p, (0, a), (a, 0), (u128::MAX, u128::MAX)] {
+                        assert_eq!(
+                            shl_exceeds(a, shift, rhs),
+                            lhs > big256(rhs),
+                            "{a} << {shift} > {rhs:?}"
+                        );
+                    }
+                    // Equal sides: not beyond; one more on the right or the left decides.
+                    if a != 0 && (128 - a.leading_zeros() as usize) + shift <= 256 {
+                        let (mut high, mut low) = (0u128, 0u128);
+                        let big = BigInt::from(a) << shift;
+                        let (hi, lo) = (&big >> 128usize, &big - (&big >> 128usize << 128usize));
+                        high += hi.to_u128().unwrap();
+                        low += lo.to_u128().unwrap();
+                        assert!(!shl_exceeds(a, shift, (high, low)));
+                        if low > 0 {
+                            assert!(shl_exceeds(a, shift, (high, low - 1)));
+                        }
+                    }
+                }
+            }
+        }
+
+        /// `Beyond::test` in every ring against `|N|²·2^shift > r²·den²` in `BigInt`, for
+        /// vertices on, just inside and just outside the sphere, with `|N_k|` and `den` at
+        /// the bounds of the 256-bit path (`2^63`, `2^64`) and beyond.
+        #[test]
+        fn the_beyond_test_is_exact_on_both_sides_of_its_word_bounds() {
+            let mut rng = StdRng::seed_from_u64(12);
+            let mut checked = 0;
+            for case in 0..400 {
+                // r = r_int·2^e (exact in f64: r_int < 2^53), vertices in the unit 2^(e+t).
+                let r_bits = rng.gen_range(1..53);
+                let r_int: u64 = rng.gen_range(1..1u64 << r_bits);
+                let (e, t) = (rng.gen_range(-60..20), rng.gen_range(0..40u64));
+                let r_f64 = r_int as f64 * 2f64.powi(e);
+                let r2 = BigInt::from(r_int) * BigInt::from(r_int);
+                let beyond = Beyond::new(r2.clone(), 2 * t as usize, r_f64, e, t);
+                let den_bits = [1u32, 20, 62, 63, 64, 65, 70][case % 7];
+                let den = BigInt::from(rng.gen_range(1u128 << (den_bits - 1)..1u128 << den_bits));
+                // On the sphere along an axis when 2^t divides r_int·den, then nudged.
+                let on = (BigInt::from(r_int) * &den) >> (t as usize);
+                // Nudged by units (the exact path) and scaled by 1/2, 0.99, 1.01, 2 (the float
+                // estimate decides the first and last, the exact path the middle ones).
+                let scaled = |num: i64| (&on * num / 100) - &on;
+                let nudges: Vec<BigInt> = [-2i64, -1, 0, 1, 2]
+                    .map(BigInt::from)
+                    .into_iter()
+                    .chain([50, 99, 101, 200].map(scaled))
+                    .collect();
+                for nudge in nudges {
+                    let mut n: [BigInt; 3] = [&on + &nudge, BigInt::from(0), BigInt::from(0)];
+                    if case % 2 == 1 {
+                        n = [n[1].clone(), -n[0].clone(), nudge.clone()];
+                    }
+                    let want = (n.iter().map(|x| x * x).sum::<BigInt>() << (2 * t as usize))
+                        > &r2 * &den * &den;
+                    assert_eq!(beyond.test(&n, &den), want, "BigInt case {case} {nudge}");
+                    if let (Some(n128), Some(d128)) = (
+                        n.iter().map(|x| x.to_i128()).collect::<Option<Vec<_>>>(),
+                        den.to_i128(),
+                    ) {
+                        let n128 = [n128[0], n128[1], n128[2]];
+                        assert_eq!(beyond.test(&n128, &d128), want, "i128 case {case} {nudge}");
+                        checked += 1;
+                    }
+                }
+            }
+            assert!(checked > 1000, "{checked}");
+        }
+
+        /// A jittered lattice around the origin: points `k + j/2^m` (`|j| <= 2^(m−3)`),
+        /// a radius on either side of the lattice's tie, rounded to the unit `2^-m`: the planes have about `m + 2`
+        /// and `2m + 3` bits, so `m` moves the enumeration across its word bounds.
+        fn jittered<const D: usize>(rng: &mut StdRng, m: i32) -> (Point<D>, f64, Vec<Point<D>>) {
+            let unit = 2f64.powi(-m);
+            let j = 1i64 << (m - 3);
+            let mut jitter = |x: f64| x + rng.gen_range(-j..=j) as f64 * unit;
+            let centre = Point::<D>::from_fn(|_, _| jitter(0.0));
+            let mut others = Vec::new();
+            let span = if D == 2 { 2 } else { 1 };
+            let cells = (2 * span + 1usize).pow(D as u32);
+            for k in 0..cells {
+                let mut p = Point::<D>::zeros();
+                let mut rest = k;
+                for x in p.iter_mut() {
+                    *x = jitter((rest % (2 * span + 1)) as f64 - span as f64);
+                    rest /= 2 * span + 1;
+                }
+                others.push(p);
+            }
+            // Around the tie radius of the lattice (1/√2 in 2D, √3/2 in 3D): both answers.
+            let radii = if D == 2 { [0.76, 0.66] } else { [0.9, 0.8] };
+            let r = (radii[rng.gen_range(0..2)] / unit).round() * unit;
+            (centre, r, others)
+        }
+
+        fn agree_with_brute_force<const D: usize>(ms: &[i32]) -> Vec<(bool, u32)> {
+            let mut rng = StdRng::seed_from_u64(13 + D as u64);
+            let mut paths = Vec::new();
+            let mut answers = [0usize; 2];
+            for &m in ms {
+                for _ in 0..2 {
+                    let (c, r, o) = jittered::<D>(&mut rng, m);
+                    let got = sphere_uncovered(&c, &o, r);
+                    paths.push(PATH.with(|p| p.get()));
+                    let with: Vec<_> = o.iter().map(|&p| (p, r)).collect();
+                    assert_eq!(got, brute_force(&c, r, &with), "{D}D m = {m}");
+                    answers[got as usize] += 1;
+                }
+            }
+            assert!(answers[0] > 0 && answers[1] > 0, "{D}D answers {answers:?}");
+            paths
+        }
+
+        #[test]
+        fn enumeration_rings_switch_at_their_bounds_with_the_same_answers() {
+            // 3D: 5m + 17 bits (i64 up to m = 9, i128 up to m = 21); 2D: 4m + 13 (12, 28).
+            let p3 = agree_with_brute_force::<3>(&[8, 9, 10, 11, 20, 21, 22, 23]);
+            let p2 = agree_with_brute_force::<2>(&[11, 12, 13, 14, 27, 28, 29, 30]);
+            for (d, paths) in [(3, p3), (2, p2)] {
+                for width in [64, 128, 0] {
+                    assert!(
+                        paths.contains(&(true, width)),
+                        "{d}D: no set enumerated at width {width}: {paths:?}"
+                    );
+                }
+            }
+        }
+
+        #[test]
+        fn set_up_falls_back_to_bigint_beyond_its_bounds_with_the_same_answers() {
+            // The lattice of `jittered` (m = 6) translated by 2^k, r with a finer unit 2^-f:
+            // coordinates need k + f bits in the unit of r (the i128 set-up takes up to 72
+            // beyond the 53 of a mantissa), r needs f bits (up to 60).
+            let mut rng = StdRng::seed_from_u64(17);
+            let mut paths = Vec::new();
+            for (k, f) in [
+                (0, 30),
+                (20, 45),
+                (40, 40),
+                (44, 40),
+                (0, 59),
+                (0, 61),
+                (60, 30),
+            ] {
+                let (c, r, o) = jittered::<3>(&mut rng, 6);
+                let off = Point::<3>::from_fn(|_, _| 2f64.powi(k));
+                let r = r + 2f64.powi(-f);
+                let (c, mut o) = (c + off, o.iter().map(|p| p + off).collect::<Vec<_>>());
+                // A far point (2^20 away): skipped, exactly.
+                o.push(c + Point::<3>::new(2f64.powi(20), 0.0, 0.0));
+                let got = sphere_uncovered(&c, &o, r);
+                paths.push(PATH.with(|p| p.get()).0);
+                let with: Vec<_> = o.iter().map(|&p| (p, r)).collect();
+                assert_eq!(got, brute_force(&c, r, &with), "k = {k}, f = {f}");
+            }
+            assert!(paths.contains(&true) && paths.contains(&false), "{paths:?}");
+        }
+    }
+
     /// Tests of [`sphere_uncovered_power`] against two independent checks written here: an
     /// exact brute force in rationals over the power planes (every projection of the centre
     /// onto an intersection of at most `D` planes) and dense sampling of the sphere.
@@ -1165,7 +1610,11 @@ mod tests {
         /// minimum of `|y|` over `K` is a projection of the origin onto the affine hull of a
         /// face, i.e. onto an intersection of at most `D` planes, lying in `K`). Every input
         /// is a rational; all are scaled to integers by a common denominator.
-        fn brute_force<const D: usize>(c: &Point<D>, rc: f64, others: &[(Point<D>, f64)]) -> bool {
+        pub(super) fn brute_force<const D: usize>(
+            c: &Point<D>,
+            rc: f64,
+            others: &[(Point<D>, f64)],
+        ) -> bool {
             let mut values: Vec<Q> = vec![rat(rc)];
             values.extend(c.iter().map(|&x| rat(x)));
             for (p, r) in others {

@@ -99,7 +99,8 @@
 //! 1M-particle jittered ball (`r = 1.2a`) no particle needs the fallback; on the sweep scenes
 //! none either, except the inner particles of the two perfect lattices at their tie radius
 //! (196 of 256 in 2D, 512 of 1000 in 3D: genuine near-ties, on small integer coordinates: the
-//! `i128` path, tens of microseconds per particle). `pysph_case5` (15,827 particles of a
+//! `i64` path, about 4 µs per particle; `cubic_lattice_tie3d` takes 5 ms per detection on one
+//! thread, `cargo run --release -p boundary-exact --example tie_lattice`). `pysph_case5` (15,827 particles of a
 //! body-centred cubic lattice with decimal coordinates) flags nearly every clip
 //! near-degenerate; the certificates below settle all of it (0 fallbacks, 0.24 s in the test
 //! profile on 2 threads; 9.6 s before the shifted planes, with 1,854 big-integer fallbacks of
