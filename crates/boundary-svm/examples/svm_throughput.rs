@@ -1,7 +1,8 @@
 //! `svm` and `exact` in the same run on the jittered ball of the bench (spacing 1, jitter
 //! ±0.15, r = 1.2): `cargo run --release -p boundary-svm --example svm_throughput [N [THREADS…]]`
-//! (default 1,000,000 particles, 1 and 2 threads). `BOUNDARY_SKIP_EXACT=1` times `svm` only
-//! (for `valgrind --tool=callgrind`).
+//! (default 1,000,000 particles, 1 and 2 threads). Each method runs twice, alternately (svm,
+//! exact, svm, exact), and its faster run is reported. `BOUNDARY_SKIP_EXACT=1` times `svm`
+//! only (for `valgrind --tool=callgrind`).
 #![allow(clippy::unwrap_used, clippy::print_stdout)] // a measuring tool: failing loudly is fine
 use boundary_core::{BoundaryDetector, Radius};
 use boundary_exact::ExactDetector;
@@ -44,21 +45,29 @@ fn main() {
                 });
             (seconds, detection.labels.boundary_count(), checksum)
         };
-        let (s_svm, b_svm, c_svm) = time(&svm);
+        // Two rounds, each method's faster one reported: the first detection of the process
+        // also pays for the allocator's first pages, which the later ones reuse.
+        let best = |a: (f64, usize, u64), b: (f64, usize, u64)| if b.0 < a.0 { b } else { a };
+        let mut svm_run = time(&svm);
+        let mut exact_run = (!skip_exact).then(|| time(&ExactDetector));
+        svm_run = best(svm_run, time(&svm));
+        if let Some(run) = exact_run {
+            exact_run = Some(best(run, time(&ExactDetector)));
+        }
+        let (s_svm, b_svm, c_svm) = svm_run;
         print!(
             "n = {} threads = {t}: svm {s_svm:.3} s ({:.0}/s, {b_svm} boundary, margins {c_svm:016x})",
             set.len(),
             set.len() as f64 / s_svm
         );
-        if skip_exact {
-            println!();
-        } else {
-            let (s_exact, b_exact, _) = time(&ExactDetector);
+        if let Some((s_exact, b_exact, _)) = exact_run {
             println!(
                 ", exact {s_exact:.3} s ({:.0}/s, {b_exact} boundary), svm/exact rate {:.2}",
                 set.len() as f64 / s_exact,
                 s_exact / s_svm
             );
+        } else {
+            println!();
         }
     }
 }
