@@ -114,25 +114,31 @@
 //!
 //! **Speed.** The thesis' case for the SVM is speed. One thread, features included, the
 //! 1M-particle jittered ball, both in one run on the otherwise idle 2-core machine (`cargo
-//! run --release -p boundary-svm --example svm_throughput 1000000 1`, two runs): svm 3.27 s
-//! and 3.66 s, `exact` 3.14 s and 2.82 s, **svm at 0.96x and 0.77x the speed of `exact`**:
-//! close to it, not reliably at it. Against `exact` it was 0.59x before the polynomial
-//! kernel and the chunked feature sums, 1.32x and 1.24x before the ascent of the cover
-//! margin, 1.07x (criterion, `benches/svm.rs`), then 0.70x once `exact` became 1.6–1.8x
-//! faster (issue 21: a simpler cell and a staged neighbour query). Its feature pass has since
-//! become about 1.4x cheaper with the same features bit for bit (the example prints a
-//! checksum of the decision values; unchanged): the neighbourhoods come from the core grid's
-//! `NeighbourGrid::par_map_within` (particles in cell order, a distance test without a branch
-//! per candidate), the cover search and the sums run lane by lane (they vectorise), and the
-//! offsets are written without a branch per neighbour (svm alone, one thread: 4.8–4.9 s →
-//! 3.3–3.7 s; callgrind, 10^5 ball, `BOUNDARY_SKIP_EXACT=1`: 2.27e9 → 2.00e9 instructions,
-//! mispredicted branches 13.6M → 5.2M under `--branch-sim=yes`), while `exact` gained
-//! another 1.1x. What remains is the feature pass itself: the neighbour query (a third of
-//! the time), the sums over the neighbours, and the cover margin over 17 sample directions
-//! and the ascent; the model's decision is 3%. The cover search scans the neighbours within
-//! `1.5r` first (−7.8% instructions, the same features). In 2D, where `exact` is cheaper, svm
-//! was about as fast as `exact` before these changes (trainer's timing on a jittered disc:
-//! 0.95x).
+//! run --release -p boundary-svm --example svm_throughput 1000000 1`: each method twice,
+//! alternately, its faster run kept; three runs): svm 2.21, 2.18 and 2.36 s, `exact` 2.70,
+//! 2.48 and 2.47 s, **svm at 1.22x, 1.13x and 1.05x the speed of `exact`**. In the sweep's
+//! scale tier of the same hour (`cargo xtask sweep --scenes scale_ball3d_1M`) it is at 1.07x
+//! on one thread and 0.94x on two (its speedup from 1 to 2 threads is 1.74, `exact`'s 1.97).
+//! Against `exact` it was 0.59x before the polynomial kernel and the chunked feature sums,
+//! 1.32x and 1.24x before the ascent of the cover margin, then 0.70x once `exact` became
+//! 1.6–1.8x faster (issue 21: a simpler cell and a staged neighbour query). Its feature pass
+//! has since become cheaper with the same features and decisions bit for bit (the example
+//! prints a checksum of the decision values; unchanged throughout): the
+//! neighbourhoods come from the core grid's `NeighbourGrid::par_map_within` (particles in cell
+//! order, a distance test without a branch per candidate; short rows of cells trimmed at their
+//! ends only), the sums run two lanes at a time through every chunk with their sums in
+//! registers, the cover search runs lane by lane over the neighbours within `1.1r` first, the
+//! offsets are written without a branch per neighbour, the polynomial decision takes its
+//! inner sums side by side, and each decision is taken inside the neighbour pass, so the
+//! features are never stored (peak heap 97 → 49 bytes per particle in the scale tier).
+//! Callgrind, svm alone on the 10^5 ball (`BOUNDARY_SKIP_EXACT=1`): 2.27e9 → 1.74e9
+//! instructions, mispredicted branches 13.6M → 4.9M under `--branch-sim=yes`; one thread in
+//! the scale tier, the run quoted before the last of these changes against this one: 3.43 s →
+//! 2.83 s (`exact` 3.02 s and 3.03 s). What remains is
+//! the feature pass itself: the neighbour query (about 30% of the cycles), the writes and
+//! sums over the neighbours (about 35%), the cover search over 17 sample directions (about
+//! 15%); the model's decision is 4%. In 2D, where `exact` is cheaper, svm was about as fast
+//! as `exact` before these changes (trainer's timing on a jittered disc: 0.95x).
 //!
 //! # Trade-off: support vectors against M and speed
 //! `cargo xtask train-svm` trains every model of its grid (training-sample size 800, 1600
@@ -145,7 +151,9 @@
 //! 10 (linfa's SMO took minutes beyond). In 3D, the rows of the largest sample (the shipped
 //! model among them) and the smallest polynomial model (features 4.88 µs, `exact` 6.37 µs
 //! per particle in that run, on a loaded machine, against `exact` before issue 21 made it
-//! 1.6–1.8x faster: the ratios between models hold, the column against `exact` does not):
+//! 1.6–1.8x faster and before svm's feature pass became 1.6x cheaper: the ratios between
+//! models hold, the column against `exact` does not; the shipped model's current ratio is
+//! the one above):
 //!
 //! | sample | C | kernel | support vectors | validation M | held-out mean M | speed vs `exact` |
 //! |---|---|---|---|---|---|---|
