@@ -33,6 +33,10 @@ const MAX_CELLS_PER_AXIS: f64 = (1u64 << 52) as f64;
 /// would wrap; such a scene takes the hashed layout instead.
 const MAX_DENSE_CELLS: f64 = (u32::MAX - 1) as f64;
 
+/// Entries [`NeighbourGrid::gather_within`] adds to its output beyond the row in hand when it
+/// must grow it (cut back to the particles kept at the end).
+const GATHER_SLACK: usize = 64;
+
 /// Whether `n` particles take the dense layout over a bounding box of `total` cells: at most
 /// `max(4n, 4096)` cells (memory `O(n)`) and at most [`MAX_DENSE_CELLS`] (`u32` indices).
 fn dense_fits(n: usize, total: f64) -> bool {
@@ -235,7 +239,9 @@ impl<const D: usize> NeighbourGrid<D> {
         let mut len = out.len();
         self.for_each_candidate_range(q, radius, |range| {
             if out.len() < len + range.len() {
-                out.resize(len + range.len(), T::default());
+                // With room for a few more rows: growing row by row took a mispredicted
+                // branch and a small fill per row (callgrind, `exact` on the 50k ball).
+                out.resize(len + range.len() + GATHER_SLACK, T::default());
             }
             let slots = &mut out[len..len + range.len()];
             let mut k = 0;

@@ -369,6 +369,35 @@ impl Clipper<3> for Polyhedron {
 /// caller then uses [`Polyhedron`]); a Voronoi cell of an ordinary particle set has a few dozen.
 const SIMPLE_MAX_VERTS: usize = 255;
 
+/// A [`SimplePolyhedron`]'s vertices are scanned this many slots at a time; the slots from its
+/// last vertex up to the next multiple hold the origin.
+const LANES: usize = 4;
+
+/// `LANES` doubles.
+type F64s = wide::f64x4;
+
+/// `SELECTED[m]`: the lanes whose bits are set in the 4-bit mask `m`, ascending, one per byte
+/// from the lowest (the bytes past them are unused).
+const SELECTED: [u32; 16] = selected_lanes();
+const _: () = assert!(LANES == 4, "SELECTED is written for groups of 4 lanes");
+
+const fn selected_lanes() -> [u32; 16] {
+    let mut t = [0u32; 16];
+    let mut m = 0;
+    while m < 16 {
+        let (mut lane, mut k) = (0, 0);
+        while lane < 4 {
+            if m & (1 << lane) != 0 {
+                t[m] |= (lane as u32) << (8 * k);
+                k += 1;
+            }
+            lane += 1;
+        }
+        m += 1;
+    }
+    t
+}
+
 /// `PREVIOUS[s]`: the slot before `s` in a cyclic list of three, `(s + 2) % 3` (the fourth
 /// entry is never used).
 const PREVIOUS: [u8; 4] = [2, 0, 1, 0];
@@ -423,8 +452,9 @@ const fn box_back() -> [[u8; 3]; 8] {
 /// stored as vertices with their three neighbours in counter-clockwise order seen from
 /// outside. A clip touches only the vertices it cuts off and their neighbours: the new face is
 /// found by walking the faces of the cut-off region (no sorting by angle), and the cut-off
-/// vertices' slots are left free for the new vertices of later clips (nothing is moved). Coordinates are stored by axis, so
-/// the signed distances of all vertices are one vectorisable loop.
+/// vertices' slots are left free for the new vertices of later clips (nothing is moved).
+/// Coordinates are stored by axis, so the signed distances of all vertices are one loop over
+/// groups of [`LANES`] slots in SIMD registers.
 ///
 /// It computes the same vertices as [`Polyhedron`] (each new vertex is the crossing point of
 /// the same edge, computed by the same expression from the same endpoints), so the same
@@ -452,7 +482,10 @@ pub(crate) struct SimplePolyhedron {
     /// and the slot of the kept one in its list.
     new_out: Box<[(u8, u8); 256]>,
     /// The cut-off vertices of the clip in progress, ascending.
-    outs: Box<[u8; 256]>,
+    outs: Box<[u8; 256 + LANES]>,
+    /// The crossing edges of the clip in progress: `(o, i)`, the cut-off vertex `o` and the
+    /// slot of the kept one in its list.
+    crossings: Box<[(u8, u8); 3 * 256]>,
     /// The new vertices of the clip in progress.
     news: Box<[u8; 256]>,
     /// Free slots below `len` (vertices cut off by earlier clips), reused by new vertices
@@ -476,7 +509,8 @@ impl Default for SimplePolyhedron {
             back: Box::new([[0; 3]; 256]),
             side: Box::new([0.0; 256]),
             new_out: Box::new([(0, 0); 256]),
-            outs: Box::new([0; 256]),
+            outs: Box::new([0; 256 + LANES]),
+            crossings: Box::new([(0, 0); 3 * 256]),
             news: Box::new([0; 256]),
             free: Box::new([0; 256]),
             nfree: 0,
@@ -533,81 +567,116 @@ impl Clipper<3> for SimplePolyhedron {
             return;
         }
         let nv = self.len;
-        // Signed distances, as `dot(n, v) - offset` (the same roundings: `0 + a` is `a`).
+        // One pass over the vertices, LANES at a time (the slots up to the next multiple of
+        // LANES hold the origin, as free slots do): the signed distances, as
+        // `dot(n, v) - offset` (the same roundings: `0 + a` is `a`); the largest one and the
+        // smallest absolute one (whether it cuts, and whether a vertex lies within PLANE_EPS
+        // of the plane); a mask of the cut-off vertices; and the largest norm among the kept
+        // vertices. Explicit SIMD lanes (`wide`): the compiler left the reductions and the
+        // listing of cut-off vertices scalar, about half of the clip's instructions.
+        let chunks = nv.div_ceil(LANES);
+        let (nx, ny, nz) = (F64s::splat(n[0]), F64s::splat(n[1]), F64s::splat(n[2]));
+        let (off, eps) = (F64s::splat(offset), F64s::splat(PLANE_EPS));
+        let mut top = F64s::splat(f64::NEG_INFINITY);
+        let mut closest = F64s::splat(f64::INFINITY);
+        let mut kept = F64s::splat(0.0);
+        let mut masks = [0u8; 256 / LANES];
         {
             let [xs, ys, zs] = &*self.xyz;
-            let side = &mut self.side[..nv];
-            for (((s, x), y), z) in side.iter_mut().zip(&xs[..nv]).zip(&ys[..nv]).zip(&zs[..nv]) {
-                *s = n[0] * x + n[1] * y + n[2] * z - offset;
+            let xs = &xs.as_chunks::<LANES>().0[..chunks];
+            let ys = &ys.as_chunks::<LANES>().0[..chunks];
+            let zs = &zs.as_chunks::<LANES>().0[..chunks];
+            let norms = &self.norm2.as_chunks::<LANES>().0[..chunks];
+            let sides = &mut self.side.as_chunks_mut::<LANES>().0[..chunks];
+            for (((((side, x), y), z), norm), mask) in sides
+                .iter_mut()
+                .zip(xs)
+                .zip(ys)
+                .zip(zs)
+                .zip(norms)
+                .zip(&mut masks)
+            {
+                let s = nx * F64s::from(*x) + ny * F64s::from(*y) + nz * F64s::from(*z) - off;
+                *side = s.to_array();
+                top = top.fast_max(s);
+                closest = closest.fast_min(s.abs());
+                let out = s.simd_gt(eps);
+                *mask = out.to_bitmask() as u8;
+                kept = kept.fast_max(out.bitselect(F64s::splat(0.0), F64s::from(*norm)));
             }
         }
-        // Whether it cuts, and whether a vertex lies within PLANE_EPS of the plane: the
-        // largest signed distance, and the smallest absolute one (branch-free reductions,
-        // which the compiler vectorises in a loop of their own).
-        let mut top = f64::NEG_INFINITY;
-        let mut closest = f64::INFINITY;
-        for &s in &self.side[..nv] {
-            top = if s > top { s } else { top };
-            let a = s.abs();
-            closest = if a < closest { a } else { closest };
-        }
-        if top <= PLANE_EPS {
+        if top.to_array().into_iter().fold(f64::NEG_INFINITY, f64::max) <= PLANE_EPS {
             return;
         }
-        if closest <= PLANE_EPS {
+        if closest.to_array().into_iter().fold(f64::INFINITY, f64::min) <= PLANE_EPS {
             self.degenerate = true;
             return;
         }
-        // The cut-off vertices, ascending, and the largest norm among the kept ones.
+        let mut max_in = kept.to_array().into_iter().fold(0.0, f64::max);
+        // The cut-off vertices, ascending: per group of lanes, the slots its mask selects,
+        // written four at a time from a table (a loop over the mask's bits mispredicted its
+        // exit about once per group: callgrind's branch simulation).
         let mut nout = 0usize;
-        let mut max_in = 0.0f64;
-        for v in 0..nv {
-            let v = v as u8 as usize;
-            let out = self.side[v] > PLANE_EPS;
-            self.outs[nout as u8 as usize] = v as u8;
-            nout += out as usize;
-            let x = if out { 0.0 } else { self.norm2[v] };
-            max_in = if x > max_in { x } else { max_in };
+        for (c, &mask) in masks[..chunks].iter().enumerate() {
+            let slots =
+                (SELECTED[mask as usize & 15] + 0x0101_0101 * (c * LANES) as u32).to_le_bytes();
+            let at = nout.min(256);
+            self.outs[at..at + 4].copy_from_slice(&slots);
+            nout += mask.count_ones() as usize;
         }
-        // New vertices on the edges from a kept vertex `u` to a cut-off one `o`, in free
-        // slots or appended after the old ones; `u` now points to the new vertex in the slot
-        // of `o`. A new vertex's signed distance is set to 0, which no old slot has (all are
-        // beyond PLANE_EPS, checked above).
-        let mut len = nv;
-        let mut nnew = 0usize;
+        // First the edges that cross, `(o, i)` with `u = nbrs[o][i]` kept, listed without a
+        // branch (which of a cut-off vertex's neighbours are kept is hard to predict: perf
+        // counted that branch among the clip's costliest).
+        let mut ncross = 0usize;
         for k in 0..nout {
             let o = self.outs[k as u8 as usize];
-            for i in 0..3 {
-                let u = self.nbrs[o as usize][i];
-                let su = self.side[u as usize];
-                if su < 0.0 {
-                    let w = if self.nfree > 0 {
-                        self.nfree -= 1;
-                        self.free[self.nfree as u8 as usize]
-                    } else if len < SIMPLE_MAX_VERTS {
-                        len += 1;
-                        (len - 1) as u8
-                    } else {
-                        self.degenerate = true;
-                        return;
-                    };
-                    let so = self.side[o as usize];
-                    let x = crossing(&self.vertex(u), &self.vertex(o), su, so);
-                    let s = self.back[o as usize][i];
-                    self.nbrs[u as usize][s as usize] = w;
-                    self.back[u as usize][s as usize] = 0;
-                    self.set_vertex(w, x);
-                    let x2 = norm2(&x);
-                    self.norm2[w as usize] = x2;
-                    max_in = if x2 > max_in { x2 } else { max_in };
-                    self.nbrs[w as usize] = [u, 0, 0];
-                    self.back[w as usize] = [s, 0, 0];
-                    self.side[w as usize] = 0.0;
-                    self.new_out[w as usize] = (o, i as u8);
-                    self.news[nnew as u8 as usize] = w;
-                    nnew += 1;
-                }
+            for (i, &u) in self.nbrs[o as usize].iter().enumerate() {
+                self.crossings[ncross.min(3 * 256 - 1)] = (o, i as u8);
+                ncross += (self.side[u as usize] < 0.0) as usize;
             }
+        }
+        let mut len = nv;
+        let mut nnew = 0usize;
+        // New vertices on the crossing edges `u → o`, in free slots or appended after the old
+        // ones; `u` now points to the new vertex in the slot of `o`. A new vertex's signed
+        // distance is set to 0, which no old slot has (all are beyond PLANE_EPS, checked above).
+        for c in 0..ncross.min(3 * 256) {
+            let (o, i) = self.crossings[c];
+            let i = i as usize;
+            let u = self.nbrs[o as usize][i];
+            let su = self.side[u as usize];
+            let w = if self.nfree > 0 {
+                self.nfree -= 1;
+                self.free[self.nfree as u8 as usize]
+            } else if len < SIMPLE_MAX_VERTS {
+                if len.is_multiple_of(LANES) {
+                    // A new group of lanes: its other slots hold the origin.
+                    for slot in len + 1..len + LANES {
+                        self.set_vertex(slot as u8, [0.0; 3]);
+                        self.norm2[slot] = 0.0;
+                    }
+                }
+                len += 1;
+                (len - 1) as u8
+            } else {
+                self.degenerate = true;
+                return;
+            };
+            let so = self.side[o as usize];
+            let x = crossing(&self.vertex(u), &self.vertex(o), su, so);
+            let s = self.back[o as usize][i];
+            self.nbrs[u as usize][s as usize] = w;
+            self.back[u as usize][s as usize] = 0;
+            self.set_vertex(w, x);
+            let x2 = norm2(&x);
+            self.norm2[w as usize] = x2;
+            max_in = if x2 > max_in { x2 } else { max_in };
+            self.nbrs[w as usize] = [u, 0, 0];
+            self.back[w as usize] = [s, 0, 0];
+            self.side[w as usize] = 0.0;
+            self.new_out[w as usize] = (o, i as u8);
+            self.news[nnew as u8 as usize] = w;
+            nnew += 1;
         }
         let news = &self.news[..nnew.min(256)];
         // Two new vertices (nearly) on top of each other: near-degenerate (as `Polyhedron`).
@@ -866,9 +935,12 @@ mod tests {
             (state >> 11) as f64 / (1u64 << 53) as f64
         };
         let mut compared = 0;
+        // One fast cell for every sequence: its slots past the box hold the previous
+        // sequence's vertices, which its scan must not see (the slots up to a multiple of
+        // `LANES` past the last vertex hold the origin).
+        let mut fast = SimplePolyhedron::default();
         for _ in 0..300 {
             let mut old = Polyhedron::default();
-            let mut fast = SimplePolyhedron::default();
             old.reset_box();
             fast.reset_box();
             for _ in 0..40 {
