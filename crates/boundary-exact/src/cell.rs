@@ -580,7 +580,11 @@ impl Clipper<3> for SimplePolyhedron {
         let mut top = F64s::splat(f64::NEG_INFINITY);
         let mut closest = F64s::splat(f64::INFINITY);
         let mut kept = F64s::splat(0.0);
-        let mut masks = [0u8; 256 / LANES];
+        // The cut-off vertices are listed in the same pass, ascending: per group, the slots
+        // its mask selects, written four at a time from a table (a loop over the mask's bits,
+        // or a second loop over the groups, mispredicted its exit once per group or per clip:
+        // callgrind's branch simulation). Listed even when the plane misses the cell (cheap).
+        let mut nout = 0usize;
         {
             let [xs, ys, zs] = &*self.xyz;
             let xs = &xs.as_chunks::<LANES>().0[..chunks];
@@ -588,21 +592,25 @@ impl Clipper<3> for SimplePolyhedron {
             let zs = &zs.as_chunks::<LANES>().0[..chunks];
             let norms = &self.norm2.as_chunks::<LANES>().0[..chunks];
             let sides = &mut self.side.as_chunks_mut::<LANES>().0[..chunks];
-            for (((((side, x), y), z), norm), mask) in sides
+            for (c, ((((side, x), y), z), norm)) in sides
                 .iter_mut()
                 .zip(xs)
                 .zip(ys)
                 .zip(zs)
                 .zip(norms)
-                .zip(&mut masks)
+                .enumerate()
             {
                 let s = nx * F64s::from(*x) + ny * F64s::from(*y) + nz * F64s::from(*z) - off;
                 *side = s.to_array();
                 top = top.fast_max(s);
                 closest = closest.fast_min(s.abs());
                 let out = s.simd_gt(eps);
-                *mask = out.to_bitmask() as u8;
                 kept = kept.fast_max(out.bitselect(F64s::splat(0.0), F64s::from(*norm)));
+                let mask = out.to_bitmask() as usize & 15;
+                let first = 0x0101_0101 * (c * LANES) as u32;
+                let at = nout.min(256);
+                self.outs[at..at + 4].copy_from_slice(&(SELECTED[mask] + first).to_le_bytes());
+                nout += mask.count_ones() as usize;
             }
         }
         if top.to_array().into_iter().fold(f64::NEG_INFINITY, f64::max) <= PLANE_EPS {
@@ -613,17 +621,6 @@ impl Clipper<3> for SimplePolyhedron {
             return;
         }
         let mut max_in = kept.to_array().into_iter().fold(0.0, f64::max);
-        // The cut-off vertices, ascending: per group of lanes, the slots its mask selects,
-        // written four at a time from a table (a loop over the mask's bits mispredicted its
-        // exit about once per group: callgrind's branch simulation).
-        let mut nout = 0usize;
-        for (c, &mask) in masks[..chunks].iter().enumerate() {
-            let slots =
-                (SELECTED[mask as usize & 15] + 0x0101_0101 * (c * LANES) as u32).to_le_bytes();
-            let at = nout.min(256);
-            self.outs[at..at + 4].copy_from_slice(&slots);
-            nout += mask.count_ones() as usize;
-        }
         // First the edges that cross, `(o, i)` with `u = nbrs[o][i]` kept, listed without a
         // branch (which of a cut-off vertex's neighbours are kept is hard to predict: perf
         // counted that branch among the clip's costliest).
