@@ -239,6 +239,8 @@ struct Scratch {
     horizon: Vec<(usize, usize, usize)>,
     orphans: Vec<usize>,
     created: Vec<usize>,
+    /// The new facets of a step with their corners and planes, for the orphans' tests.
+    cone: Vec<(usize, [usize; 3], Plane)>,
 }
 
 thread_local! {
@@ -256,6 +258,7 @@ fn hull_3d_with(pts: &[[f64; 3]], scratch: &mut Scratch) -> Option<Vec<[usize; 3
         horizon,
         orphans,
         created,
+        cone,
     } = scratch;
     for f in facets.drain(..) {
         let mut out = f.outside;
@@ -403,11 +406,19 @@ fn hull_3d_with(pts: &[[f64; 3]], scratch: &mut Scratch) -> Option<Vec<[usize; 3
         if created.iter().any(|&f| facets[f].adj.contains(&usize::MAX)) {
             return None;
         }
+        // Each orphan joins the first new facet (in creation order) it is strictly outside
+        // of; the new facets' planes and corners are read from one contiguous list.
+        cone.clear();
+        cone.extend(created.iter().map(|&f| (f, facets[f].v, facets[f].plane)));
         for &q in orphans.iter() {
-            if let Some((f, h)) = created
-                .iter()
-                .find_map(|&f| height_above(pts, &facets[f], q).map(|h| (f, h)))
-            {
+            let pq = &pts[q];
+            if let Some((f, h)) = cone.iter().find_map(|(f, v, plane)| {
+                if plane.certainly_inside(pq) {
+                    return None;
+                }
+                let s = side(&pts[v[0]], &pts[v[1]], &pts[v[2]], pq);
+                (s < 0.0).then_some((*f, -s))
+            }) {
                 facets[f].outside.push((q, h));
             }
         }

@@ -111,7 +111,7 @@
 //! per candidate; its tests of a point against a facet first go through a floating-point
 //! filter on the facet's stored plane, which settles "strictly inside" without the full
 //! predicate, and its working memory is reused between hulls: the hulls of `fluid50_r0.1`
-//! −37% instructions, the same hulls), the cavity directions `δ_i` (15%, one `2r` neighbour pass per particle of
+//! −40% instructions, the same hulls), the cavity directions `δ_i` (15%, one `2r` neighbour pass per particle of
 //! a cavity cell) and the sorting and gathering of candidates. One thread, one session on
 //! the shared 2-core machine: the block 9,000 → 21,000–24,000 particles/s, against a median
 //! of 48,000/s over the sweep's scenes of at least 1,000 particles (35,000/s over the 3D
