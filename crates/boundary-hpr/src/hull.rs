@@ -5,7 +5,10 @@
 //! of a determinant of the given `f64` coordinates, from the adaptive predicates of the
 //! [`robust`] crate (Shewchuk 1997). Hence the hull is the exact convex hull of its input:
 //! every input point lies inside or on it, and the result does not depend on rounding,
-//! only on the input and its order (which is fixed by the caller).
+//! only on the input and its order (which is fixed by the caller). The floating-point stage
+//! of `orient3d` is inlined here ([`side`], the same value bit for bit), and the 3D hull
+//! rejects points certainly inside a facet with a cheaper filter on the facet's stored plane
+//! before evaluating [`side`]; neither changes a decision or a value the hull uses.
 //!
 //! - 2D: Andrew's monotone chain; collinear points on an edge are not vertices.
 //! - 3D: incremental hull (the Quickhull scheme of Barber, Dobkin & Huhdanpaa 1996: outside
@@ -40,10 +43,87 @@ pub fn turn(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
     orient2d(c2(a), c2(b), c2(c))
 }
 
+/// Error-bound factor of the floating-point stage of Shewchuk's `orient3d` (Shewchuk 1997,
+/// `o3derrboundA = (7 + 56ε)ε`, `ε = 2^-53`): when the determinant evaluated in floating
+/// point from the nine coordinate differences exceeds this factor times its permanent in
+/// magnitude, its sign is exact.
+const O3D_BOUND: f64 = (7.0 + 56.0 * EPS) * EPS;
+/// `ε = 2^-53`, half a unit in the last place of 1.
+const EPS: f64 = f64::EPSILON / 2.0;
+/// The bound of [`Plane::certainly_inside`], a unit of `ε` wider than [`O3D_BOUND`]: the same
+/// expression tree (a 3x3 determinant of rounded coordinate differences, expanded along one
+/// row with the 2x2 minors rounded), but with the margin kept on purpose since the minors
+/// are shared between tests (they are the same rounded values, so the analysis is unchanged).
+const PLANE_BOUND: f64 = (8.0 + 64.0 * EPS) * EPS;
+
 /// Exact sign of `d` against the plane through `a, b, c`: negative when `d` lies on the side
 /// from which `a, b, c` appear counter-clockwise (robust's `orient3d` convention).
+///
+/// The returned `f64` is bit for bit the one of `robust::orient3d`: the floating-point
+/// stage is evaluated here, inlined, with robust's expression (the same operations in the
+/// same order) and error bound; when it does not decide the sign, robust's `orient3d` is
+/// called (its adaptive stages). Tested against `robust::orient3d` on random, near-coplanar
+/// and exactly coplanar input.
+#[inline]
 pub fn side(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
-    orient3d(c3(a), c3(b), c3(c), c3(d))
+    let (adx, bdx, cdx) = (a[0] - d[0], b[0] - d[0], c[0] - d[0]);
+    let (ady, bdy, cdy) = (a[1] - d[1], b[1] - d[1], c[1] - d[1]);
+    let (adz, bdz, cdz) = (a[2] - d[2], b[2] - d[2], c[2] - d[2]);
+    let (bdxcdy, cdxbdy) = (bdx * cdy, cdx * bdy);
+    let (cdxady, adxcdy) = (cdx * ady, adx * cdy);
+    let (adxbdy, bdxady) = (adx * bdy, bdx * ady);
+    let det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+    let permanent = (bdxcdy.abs() + cdxbdy.abs()) * adz.abs()
+        + (cdxady.abs() + adxcdy.abs()) * bdz.abs()
+        + (adxbdy.abs() + bdxady.abs()) * cdz.abs();
+    let bound = O3D_BOUND * permanent;
+    if det > bound || -det > bound {
+        det
+    } else {
+        orient3d(c3(a), c3(b), c3(c), c3(d))
+    }
+}
+
+/// The plane of a facet `a, b, c`, prepared for many tests: `a`, and the rounded 2x2 minors
+/// of `u = b − a`, `w = c − a` (the components of `u × w`) with their permanents.
+/// `side(a, b, c, d)` is exactly `−(d − a)·(u × w)`; [`Plane::certainly_inside`] evaluates
+/// that in floating point from the stored minors (three differences and three products per
+/// test instead of nine and nine) and answers only when its error bound certifies the sign.
+#[derive(Debug, Clone, Copy)]
+struct Plane {
+    a: [f64; 3],
+    minor: [f64; 3],
+    permanent: [f64; 3],
+}
+
+impl Plane {
+    fn new(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> Self {
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let pairs = [
+            (u[1] * w[2], u[2] * w[1]),
+            (u[2] * w[0], u[0] * w[2]),
+            (u[0] * w[1], u[1] * w[0]),
+        ];
+        Plane {
+            a: *a,
+            minor: pairs.map(|(p, q)| p - q),
+            permanent: pairs.map(|(p, q)| p.abs() + q.abs()),
+        }
+    }
+
+    /// True only when `side(a, b, c, d) > 0` exactly (`d` strictly on the inner side);
+    /// false when that is not certain from the floating-point evaluation (the caller then
+    /// evaluates [`side`]).
+    #[inline]
+    fn certainly_inside(&self, d: &[f64; 3]) -> bool {
+        let e = [d[0] - self.a[0], d[1] - self.a[1], d[2] - self.a[2]];
+        let dot = e[0] * self.minor[0] + e[1] * self.minor[1] + e[2] * self.minor[2];
+        let permanent = e[0].abs() * self.permanent[0]
+            + e[1].abs() * self.permanent[1]
+            + e[2].abs() * self.permanent[2];
+        -dot > PLANE_BOUND * permanent
+    }
 }
 
 fn lex2(a: &[f64; 2], b: &[f64; 2]) -> std::cmp::Ordering {
@@ -92,6 +172,8 @@ pub fn hull_2d(pts: &[[f64; 2]]) -> Option<Vec<usize>> {
 #[derive(Debug, Clone)]
 struct Facet {
     v: [usize; 3],
+    /// The plane of `v`, for the inner-side filter.
+    plane: Plane,
     adj: [usize; 3],
     alive: bool,
     /// The points strictly outside, each with its height `-side(v, p) > 0` (the magnitude of
@@ -101,13 +183,18 @@ struct Facet {
 }
 
 /// Whether `p` lies strictly outside facet `f`.
-fn outside_of(pts: &[[f64; 3]], f: &[usize; 3], p: usize) -> bool {
-    side(&pts[f[0]], &pts[f[1]], &pts[f[2]], &pts[p]) < 0.0
+fn outside_of(pts: &[[f64; 3]], f: &Facet, p: usize) -> bool {
+    !f.plane.certainly_inside(&pts[p])
+        && side(&pts[f.v[0]], &pts[f.v[1]], &pts[f.v[2]], &pts[p]) < 0.0
 }
 
-/// `Some(height)` (`-side > 0`) when `p` lies strictly outside facet `f`.
-fn height_above(pts: &[[f64; 3]], f: &[usize; 3], p: usize) -> Option<f64> {
-    let s = side(&pts[f[0]], &pts[f[1]], &pts[f[2]], &pts[p]);
+/// `Some(height)` (`-side > 0`, the value of [`side`] itself) when `p` lies strictly
+/// outside facet `f`.
+fn height_above(pts: &[[f64; 3]], f: &Facet, p: usize) -> Option<f64> {
+    if f.plane.certainly_inside(&pts[p]) {
+        return None;
+    }
+    let s = side(&pts[f.v[0]], &pts[f.v[1]], &pts[f.v[2]], &pts[p]);
     (s < 0.0).then_some(-s)
 }
 
@@ -127,7 +214,60 @@ fn dist2(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 /// outside (every input point `d` has `side(a, b, c, d) >= 0`). Adjacent triangles may be
 /// coplanar; points on the boundary that are not needed as corners are not used. `None`
 /// when all points are coplanar.
+///
+/// The working memory (facets, their outside sets, the search's lists) is kept per thread
+/// between calls and reused, so that the many small hulls of a detection do not allocate it
+/// anew; the result does not depend on it.
 pub fn hull_3d(pts: &[[f64; 3]]) -> Option<Vec<[usize; 3]>> {
+    SCRATCH.with(|scratch| match scratch.try_borrow_mut() {
+        Ok(mut scratch) => hull_3d_with(pts, &mut scratch),
+        // Not reachable (no hull is built inside another), but never panic on it.
+        Err(_) => hull_3d_with(pts, &mut Scratch::default()),
+    })
+}
+
+/// The reusable working memory of [`hull_3d`].
+#[derive(Default)]
+struct Scratch {
+    facets: Vec<Facet>,
+    /// Emptied outside sets of dead facets, with their capacity, for new facets.
+    pool: Vec<Vec<(usize, f64)>>,
+    pending: Vec<usize>,
+    visible: Vec<usize>,
+    stack: Vec<usize>,
+    mark: Vec<u32>,
+    horizon: Vec<(usize, usize, usize)>,
+    orphans: Vec<usize>,
+    created: Vec<usize>,
+    /// The new facets of a step with their corners and planes, for the orphans' tests.
+    cone: Vec<(usize, [usize; 3], Plane)>,
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
+}
+
+fn hull_3d_with(pts: &[[f64; 3]], scratch: &mut Scratch) -> Option<Vec<[usize; 3]>> {
+    let Scratch {
+        facets,
+        pool,
+        pending,
+        visible,
+        stack,
+        mark,
+        horizon,
+        orphans,
+        created,
+        cone,
+    } = scratch;
+    for f in facets.drain(..) {
+        let mut out = f.outside;
+        if out.capacity() > 0 {
+            out.clear();
+            pool.push(out);
+        }
+    }
+    pending.clear();
     let n = pts.len();
     if n < 4 {
         return None;
@@ -160,50 +300,41 @@ pub fn hull_3d(pts: &[[f64; 3]]) -> Option<Vec<[usize; 3]>> {
     let i2 = (0..n)
         .filter(|&i| !collinear3(&pts[i0], &pts[i1], &pts[i]))
         .max_by(|&a, &b| cross_norm2(a).total_cmp(&cross_norm2(b)).then(b.cmp(&a)))?;
-    let i3 = (0..n)
-        .filter(|&i| side(&pts[i0], &pts[i1], &pts[i2], &pts[i]) != 0.0)
-        .max_by(|&a, &b| {
-            side(&pts[i0], &pts[i1], &pts[i2], &pts[a])
-                .abs()
-                .total_cmp(&side(&pts[i0], &pts[i1], &pts[i2], &pts[b]).abs())
-                .then(b.cmp(&a))
-        })?;
+    // The point of largest |side| off the plane (i0, i1, i2), the lowest index among equals;
+    // each point's side is evaluated once.
+    let (i3, s3) = (0..n)
+        .map(|i| (i, side(&pts[i0], &pts[i1], &pts[i2], &pts[i])))
+        .filter(|&(_, s)| s != 0.0)
+        .max_by(|&(a, sa), &(b, sb)| sa.abs().total_cmp(&sb.abs()).then(b.cmp(&a)))?;
     // Orient the base so that i3 is inside (side > 0 for every facet).
-    let (a, b, c, d) = if side(&pts[i0], &pts[i1], &pts[i2], &pts[i3]) > 0.0 {
+    let (a, b, c, d) = if s3 > 0.0 {
         (i0, i1, i2, i3)
     } else {
         (i0, i2, i1, i3)
     };
     // Facets: 0 = abc, 1 = adb... each listed CCW from outside; adjacency by shared edges.
     let tris = [[a, b, c], [a, d, b], [b, d, c], [c, d, a]];
-    let mut facets: Vec<Facet> = tris
-        .iter()
-        .map(|&v| Facet {
-            v,
-            adj: [usize::MAX; 3],
-            alive: true,
-            outside: Vec::new(),
-        })
-        .collect();
-    link_all(&mut facets, &[0, 1, 2, 3]);
+    facets.extend(tris.iter().map(|&v| Facet {
+        v,
+        plane: Plane::new(&pts[v[0]], &pts[v[1]], &pts[v[2]]),
+        adj: [usize::MAX; 3],
+        alive: true,
+        outside: pool.pop().unwrap_or_default(),
+    }));
+    link_all(facets, &[0, 1, 2, 3]);
     for p in 0..n {
         if p == a || p == b || p == c || p == d {
             continue;
         }
-        if let Some((f, h)) =
-            (0..4).find_map(|f| height_above(pts, &facets[f].v, p).map(|h| (f, h)))
+        if let Some((f, h)) = (0..4).find_map(|f| height_above(pts, &facets[f], p).map(|h| (f, h)))
         {
             facets[f].outside.push((p, h));
         }
     }
-    let mut pending: Vec<usize> = (0..4).rev().collect();
-    let mut visible: Vec<usize> = Vec::new();
-    let mut stack: Vec<usize> = Vec::new();
-    let mut mark: Vec<u32> = vec![0; 4];
+    pending.extend((0..4).rev());
+    mark.clear();
+    mark.resize(4, 0);
     let mut round = 0u32;
-    let mut horizon: Vec<(usize, usize, usize)> = Vec::new();
-    let mut orphans: Vec<usize> = Vec::new();
-    let mut created: Vec<usize> = Vec::new();
     while let Some(f0) = pending.pop() {
         if !facets[f0].alive || facets[f0].outside.is_empty() {
             continue;
@@ -224,7 +355,7 @@ pub fn hull_3d(pts: &[[f64; 3]]) -> Option<Vec<[usize; 3]>> {
             visible.push(f);
             for k in 0..3 {
                 let g = facets[f].adj[k];
-                if mark[g] != round && outside_of(pts, &facets[g].v, p) {
+                if mark[g] != round && outside_of(pts, &facets[g], p) {
                     mark[g] = round;
                     stack.push(g);
                 }
@@ -233,25 +364,30 @@ pub fn hull_3d(pts: &[[f64; 3]]) -> Option<Vec<[usize; 3]>> {
         // Horizon edges (u, v) of visible facets whose neighbour is not visible.
         horizon.clear();
         orphans.clear();
-        for &f in &visible {
+        for &f in visible.iter() {
             for k in 0..3 {
                 let g = facets[f].adj[k];
                 if mark[g] != round {
                     horizon.push((facets[f].v[k], facets[f].v[(k + 1) % 3], g));
                 }
             }
-            let out = std::mem::take(&mut facets[f].outside);
-            orphans.extend(out.into_iter().map(|(q, _)| q).filter(|&q| q != p));
+            let mut out = std::mem::take(&mut facets[f].outside);
+            orphans.extend(out.iter().map(|&(q, _)| q).filter(|&q| q != p));
+            if out.capacity() > 0 {
+                out.clear();
+                pool.push(out);
+            }
             facets[f].alive = false;
         }
         created.clear();
-        for &(u, v, g) in &horizon {
+        for &(u, v, g) in horizon.iter() {
             let id = facets.len();
             facets.push(Facet {
                 v: [u, v, p],
+                plane: Plane::new(&pts[u], &pts[v], &pts[p]),
                 adj: [g, usize::MAX, usize::MAX],
                 alive: true,
-                outside: Vec::new(),
+                outside: pool.pop().unwrap_or_default(),
             });
             // The kept neighbour's edge (v, u) now borders the new facet.
             let gk = (0..3).find(|&k| facets[g].v[k] == v && facets[g].v[(k + 1) % 3] == u)?;
@@ -259,7 +395,7 @@ pub fn hull_3d(pts: &[[f64; 3]]) -> Option<Vec<[usize; 3]>> {
             created.push(id);
         }
         // New facets share the edges (v, p) / (p, u) with each other.
-        for &fx in &created {
+        for &fx in created.iter() {
             let vx = facets[fx].v[1];
             let fy = *created.iter().find(|&&fy| facets[fy].v[0] == vx)?;
             facets[fx].adj[1] = fy;
@@ -270,11 +406,19 @@ pub fn hull_3d(pts: &[[f64; 3]]) -> Option<Vec<[usize; 3]>> {
         if created.iter().any(|&f| facets[f].adj.contains(&usize::MAX)) {
             return None;
         }
-        for &q in &orphans {
-            if let Some((f, h)) = created
-                .iter()
-                .find_map(|&f| height_above(pts, &facets[f].v, q).map(|h| (f, h)))
-            {
+        // Each orphan joins the first new facet (in creation order) it is strictly outside
+        // of; the new facets' planes and corners are read from one contiguous list.
+        cone.clear();
+        cone.extend(created.iter().map(|&f| (f, facets[f].v, facets[f].plane)));
+        for &q in orphans.iter() {
+            let pq = &pts[q];
+            if let Some((f, h)) = cone.iter().find_map(|(f, v, plane)| {
+                if plane.certainly_inside(pq) {
+                    return None;
+                }
+                let s = side(&pts[v[0]], &pts[v[1]], &pts[v[2]], pq);
+                (s < 0.0).then_some((*f, -s))
+            }) {
                 facets[f].outside.push((q, h));
             }
         }
@@ -370,6 +514,110 @@ mod tests {
                 assert!(corners.contains(&best), "extreme point {best} missing");
             }
         }
+    }
+
+    /// Inputs for the predicate tests: random points in the unit cube, and near-coplanar
+    /// and exactly coplanar ones (`d = a + s·u + t·w` with `s, t` rounded, and the same
+    /// plus a few units in the last place).
+    fn predicate_cases() -> Vec<[[f64; 3]; 4]> {
+        let mut rng = Rng(2024);
+        let mut cases = Vec::new();
+        for k in 0..4000 {
+            let mut p = [[0.0; 3]; 4];
+            for q in &mut p {
+                *q = [rng.next(), rng.next(), rng.next()];
+            }
+            if k % 2 == 1 {
+                let (s, t) = (rng.next() * 2.0 - 0.5, rng.next() * 2.0 - 0.5);
+                let [a, b, c, _] = p;
+                p[3] = std::array::from_fn(|j| a[j] + s * (b[j] - a[j]) + t * (c[j] - a[j]));
+                if k % 4 == 3 {
+                    let j = k % 3;
+                    let ulps = (k / 4 % 5) as i64 - 2;
+                    p[3][j] = f64::from_bits((p[3][j].to_bits() as i64 + ulps) as u64);
+                }
+            }
+            cases.push(p);
+        }
+        // Exactly coplanar: small integers and a translated copy far from the origin.
+        for k in 0..200 {
+            let i = |m: usize| ((k * 7 + m * 13) % 11) as f64;
+            let (s, t) = ((k % 5) as f64 - 2.0, (k % 3) as f64);
+            let a = [i(0), i(1), i(2)];
+            let b = [i(3), i(4), i(5)];
+            let c = [i(6), i(7), i(8)];
+            let d: [f64; 3] = std::array::from_fn(|j| a[j] + s * (b[j] - a[j]) + t * (c[j] - a[j]));
+            cases.push([a, b, c, d]);
+            let shift = |p: [f64; 3]| p.map(|x| x + 1024.0);
+            cases.push([shift(a), shift(b), shift(c), shift(d)]);
+        }
+        cases
+    }
+
+    #[test]
+    fn side_returns_the_bits_of_robust_orient3d() {
+        let cases = predicate_cases();
+        let mut zeros = 0;
+        for [a, b, c, d] in &cases {
+            let ours = side(a, b, c, d);
+            let theirs = orient3d(c3(a), c3(b), c3(c), c3(d));
+            assert_eq!(ours.to_bits(), theirs.to_bits(), "{a:?} {b:?} {c:?} {d:?}");
+            zeros += usize::from(ours == 0.0);
+        }
+        // The exactly coplanar cases (at least) reached the adaptive stage and gave 0.
+        assert!(zeros >= 400, "only {zeros} coplanar cases");
+    }
+
+    /// Exact sign of `side` for integer coordinates, in `i128` (independent of robust).
+    fn side_sign_exact(p: &[[i64; 3]; 4]) -> i128 {
+        let r = |i: usize| -> [i128; 3] {
+            std::array::from_fn(|j| i128::from(p[i][j]) - i128::from(p[3][j]))
+        };
+        let (a, b, c) = (r(0), r(1), r(2));
+        let det = a[2] * (b[0] * c[1] - c[0] * b[1])
+            + b[2] * (c[0] * a[1] - a[0] * c[1])
+            + c[2] * (a[0] * b[1] - b[0] * a[1]);
+        det.signum()
+    }
+
+    #[test]
+    fn plane_filter_claims_inside_only_when_side_is_positive() {
+        let mut decided = 0;
+        let mut inside = 0;
+        for [a, b, c, d] in &predicate_cases() {
+            let s = side(a, b, c, d);
+            inside += usize::from(s > 0.0);
+            if Plane::new(a, b, c).certainly_inside(d) {
+                decided += 1;
+                assert!(s > 0.0, "{a:?} {b:?} {c:?} {d:?}: side {s}");
+            }
+        }
+        // The filter decides the clearly inside random cases (about half of the random half).
+        assert!(decided >= 800 && decided <= inside, "{decided} of {inside}");
+        // Large integer coordinates (products round), near-coplanar by one unit: against an
+        // exact determinant in i128.
+        let mut rng = Rng(5);
+        let mut checked = 0;
+        for k in 0..3000 {
+            let big = |rng: &mut Rng| ((rng.next() - 0.5) * (1u64 << 40) as f64) as i64;
+            let mut p = [[0i64; 3]; 4];
+            for q in p.iter_mut().take(3) {
+                *q = [big(&mut rng), big(&mut rng), big(&mut rng)];
+            }
+            let (s, t) = ((k % 7) as i64 - 3, (k % 5) as i64 - 2);
+            p[3] = std::array::from_fn(|j| {
+                p[0][j] + s * (p[1][j] - p[0][j]) + t * (p[2][j] - p[0][j]) + (k % 3) as i64 - 1
+            });
+            let f = p.map(|q| q.map(|x| x as f64));
+            let exact = side_sign_exact(&p);
+            let s = side(&f[0], &f[1], &f[2], &f[3]);
+            assert_eq!(i128::from(s > 0.0) - i128::from(s < 0.0), exact, "{p:?}");
+            if Plane::new(&f[0], &f[1], &f[2]).certainly_inside(&f[3]) {
+                assert_eq!(exact, 1, "{p:?}");
+                checked += 1;
+            }
+        }
+        assert!(checked > 0);
     }
 
     #[test]
