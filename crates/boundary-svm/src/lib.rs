@@ -115,10 +115,11 @@
 //! **Speed.** The thesis' case for the SVM is speed. One thread, features included, the
 //! 1M-particle jittered ball, both in one run on the otherwise idle 2-core machine (`cargo
 //! run --release -p boundary-svm --example svm_throughput 1000000 1`: each method twice,
-//! alternately, its faster run kept; three runs): svm 2.21, 2.18 and 2.36 s, `exact` 2.70,
-//! 2.48 and 2.47 s, **svm at 1.22x, 1.13x and 1.05x the speed of `exact`**. In the sweep's
-//! scale tier of the same hour (`cargo xtask sweep --scenes scale_ball3d_1M`) it is at 1.07x
-//! on one thread and 0.94x on two (its speedup from 1 to 2 threads is 1.74, `exact`'s 1.97).
+//! alternately, its faster run kept; three runs): svm 2.49, 2.23 and 2.37 s, `exact` 2.22,
+//! 2.07 and 2.18 s, **svm at 0.89x, 0.93x and 0.92x the speed of `exact`**, which had just
+//! become about 1.2x faster (its cell clip scans vertices in SIMD lanes; decisions checksum
+//! unchanged). Before that change, svm was at 1.22x, 1.13x and 1.05x (`exact` 2.70, 2.48 and
+//! 2.47 s) and in the sweep's scale tier at 1.07x on one thread and 0.94x on two.
 //! Against `exact` it was 0.59x before the polynomial kernel and the chunked feature sums,
 //! 1.32x and 1.24x before the ascent of the cover margin, then 0.70x once `exact` became
 //! 1.6–1.8x faster (issue 21: a simpler cell and a staged neighbour query). Its feature pass
