@@ -191,10 +191,17 @@ fn outside_of(pts: &[[f64; 3]], f: &Facet, p: usize) -> bool {
 /// `Some(height)` (`-side > 0`, the value of [`side`] itself) when `p` lies strictly
 /// outside facet `f`.
 fn height_above(pts: &[[f64; 3]], f: &Facet, p: usize) -> Option<f64> {
-    if f.plane.certainly_inside(&pts[p]) {
+    height_over(pts, &f.v, &f.plane, &pts[p])
+}
+
+/// [`height_above`] for the facet with corners `v` and plane `plane` (the filter first, then
+/// the exact [`side`]).
+#[inline]
+fn height_over(pts: &[[f64; 3]], v: &[usize; 3], plane: &Plane, q: &[f64; 3]) -> Option<f64> {
+    if plane.certainly_inside(q) {
         return None;
     }
-    let s = side(&pts[f.v[0]], &pts[f.v[1]], &pts[f.v[2]], &pts[p]);
+    let s = side(&pts[v[0]], &pts[v[1]], &pts[v[2]], q);
     (s < 0.0).then_some(-s)
 }
 
@@ -412,13 +419,10 @@ fn hull_3d_with(pts: &[[f64; 3]], scratch: &mut Scratch) -> Option<Vec<[usize; 3
         cone.extend(created.iter().map(|&f| (f, facets[f].v, facets[f].plane)));
         for &q in orphans.iter() {
             let pq = &pts[q];
-            if let Some((f, h)) = cone.iter().find_map(|(f, v, plane)| {
-                if plane.certainly_inside(pq) {
-                    return None;
-                }
-                let s = side(&pts[v[0]], &pts[v[1]], &pts[v[2]], pq);
-                (s < 0.0).then_some((*f, -s))
-            }) {
+            if let Some((f, h)) = cone
+                .iter()
+                .find_map(|(f, v, plane)| height_over(pts, v, plane, pq).map(|h| (*f, h)))
+            {
                 facets[f].outside.push((q, h));
             }
         }
