@@ -1,3 +1,4 @@
+use crate::domain::{Domain, DomainDetection, DomainError, Solids};
 use crate::{AnyParticleSet, CoreError, ParticleSet, Radius};
 use std::fmt;
 use thiserror::Error;
@@ -191,6 +192,20 @@ pub enum DetectError {
         /// Why the method has no faithful generalisation.
         reason: &'static str,
     },
+    /// The method cannot honour an option of the domain (a solid region, say); it never
+    /// ignores one silently.
+    #[error("method '{method}' cannot honour {option}: {reason}")]
+    UnsupportedOption {
+        /// Method name.
+        method: &'static str,
+        /// The option, in the CLI's words (`--solid`, …).
+        option: &'static str,
+        /// Why, in the method's terms.
+        reason: &'static str,
+    },
+    /// The domain does not fit the particle set (dimension, phases, periodic range, …).
+    #[error(transparent)]
+    Domain(#[from] DomainError),
     /// A method-specific failure, described.
     #[error("method '{method}': {message}")]
     Method {
@@ -287,6 +302,40 @@ pub trait BoundaryDetector: Send + Sync + fmt::Debug {
             m.truncate(owned);
         }
         Ok(d)
+    }
+
+    /// Classifies the first `owned` particles of `set` (the others cover only, as in
+    /// [`BoundaryDetector::detect_owned`]) where the closed solid regions `solids` cover too
+    /// (see [`crate::domain`]). The default honours an empty `solids` and refuses any other
+    /// with [`DetectError::UnsupportedOption`]; methods that can count a solid as covering
+    /// override it.
+    fn detect_owned_in(
+        &self,
+        set: &AnyParticleSet,
+        owned: usize,
+        solids: &Solids,
+        r: Radius,
+    ) -> Result<Detection, DetectError> {
+        if !solids.is_empty() {
+            return Err(DetectError::UnsupportedOption {
+                method: self.name(),
+                option: "solid regions (--solid)",
+                reason: "the method has no rule for a solid covering part of a sphere; use \
+                         wall particles (--walls) instead",
+            });
+        }
+        self.detect_owned(set, owned, r)
+    }
+
+    /// Classifies `set` in a [`Domain`]: walls, solids, periodic axes and phases (see
+    /// [`crate::domain`]). With [`Domain::new`] this is [`BoundaryDetector::detect`].
+    fn detect_in(
+        &self,
+        set: &AnyParticleSet,
+        domain: &Domain,
+        r: Radius,
+    ) -> Result<DomainDetection, DetectError> {
+        crate::domain::detect_in(self, set, domain, r)
     }
 
     /// Classifies a set whose dimension is known at run time.

@@ -33,6 +33,7 @@
 
 pub mod decompose;
 mod detector;
+pub mod domain;
 mod error;
 pub mod exact_cover;
 mod grid;
@@ -44,6 +45,7 @@ mod spacing;
 pub use detector::{
     write_label, BoundaryDetector, DetectError, Detection, Labels, ParamError, ParamInfo, Params,
 };
+pub use domain::{Domain, DomainDetection, DomainError, HalfSpace, Periodic, Solids};
 pub use error::CoreError;
 pub use grid::{NeighbourGrid, Neighbourhood};
 pub use metrics::Confusion;
