@@ -10,8 +10,8 @@
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
 use boundary::{
-    detector_by_name, methods, AnyParticleSet, BoundaryDetector, DetectError, Domain, HalfSpace,
-    ParticleSet, Periodic, Point, Radius,
+    detector_by_name, methods, AnyParticleSet, DetectError, Domain, HalfSpace, ParticleSet,
+    Periodic, Point, Radius,
 };
 
 /// A jittered block of spacing 1 with `counts` particles per axis, its lowest layer at
