@@ -59,7 +59,7 @@ struct FrameOutcome {
     /// The per-particle radii used (`--radius-attribute`); `radius` is then their scale.
     radii: Option<RadiiUsed>,
     boundary: usize,
-    /// The wall particles used (walls, solids, periodic axes or phases given).
+    /// The wall particles used (`--walls` or `--wall-attribute` given).
     walls: Option<usize>,
     /// The particles on an interface between phases (`--phase-attribute`).
     interface: Option<usize>,
@@ -79,7 +79,10 @@ impl FrameOutcome {
             );
         }
         if let Some(interface) = self.interface {
-            text += &format!(", {interface} interface");
+            text += &format!(
+                ", {interface} interface particle{}",
+                if interface == 1 { "" } else { "s" }
+            );
         }
         text
     }
@@ -248,7 +251,7 @@ impl FrameJob<'_> {
         }
         outcome.n = fluid.len();
         outcome.boundary = detection.labels.boundary_count();
-        outcome.walls = Some(frame.walls);
+        outcome.walls = setup.has_walls().then_some(frame.walls);
         outcome.interface = found.interface.as_ref().map(|l| l.boundary_count());
         outcome.seconds = seconds;
         outcome.skipped = file.skipped;

@@ -187,6 +187,11 @@ impl DomainSetup {
         }))
     }
 
+    /// Whether wall particles were asked for (`--walls`, `--wall-attribute`).
+    pub(crate) fn has_walls(&self) -> bool {
+        self.file_walls.is_some() || self.selector.is_some()
+    }
+
     /// Whether each frame's point attributes are needed.
     pub(crate) fn needs_attributes(&self) -> bool {
         self.selector.is_some() || self.phase_attribute.is_some()
