@@ -826,3 +826,41 @@ fn bad_domain_options_and_wall_files_give_one_clear_line() {
         "{err}"
     );
 }
+
+#[test]
+fn solid_half_spaces_cover_like_walls_with_exact() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A 6 x 4 lattice at spacing 1, r = 0.8: alone, its outer ring (16) is boundary.
+    let rows: Vec<Vec<f64>> = (0..24)
+        .map(|k| vec![f64::from(k % 6), f64::from(k / 6)])
+        .collect();
+    let input = write_csv(d, "block.csv", "x,y", &rows);
+    let input = s(&input);
+    // A floor half a spacing below the bottom row: the 4 inner particles of that row are
+    // covered; the corners still face the free sides.
+    let v = json(&["detect", input, "-r", "0.8", "--solid", "y<-0.5"]);
+    assert_eq!(v["boundary"], 12);
+    assert_eq!(v["domain"]["solids"][0], "y<-0.5");
+    // A tank (floor and both sides): only the top row is boundary.
+    let out = d.join("tank.csv");
+    let v = json(&[
+        "detect",
+        input,
+        "-r",
+        "0.8",
+        "--solid",
+        "y<-0.5",
+        "--solid",
+        "x<-0.5",
+        "--solid",
+        "x > 5.5",
+        "-o",
+        s(&out),
+    ]);
+    assert_eq!(v["boundary"], 6);
+    let labels = column(&out, "boundary");
+    for (row, label) in rows.iter().zip(labels) {
+        assert_eq!(label, f64::from(u8::from(row[1] == 3.0)), "{row:?}");
+    }
+}
