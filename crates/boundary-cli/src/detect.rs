@@ -63,6 +63,8 @@ struct FrameOutcome {
     walls: Option<usize>,
     /// The particles on an interface between phases (`--phase-attribute`).
     interface: Option<usize>,
+    /// The wall rows of the input (`--wall-attribute`).
+    wall_rows: Option<usize>,
     seconds: f64,
     /// Attributes of the input not written back, with the reason.
     skipped: Vec<String>,
@@ -142,6 +144,7 @@ impl FrameJob<'_> {
                 boundary: 0,
                 walls: None,
                 interface: None,
+                wall_rows: None,
                 seconds: 0.0,
                 skipped: Vec::new(),
             };
@@ -178,6 +181,7 @@ impl FrameJob<'_> {
             boundary: detection.labels.boundary_count(),
             walls: None,
             interface: None,
+            wall_rows: None,
             seconds,
             skipped: file.skipped,
         })
@@ -253,6 +257,10 @@ impl FrameJob<'_> {
         outcome.boundary = detection.labels.boundary_count();
         outcome.walls = setup.has_walls().then_some(frame.walls);
         outcome.interface = found.interface.as_ref().map(|l| l.boundary_count());
+        outcome.wall_rows = frame
+            .wall_rows
+            .as_ref()
+            .map(|mask| mask.iter().filter(|&&w| w).count());
         outcome.seconds = seconds;
         outcome.skipped = file.skipped;
         Ok(outcome)
@@ -368,6 +376,13 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
     let outcome = job.run(&args.input.input, &radius_mode, output)?;
     if outcome.estimated {
         errln!("{}", auto_warning(outcome.radius, &args.input.input));
+    }
+    if let (Some(0), Some(selector)) = (outcome.wall_rows, setup.as_ref()) {
+        errln!(
+            "warning: {}: no row has --wall-attribute {}",
+            args.input.input.display(),
+            selector.wall_attribute().unwrap_or_default()
+        );
     }
     for skipped in &outcome.skipped {
         errln!(

@@ -350,6 +350,22 @@ fn wall_rows_of_the_input_label_as_walls_from_another_file() {
     ]);
     assert_eq!(both["boundary"], with["boundary"]);
     assert_eq!(both["walls"], with["walls"]);
+    // Values that select no row: a warning, and the fluid alone.
+    let out = boundary(&[
+        "detect",
+        s(&fluid),
+        "-r",
+        "0.8",
+        "--wall-attribute",
+        "type=9",
+    ]);
+    assert!(out.status.success());
+    assert!(
+        stderr(&out).starts_with("warning: ")
+            && stderr(&out).contains("fluid.csv: no row has --wall-attribute type=9"),
+        "{}",
+        stderr(&out)
+    );
 }
 
 #[test]
