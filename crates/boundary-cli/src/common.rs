@@ -4,7 +4,10 @@
 
 use crate::error::CliError;
 use crate::output::errln;
-use boundary::{parse_param, AnyParticleSet, BoundaryDetector, CoreError, Detection, Radius};
+use boundary::{
+    parse_param, AnyParticleSet, BoundaryDetector, CoreError, Detection, Domain, DomainDetection,
+    Radius,
+};
 use boundary_io::{Attribute, AttributeValues, Format, ParticleFile, ReadOptions};
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -146,34 +149,49 @@ pub(crate) fn short(x: f64) -> String {
     }
 }
 
-/// The attribute `name` of `file` (exact name, else the one name equal ignoring ASCII case):
-/// one scalar per particle. Errors name `input`: a missing attribute lists the available
-/// ones; a vector (`name:0` … `name:k-1`) is not a radius.
-fn radius_attribute<'a>(
-    file: &'a ParticleFile,
-    name: &str,
-    input: &Path,
-) -> Result<&'a Attribute, CliError> {
+/// The attribute `name` of `file`: the exact name, else the one name equal ignoring ASCII
+/// case; `None` when there is no such scalar attribute.
+pub(crate) fn find_attribute<'a>(file: &'a ParticleFile, name: &str) -> Option<&'a Attribute> {
     let attributes = &file.attributes;
     if let Some(a) = attributes.iter().find(|a| a.name == name) {
-        return Ok(a);
+        return Some(a);
     }
     let folded: Vec<&Attribute> = attributes
         .iter()
         .filter(|a| a.name.eq_ignore_ascii_case(name))
         .collect();
-    if let [a] = folded[..] {
+    match folded[..] {
+        [a] => Some(a),
+        _ => None,
+    }
+}
+
+/// The attribute `name` of `file` for the option `option` (`--radius-attribute`, …), which
+/// needs one scalar per particle: `what` it is to the option ("a radius"). Errors name
+/// `input`: a missing attribute lists the available ones; a vector (`name:0` … `name:k-1`)
+/// is not a scalar.
+pub(crate) fn point_attribute<'a>(
+    file: &'a ParticleFile,
+    name: &str,
+    input: &Path,
+    option: &'static str,
+    what: &'static str,
+) -> Result<&'a Attribute, CliError> {
+    if let Some(a) = find_attribute(file, name) {
         return Ok(a);
     }
+    let attributes = &file.attributes;
     let components = attributes
         .iter()
         .filter(|a| vector_base(&a.name).is_some_and(|b| b.eq_ignore_ascii_case(name)))
         .count();
     if components > 0 {
-        return Err(CliError::RadiusAttributeVector {
+        return Err(CliError::AttributeVector {
             path: input.to_path_buf(),
             name: name.to_owned(),
             components,
+            option,
+            what,
         });
     }
     // The available attributes, a vector once with its component count.
@@ -204,9 +222,10 @@ fn radius_attribute<'a>(
     for skipped in &file.skipped {
         available.push_str(&format!("; not read: {skipped}"));
     }
-    Err(CliError::RadiusAttributeMissing {
+    Err(CliError::AttributeMissing {
         path: input.to_path_buf(),
         name: name.to_owned(),
+        option,
         available,
     })
 }
@@ -226,7 +245,7 @@ pub(crate) fn attach_radii(
     input: &Path,
     options: &ReadOptions,
 ) -> Result<(ParticleFile, RadiiUsed), CliError> {
-    let attribute = radius_attribute(&file, name, input)?;
+    let attribute = point_attribute(&file, name, input, "--radius-attribute", "a radius")?;
     let attribute_name = attribute.name.clone();
     let values: Vec<f64> = match &attribute.values {
         AttributeValues::Float(v) => v.clone(),
@@ -408,6 +427,21 @@ pub(crate) fn run_timed(
     pool.install(|| {
         let start = Instant::now();
         let detection = detector.detect(set, r)?;
+        Ok((detection, start.elapsed().as_secs_f64()))
+    })
+}
+
+/// [`run_timed`] in a domain: walls, solids, periodic axes, phases.
+pub(crate) fn run_timed_in(
+    pool: &rayon::ThreadPool,
+    detector: &dyn BoundaryDetector,
+    set: &AnyParticleSet,
+    domain: &Domain,
+    r: Radius,
+) -> Result<(DomainDetection, f64), CliError> {
+    pool.install(|| {
+        let start = Instant::now();
+        let detection = detector.detect_in(set, domain, r)?;
         Ok((detection, start.elapsed().as_secs_f64()))
     })
 }

@@ -2,9 +2,10 @@
 
 use crate::common::{
     attach_radii, auto_warning, method_label, output_format, parse_format, percent, pool, radius,
-    read_options, resolve_radius, run_timed, InputArgs, MethodArgs, RadiiUsed, RadiusArg,
-    RadiusMode,
+    read_options, resolve_radius, run_timed, run_timed_in, InputArgs, MethodArgs, RadiiUsed,
+    RadiusArg, RadiusMode,
 };
+use crate::domain::{DomainArgs, DomainSetup};
 use crate::error::CliError;
 use crate::output::{errln, outln};
 use boundary::{detector_with_params, AnyParticleSet, BoundaryDetector};
@@ -19,6 +20,8 @@ pub(crate) struct DetectArgs {
     input: InputArgs,
     #[command(flatten)]
     method: MethodArgs,
+    #[command(flatten)]
+    domain: DomainArgs,
     /// Write the particles with a `boundary` column (0/1), format by extension
     /// (.csv, .xyz, .ply, .vtk).
     #[arg(long, short)]
@@ -40,6 +43,7 @@ pub(crate) struct DetectArgs {
     output_format: Option<Format>,
     /// With several frames: write one CSV line per frame (frame, input, output, n, dim, radius,
     /// boundary, seconds, error; with --radius-attribute also radius_min, radius_max before
+    /// error; with walls, solids, periodic axes or phases also walls, interface before
     /// error) to this file.
     #[arg(long, value_name = "FILE.csv")]
     summary: Option<PathBuf>,
@@ -55,14 +59,42 @@ struct FrameOutcome {
     /// The per-particle radii used (`--radius-attribute`); `radius` is then their scale.
     radii: Option<RadiiUsed>,
     boundary: usize,
+    /// The wall particles used (`--walls` or `--wall-attribute` given).
+    walls: Option<usize>,
+    /// The particles on an interface between phases (`--phase-attribute`).
+    interface: Option<usize>,
+    /// The wall rows of the input (`--wall-attribute`).
+    wall_rows: Option<usize>,
     seconds: f64,
     /// Attributes of the input not written back, with the reason.
     skipped: Vec<String>,
 }
 
+impl FrameOutcome {
+    /// `, 7846 wall particles, 12 interface` for the human summaries (empty for a bare cloud).
+    fn domain_facts(&self) -> String {
+        let mut text = String::new();
+        if let Some(walls) = self.walls {
+            text += &format!(
+                ", {walls} wall particle{}",
+                if walls == 1 { "" } else { "s" }
+            );
+        }
+        if let Some(interface) = self.interface {
+            text += &format!(
+                ", {interface} interface particle{}",
+                if interface == 1 { "" } else { "s" }
+            );
+        }
+        text
+    }
+}
+
 /// What every frame of a `detect` run shares.
 struct FrameJob<'a> {
     detector: &'a dyn BoundaryDetector,
+    /// Walls, solids, periodic axes, phases; `None` for the bare cloud.
+    domain: Option<&'a DomainSetup>,
     options: ReadOptions,
     margin: bool,
     normals: bool,
@@ -79,7 +111,9 @@ impl FrameJob<'_> {
         output: Option<(&Path, Format)>,
     ) -> Result<FrameOutcome, CliError> {
         let per_particle = matches!(radius_mode, RadiusMode::PerParticle { .. });
-        let with_attributes = output.is_some() || per_particle;
+        let with_attributes = output.is_some()
+            || per_particle
+            || self.domain.is_some_and(DomainSetup::needs_attributes);
         let file = if with_attributes {
             read_particle_file(input, &self.options)?
         } else {
@@ -99,8 +133,24 @@ impl FrameJob<'_> {
                 (file, *scale, false, Some(used))
             }
         };
-        let set = &file.set;
         let r = radius(r_value)?;
+        if let Some(setup) = self.domain {
+            let outcome = FrameOutcome {
+                n: 0,
+                dim: file.set.dim(),
+                radius: r_value,
+                estimated,
+                radii,
+                boundary: 0,
+                walls: None,
+                interface: None,
+                wall_rows: None,
+                seconds: 0.0,
+                skipped: Vec::new(),
+            };
+            return self.run_in(setup, file, input, outcome, output);
+        }
+        let set = &file.set;
         let (detection, seconds) = run_timed(self.pool, self.detector, set, r)?;
         if let Some((path, format)) = output {
             let flags: Vec<i64> = detection
@@ -115,24 +165,12 @@ impl FrameJob<'_> {
             } else {
                 Vec::new()
             };
-            const NORMAL_NAMES: [&str; 3] = ["normal:0", "normal:1", "normal:2"];
-            let mut columns = vec![("boundary", Column::Int(&flags))];
-            if self.margin {
-                match &detection.margin {
-                    Some(margin) => columns.push(("margin", Column::Float(margin))),
-                    None => return Err(CliError::NoMargin(self.detector.name())),
-                }
-            }
-            for (name, values) in NORMAL_NAMES.iter().zip(&normals) {
-                columns.push((name, Column::Float(values)));
-            }
-            // The input's own columns of these names are replaced, not repeated.
-            let mut ours: Vec<&str> = vec!["boundary", "margin"];
-            if self.normals {
-                ours.extend(NORMAL_NAMES);
-            }
-            columns.extend(file.columns(&ours));
-            write_particles(path, Some(format), set, &columns)?;
+            let margin = match (&detection.margin, self.margin) {
+                (_, false) => None,
+                (Some(m), true) => Some(m.as_slice()),
+                (None, true) => return Err(CliError::NoMargin(self.detector.name())),
+            };
+            self.write(path, format, &file, &flags, margin, &normals, Vec::new())?;
         }
         Ok(FrameOutcome {
             n: set.len(),
@@ -141,11 +179,128 @@ impl FrameJob<'_> {
             estimated,
             radii,
             boundary: detection.labels.boundary_count(),
+            walls: None,
+            interface: None,
+            wall_rows: None,
             seconds,
             skipped: file.skipped,
         })
     }
+
+    /// [`FrameJob::run`] in the domain of `setup`: the classified particles are those of
+    /// `file` less its wall rows; every row is written back. `outcome` holds what `run`
+    /// resolved (dimension, radius); the counts are filled here.
+    fn run_in(
+        &self,
+        setup: &DomainSetup,
+        file: boundary_io::ParticleFile,
+        input: &Path,
+        mut outcome: FrameOutcome,
+        output: Option<(&Path, Format)>,
+    ) -> Result<FrameOutcome, CliError> {
+        let frame = setup.frame(&file, input, &self.options)?;
+        let fluid = frame.fluid(&file.set);
+        let r = radius(outcome.radius)?;
+        let (found, seconds) = run_timed_in(self.pool, self.detector, fluid, &frame.domain, r)?;
+        let detection = &found.detection;
+        if let Some((path, format)) = output {
+            let rows = file.set.len();
+            let labels: Vec<i64> = detection
+                .labels
+                .as_slice()
+                .iter()
+                .map(|&b| i64::from(b))
+                .collect();
+            let flags = frame.scatter(rows, &labels, 0);
+            let margin = match (&detection.margin, self.margin) {
+                (_, false) => None,
+                (Some(m), true) => Some(frame.scatter(rows, m, f64::NAN)),
+                (None, true) => return Err(CliError::NoMargin(self.detector.name())),
+            };
+            let normals: Vec<Vec<f64>> = if self.normals {
+                self.pool
+                    .install(|| {
+                        normal_components(fluid, outcome.radius, detection.labels.as_slice())
+                    })?
+                    .iter()
+                    .map(|axis| frame.scatter(rows, axis, 0.0))
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            let walls: Option<Vec<i64>> = frame
+                .wall_rows
+                .as_ref()
+                .map(|mask| mask.iter().map(|&w| i64::from(w)).collect());
+            let interface: Option<Vec<i64>> = found.interface.as_ref().map(|labels| {
+                let flags: Vec<i64> = labels.as_slice().iter().map(|&b| i64::from(b)).collect();
+                frame.scatter(rows, &flags, 0)
+            });
+            let mut extra: Vec<(&str, Column)> = Vec::new();
+            if let Some(w) = &walls {
+                extra.push(("wall", Column::Int(w)));
+            }
+            if let Some(i) = &interface {
+                extra.push(("interface", Column::Int(i)));
+            }
+            self.write(
+                path,
+                format,
+                &file,
+                &flags,
+                margin.as_deref(),
+                &normals,
+                extra,
+            )?;
+        }
+        outcome.n = fluid.len();
+        outcome.boundary = detection.labels.boundary_count();
+        outcome.walls = setup.has_walls().then_some(frame.walls);
+        outcome.interface = found.interface.as_ref().map(|l| l.boundary_count());
+        outcome.wall_rows = frame
+            .wall_rows
+            .as_ref()
+            .map(|mask| mask.iter().filter(|&&w| w).count());
+        outcome.seconds = seconds;
+        outcome.skipped = file.skipped;
+        Ok(outcome)
+    }
+
+    /// Writes every row of `file` with the `boundary` flags, the optional margin and normals,
+    /// the `extra` columns, and the input's other attributes.
+    #[allow(clippy::too_many_arguments)]
+    fn write(
+        &self,
+        path: &Path,
+        format: Format,
+        file: &boundary_io::ParticleFile,
+        flags: &[i64],
+        margin: Option<&[f64]>,
+        normals: &[Vec<f64>],
+        extra: Vec<(&str, Column)>,
+    ) -> Result<(), CliError> {
+        let mut columns = vec![("boundary", Column::Int(flags))];
+        if let Some(margin) = margin {
+            columns.push(("margin", Column::Float(margin)));
+        }
+        for (name, values) in NORMAL_NAMES.iter().zip(normals) {
+            columns.push((name, Column::Float(values)));
+        }
+        // The input's own columns of these names are replaced, not repeated.
+        let mut ours: Vec<&str> = vec!["boundary", "margin"];
+        if self.normals {
+            ours.extend(NORMAL_NAMES);
+        }
+        ours.extend(extra.iter().map(|(name, _)| *name));
+        columns.extend(extra);
+        columns.extend(file.columns(&ours));
+        write_particles(path, Some(format), &file.set, &columns)?;
+        Ok(())
+    }
 }
+
+/// The normal columns' names, by axis.
+const NORMAL_NAMES: [&str; 3] = ["normal:0", "normal:1", "normal:2"];
 
 /// Outward unit normals of the boundary particles from the colour-field gradient (h = r), one
 /// vector per axis; zero for interior particles and where the gradient vanishes.
@@ -207,9 +362,11 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
     let radius_mode = args.input.radius_mode()?;
     check_normals(args.normals, &radius_mode)?;
     let output_format = args.output.as_deref().map(output_format).transpose()?;
+    let setup = DomainSetup::new(&args.domain, &args.input, &radius_mode)?;
     let pool = pool(args.input.threads)?;
     let job = FrameJob {
         detector: detector.as_ref(),
+        domain: setup.as_ref(),
         options: read_options(&args.input),
         margin: args.margin,
         normals: args.normals,
@@ -219,6 +376,13 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
     let outcome = job.run(&args.input.input, &radius_mode, output)?;
     if outcome.estimated {
         errln!("{}", auto_warning(outcome.radius, &args.input.input));
+    }
+    if let (Some(0), Some(selector)) = (outcome.wall_rows, setup.as_ref()) {
+        errln!(
+            "warning: {}: no row has --wall-attribute {}",
+            args.input.input.display(),
+            selector.wall_attribute().unwrap_or_default()
+        );
     }
     for skipped in &outcome.skipped {
         errln!(
@@ -239,16 +403,20 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
             "boundary": outcome.boundary,
             "seconds": outcome.seconds,
             "threads": pool.current_num_threads(),
+            "domain": domain_json(setup.as_ref()),
+            "walls": outcome.walls,
+            "interface": outcome.interface,
         });
         outln!("{object}")?;
     } else {
         errln!(
-            "{}: {} of {} particles boundary ({:.1}%), {}D, {}, {} in {:.3} s on {} thread{}{}",
+            "{}: {} of {} particles boundary ({:.1}%), {}D{}, {}, {} in {:.3} s on {} thread{}{}",
             args.input.input.display(),
             outcome.boundary,
             outcome.n,
             percent(outcome.boundary, outcome.n),
             outcome.dim,
+            outcome.domain_facts(),
             match &outcome.radii {
                 Some(radii) => radii.describe(),
                 None => format!("r = {}", outcome.radius),
@@ -402,9 +570,11 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
         }
         other => other,
     };
+    let setup = DomainSetup::new(&args.domain, &args.input, &radius_mode)?;
     let pool = pool(args.input.threads)?;
     let job = FrameJob {
         detector,
+        domain: setup.as_ref(),
         options,
         margin: args.margin,
         normals: args.normals,
@@ -440,12 +610,13 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
                 if !args.input.json {
                     let line = match &result {
                         Ok(o) => format!(
-                            "frame {}/{total} {}: {} of {} particles boundary ({:.1}%), {:.3} s",
+                            "frame {}/{total} {}: {} of {} particles boundary ({:.1}%){}, {:.3} s",
                             k + 1,
                             path.display(),
                             o.boundary,
                             o.n,
                             percent(o.boundary, o.n),
+                            o.domain_facts(),
                             o.seconds
                         ),
                         Err(e) => format!("frame {}/{total}: skipped: {e}", k + 1),
@@ -461,7 +632,14 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
     let failed = results.iter().filter(|r| r.is_err()).count();
     if let Some(summary) = &args.summary {
         let per_particle = matches!(radius_mode, RadiusMode::PerParticle { .. });
-        write_summary(summary, &paths, &outputs, &results, per_particle)?;
+        write_summary(
+            summary,
+            &paths,
+            &outputs,
+            &results,
+            per_particle,
+            setup.is_some(),
+        )?;
     }
     if args.input.json {
         let frames: Vec<_> = paths
@@ -479,7 +657,7 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
                         "input": path.display().to_string(), "output": output, "n": o.n,
                         "dim": o.dim, "radius": o.radius,
                         "radii": RadiiUsed::json(o.radii.as_ref()), "boundary": o.boundary,
-                        "seconds": o.seconds,
+                        "seconds": o.seconds, "walls": o.walls, "interface": o.interface,
                     }),
                     Err(e) => json!({
                         "input": path.display().to_string(), "output": output,
@@ -502,6 +680,7 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
                 RadiusMode::PerParticle { attribute, .. } => Some(attribute.as_str()),
                 RadiusMode::Uniform(_) => None,
             },
+            "domain": domain_json(setup.as_ref()),
             "frames": frames,
             "failed": failed,
             "threads": pool.current_num_threads(),
@@ -527,6 +706,19 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
     Ok(())
 }
 
+/// The JSON record of the domain options (`null` for a bare cloud).
+fn domain_json(setup: Option<&DomainSetup>) -> serde_json::Value {
+    match setup {
+        None => serde_json::Value::Null,
+        Some(d) => json!({
+            "wall_attribute": d.wall_attribute(),
+            "solids": d.solids(),
+            "periodic": d.periodic(),
+            "phases": d.has_phases(),
+        }),
+    }
+}
+
 /// Quotes a CSV field when it needs it.
 fn csv_field(text: &str) -> String {
     if text.contains([',', '"', '\n']) {
@@ -543,13 +735,17 @@ fn write_summary(
     outputs: &[Result<Option<(PathBuf, Format)>, PathBuf>],
     results: &[Result<FrameOutcome, CliError>],
     per_particle: bool,
+    domain: bool,
 ) -> Result<(), CliError> {
     use std::fmt::Write as _;
-    let mut text = String::from(if per_particle {
-        "frame,input,output,n,dim,radius,boundary,seconds,radius_min,radius_max,error\n"
-    } else {
-        "frame,input,output,n,dim,radius,boundary,seconds,error\n"
-    });
+    let mut text = String::from("frame,input,output,n,dim,radius,boundary,seconds,");
+    if per_particle {
+        text += "radius_min,radius_max,";
+    }
+    if domain {
+        text += "walls,interface,";
+    }
+    text += "error\n";
     for (k, ((input, output), result)) in inputs.iter().zip(outputs).zip(results).enumerate() {
         let output = match output {
             Ok(Some((p, _))) => p.display().to_string(),
@@ -563,16 +759,23 @@ fn write_summary(
                     (Some(r), true) => format!("{},{},", r.min, r.max),
                     _ => String::new(),
                 };
+                let facts = if domain {
+                    let count = |c: Option<usize>| c.map(|c| c.to_string()).unwrap_or_default();
+                    format!("{},{},", count(o.walls), count(o.interface))
+                } else {
+                    String::new()
+                };
                 writeln!(
                     text,
-                    "{k},{input},{output},{},{},{},{},{:.6},{radii}",
+                    "{k},{input},{output},{},{},{},{},{:.6},{radii}{facts}",
                     o.n, o.dim, o.radius, o.boundary, o.seconds
                 )
             }
             Err(e) => writeln!(
                 text,
-                "{k},{input},{output},,,,,,{}{}",
+                "{k},{input},{output},,,,,,{}{}{}",
                 if per_particle { ",," } else { "" },
+                if domain { ",," } else { "" },
                 csv_field(&e.to_string())
             ),
         };

@@ -31,32 +31,39 @@ pub enum CliError {
     /// `--radius auto` on a set with fewer than two distinct positions.
     #[error("{}: --radius auto needs at least two distinct particle positions", .0.display())]
     AutoRadiusTooFew(PathBuf),
-    /// `--radius-attribute` names no point attribute of the input.
+    /// An option that reads a point attribute (`--radius-attribute`, `--wall-attribute`,
+    /// `--phase-attribute`) names none of the input.
     #[error(
-        "{}: no point attribute {name:?} for --radius-attribute (the file has: {available})",
+        "{}: no point attribute {name:?} for {option} (the file has: {available})",
         .path.display()
     )]
-    RadiusAttributeMissing {
+    AttributeMissing {
         /// The input.
         path: PathBuf,
         /// The name asked for.
         name: String,
+        /// The option.
+        option: &'static str,
         /// The attributes the file has (and those not read, with why).
         available: String,
     },
-    /// `--radius-attribute` names a vector attribute.
+    /// An option that reads a point attribute names a vector attribute.
     #[error(
-        "{}: point attribute {name:?} is a vector of {components} components, not a radius \
-         (--radius-attribute needs one value per particle)",
+        "{}: point attribute {name:?} is a vector of {components} components, not {what} \
+         ({option} needs one value per particle)",
         .path.display()
     )]
-    RadiusAttributeVector {
+    AttributeVector {
         /// The input.
         path: PathBuf,
         /// The name asked for.
         name: String,
         /// Its number of components.
         components: usize,
+        /// The option.
+        option: &'static str,
+        /// What the option needs (`a radius`).
+        what: &'static str,
     },
     /// A per-particle radius that is not positive and finite, or out of range.
     #[error(
@@ -75,6 +82,50 @@ pub enum CliError {
         line: Option<usize>,
         /// What is wrong with its radius.
         problem: String,
+    },
+    /// A `--walls` file that cannot serve as walls (empty, or of another dimension than the
+    /// other wall files).
+    #[error("{}: --walls: {problem}", .path.display())]
+    WallFile {
+        /// The wall file.
+        path: PathBuf,
+        /// What is wrong with it.
+        problem: String,
+    },
+    /// Walls of another dimension than the input.
+    #[error(
+        "{}: --walls: {wall_dim}D particles beside the {dim}D particles of {} (--dim 2 reads a \
+         3D file with one constant axis as 2D)",
+        .wall.display(), .input.display()
+    )]
+    WallDimension {
+        /// The (first) wall file.
+        wall: PathBuf,
+        /// Its dimension.
+        wall_dim: usize,
+        /// The input.
+        input: PathBuf,
+        /// The input's dimension.
+        dim: usize,
+    },
+    /// A `--phase-attribute` value that is not a phase number.
+    #[error(
+        "{}: --phase-attribute {attribute:?}: particle {index}{}: {value} is not a phase \
+         number (an integer from 0 to 4294967295)",
+        .path.display(),
+        .line.map(|l| format!(" (line {l})")).unwrap_or_default()
+    )]
+    PhaseValue {
+        /// The input.
+        path: PathBuf,
+        /// The attribute.
+        attribute: String,
+        /// The particle (input row, in file order).
+        index: usize,
+        /// Its line (CSV).
+        line: Option<usize>,
+        /// The value found.
+        value: f64,
     },
     /// An output file whose extension names no format.
     #[error(

@@ -7,6 +7,9 @@
 //!                 [--summary FILE.csv] [...]
 //! boundary detect INPUT --radius-attribute NAME [--radius-scale F] [...]
 //!                 # a radius per particle: r_i = F·(attribute NAME of particle i)
+//! boundary detect INPUT --radius R [--walls FILE]... [--wall-attribute NAME=V[,V...]]
+//!                 [--solid 'y<0']... [--periodic x:MIN:MAX]... [--phase-attribute NAME] [...]
+//!                 # a simulation's walls, solids, periodic axes and phases
 //! boundary score INPUT --radius R --method NAME [--set KEY=VALUE]... [--truth FILE] [--json]
 //!                 (score also takes --radius-attribute NAME [--radius-scale F])
 //! boundary resample INPUT --radius R [--method NAME] [--set KEY=VALUE]... --output FILE
@@ -24,6 +27,7 @@
 
 mod common;
 mod detect;
+mod domain;
 mod error;
 mod methods;
 mod output;

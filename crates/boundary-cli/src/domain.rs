@@ -1,0 +1,461 @@
+//! `detect`'s simulation options: wall particles (`--walls`, `--wall-attribute`), solid
+//! half-spaces (`--solid`), periodic axes (`--periodic`) and phases (`--phase-attribute`),
+//! turned into the core's [`Domain`] once per frame. The definition lives in the core
+//! (`boundary::domain`); this module only reads files and attributes.
+
+use crate::common::{attach_radii, find_attribute, point_attribute, InputArgs, RadiusMode};
+use crate::error::CliError;
+use boundary::{AnyParticleSet, CoreError, Domain, HalfSpace, ParticleSet, Periodic, Point};
+use boundary_io::{AttributeValues, Format, ParticleFile, ReadOptions};
+use clap::Args;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Args)]
+pub(crate) struct DomainArgs {
+    /// Wall particles from FILE (repeatable, files joined; any input format): they cover the
+    /// particles of INPUT and get no label; the output holds INPUT's particles only. With
+    /// --radius-attribute NAME, a wall file with that attribute gives its walls their radii
+    /// (else radius factor 1).
+    #[arg(long = "walls", value_name = "FILE")]
+    pub(crate) walls: Vec<PathBuf>,
+    /// Wall particles of INPUT itself: the rows whose point attribute NAME has one of the
+    /// values V (e.g. `type=0,1`). They cover and get no label: every row is written back,
+    /// with a `wall` column (1 for a wall row) and `boundary` = 0 (margin NaN) for wall rows;
+    /// the summary counts the other particles only.
+    #[arg(long, value_name = "NAME=V[,V...]", value_parser = parse_wall_attribute)]
+    pub(crate) wall_attribute: Option<WallSelector>,
+    /// A closed solid half-space that covers like the particles do (repeatable): an axis,
+    /// `<` or `>`, a bound, e.g. 'y<0' (quoted) for a floor at y = 0. Not every method can
+    /// honour it; those that cannot say so.
+    #[arg(long = "solid", value_name = "AXIS<V|AXIS>V", value_parser = parse_solid)]
+    pub(crate) solids: Vec<HalfSpace>,
+    /// A periodic axis (repeatable, one per axis): particles leaving MAX re-enter at MIN,
+    /// e.g. `x:0:1.5`. Every particle must lie in [MIN, MAX].
+    #[arg(long = "periodic", value_name = "AXIS:MIN:MAX", value_parser = parse_periodic)]
+    pub(crate) periodic: Vec<Periodic>,
+    /// Phase numbers (integers >= 0) from the point attribute NAME: adds an `interface`
+    /// column (1 for a particle on the interface between phases, not on the free surface);
+    /// `boundary` stays the free surface.
+    #[arg(long, value_name = "NAME")]
+    pub(crate) phase_attribute: Option<String>,
+}
+
+/// `--wall-attribute NAME=V[,V...]`: the attribute and the values that mark a wall row.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct WallSelector {
+    name: String,
+    values: Vec<f64>,
+}
+
+impl WallSelector {
+    /// `NAME=V[,V...]` as given.
+    fn describe(&self) -> String {
+        let values: Vec<String> = self.values.iter().map(f64::to_string).collect();
+        format!("{}={}", self.name, values.join(","))
+    }
+}
+
+fn parse_wall_attribute(text: &str) -> Result<WallSelector, String> {
+    let (name, list) = text
+        .split_once('=')
+        .ok_or_else(|| format!("'{text}': expected NAME=V[,V...], e.g. 'type=0,1'"))?;
+    let name = name.trim();
+    if name.is_empty() {
+        return Err(format!("'{text}': the attribute name is empty"));
+    }
+    let values = list
+        .split(',')
+        .map(|v| {
+            let v = v.trim();
+            match v.parse::<f64>() {
+                Ok(x) if x.is_finite() => Ok(x),
+                _ if v.is_empty() => Err(format!("'{text}': an empty value in the list")),
+                _ => Err(format!("'{text}': '{v}' is not a finite number")),
+            }
+        })
+        .collect::<Result<Vec<f64>, String>>()?;
+    Ok(WallSelector {
+        name: name.to_owned(),
+        values,
+    })
+}
+
+fn parse_solid(text: &str) -> Result<HalfSpace, String> {
+    HalfSpace::parse(text).map_err(|e| e.to_string())
+}
+
+fn parse_periodic(text: &str) -> Result<Periodic, String> {
+    Periodic::parse(text).map_err(|e| e.to_string())
+}
+
+/// What every frame of a run shares: the walls of the `--walls` files (read once), the
+/// solids, the periodic axes and the attributes to read from each frame.
+#[derive(Debug)]
+pub(crate) struct DomainSetup {
+    /// The `--walls` files joined, and the first file (named in messages).
+    file_walls: Option<(AnyParticleSet, PathBuf)>,
+    selector: Option<WallSelector>,
+    solids: Vec<HalfSpace>,
+    periodic: Vec<Periodic>,
+    phase_attribute: Option<String>,
+}
+
+/// One frame in its domain.
+#[derive(Debug)]
+pub(crate) struct FrameDomain {
+    /// The classified particles when some rows of the input are walls (`--wall-attribute`);
+    /// `None`: every row is classified.
+    fluid: Option<AnyParticleSet>,
+    /// The input rows of the classified particles, with `fluid`.
+    rows: Option<Vec<usize>>,
+    /// Per input row, whether it is a wall (`--wall-attribute` only).
+    pub(crate) wall_rows: Option<Vec<bool>>,
+    pub(crate) domain: Domain,
+    /// The wall particles used, from the files and from the input.
+    pub(crate) walls: usize,
+}
+
+impl FrameDomain {
+    /// The classified particles; `all` is the input's set.
+    pub(crate) fn fluid<'a>(&'a self, all: &'a AnyParticleSet) -> &'a AnyParticleSet {
+        self.fluid.as_ref().unwrap_or(all)
+    }
+
+    /// Values of the classified particles placed at their input rows, `fill` at wall rows.
+    pub(crate) fn scatter<T: Copy>(&self, rows: usize, values: &[T], fill: T) -> Vec<T> {
+        match &self.rows {
+            None => values.to_vec(),
+            Some(at) => {
+                let mut out = vec![fill; rows];
+                for (&i, &v) in at.iter().zip(values) {
+                    out[i] = v;
+                }
+                out
+            }
+        }
+    }
+}
+
+impl DomainSetup {
+    /// The setup the options ask for, reading the `--walls` files; `None` when no option is
+    /// given (the bare cloud: `detect` runs as without this module).
+    pub(crate) fn new(
+        args: &DomainArgs,
+        input: &InputArgs,
+        mode: &RadiusMode,
+    ) -> Result<Option<Self>, CliError> {
+        let bare = args.walls.is_empty()
+            && args.wall_attribute.is_none()
+            && args.solids.is_empty()
+            && args.periodic.is_empty()
+            && args.phase_attribute.is_none();
+        if bare {
+            return Ok(None);
+        }
+        let mut sets: Vec<AnyParticleSet> = Vec::new();
+        for path in &args.walls {
+            let set = read_wall_file(path, input, mode)?;
+            if let Some(first) = sets.first() {
+                if first.dim() != set.dim() {
+                    return Err(CliError::WallFile {
+                        path: path.clone(),
+                        problem: format!(
+                            "{}D particles, but {} holds {}D particles",
+                            set.dim(),
+                            args.walls[0].display(),
+                            first.dim()
+                        ),
+                    });
+                }
+            }
+            sets.push(set);
+        }
+        let file_walls = match sets.len() {
+            0 => None,
+            1 => sets.pop().map(|s| (s, args.walls[0].clone())),
+            _ => {
+                let parts: Vec<&AnyParticleSet> = sets.iter().collect();
+                Some((join_any(&parts)?, args.walls[0].clone()))
+            }
+        };
+        Ok(Some(DomainSetup {
+            file_walls,
+            selector: args.wall_attribute.clone(),
+            solids: args.solids.clone(),
+            periodic: args.periodic.clone(),
+            phase_attribute: args.phase_attribute.clone(),
+        }))
+    }
+
+    /// Whether wall particles were asked for (`--walls`, `--wall-attribute`).
+    pub(crate) fn has_walls(&self) -> bool {
+        self.file_walls.is_some() || self.selector.is_some()
+    }
+
+    /// Whether each frame's point attributes are needed.
+    pub(crate) fn needs_attributes(&self) -> bool {
+        self.selector.is_some() || self.phase_attribute.is_some()
+    }
+
+    /// Whether the detection reports interfaces.
+    pub(crate) fn has_phases(&self) -> bool {
+        self.phase_attribute.is_some()
+    }
+
+    /// The solids as given (`y<0`).
+    pub(crate) fn solids(&self) -> Vec<String> {
+        self.solids.iter().map(ToString::to_string).collect()
+    }
+
+    /// The periodic axes as given (`x:0:1`).
+    pub(crate) fn periodic(&self) -> Vec<String> {
+        self.periodic.iter().map(ToString::to_string).collect()
+    }
+
+    /// `--wall-attribute` as given.
+    pub(crate) fn wall_attribute(&self) -> Option<String> {
+        self.selector.as_ref().map(WallSelector::describe)
+    }
+
+    /// The domain of the frame `file` read from `input` (with its radii attached, if any).
+    pub(crate) fn frame(
+        &self,
+        file: &ParticleFile,
+        input: &Path,
+        options: &ReadOptions,
+    ) -> Result<FrameDomain, CliError> {
+        let set = &file.set;
+        if let Some((walls, path)) = &self.file_walls {
+            if walls.dim() != set.dim() {
+                return Err(CliError::WallDimension {
+                    wall: path.clone(),
+                    wall_dim: walls.dim(),
+                    input: input.to_path_buf(),
+                    dim: set.dim(),
+                });
+            }
+        }
+        // Wall rows of the input itself.
+        let (fluid, rows, wall_rows, input_walls) = match &self.selector {
+            None => (None, None, None, None),
+            Some(selector) => {
+                let attribute = point_attribute(
+                    file,
+                    &selector.name,
+                    input,
+                    "--wall-attribute",
+                    "a wall flag",
+                )?;
+                let is_wall = |x: f64| selector.values.contains(&x);
+                let mask: Vec<bool> = match &attribute.values {
+                    AttributeValues::Int(v) => v.iter().map(|&i| is_wall(i as f64)).collect(),
+                    AttributeValues::Float(v) => v.iter().map(|&x| is_wall(x)).collect(),
+                };
+                let fluid_rows: Vec<usize> = (0..mask.len()).filter(|&i| !mask[i]).collect();
+                let walls: Vec<usize> = (0..mask.len()).filter(|&i| mask[i]).collect();
+                (
+                    Some(subset(set, &fluid_rows)),
+                    Some(fluid_rows),
+                    Some(mask),
+                    Some(subset(set, &walls)),
+                )
+            }
+        };
+        // The input's walls first, then those of the files.
+        let parts: Vec<&AnyParticleSet> = input_walls
+            .iter()
+            .chain(self.file_walls.iter().map(|(w, _)| w))
+            .filter(|w| !w.is_empty())
+            .collect();
+        let walls = match parts[..] {
+            [] => None,
+            [one] => Some(one.clone()),
+            _ => Some(join_any(&parts)?),
+        };
+        let count = walls.as_ref().map_or(0, AnyParticleSet::len);
+        let mut domain = Domain::new();
+        if let Some(w) = walls {
+            domain = domain.with_walls(w);
+        }
+        for h in &self.solids {
+            domain = domain.with_solid(*h);
+        }
+        for p in &self.periodic {
+            domain = domain.with_periodic(*p);
+        }
+        if let Some(name) = &self.phase_attribute {
+            let phases = phases(file, name, input, options, rows.as_deref())?;
+            domain = domain.with_phases(phases);
+        }
+        Ok(FrameDomain {
+            fluid,
+            rows,
+            wall_rows,
+            domain,
+            walls: count,
+        })
+    }
+}
+
+/// The phase numbers of the classified rows (`rows`, else every row) from the attribute
+/// `name`; a value that is not an integer in `0..=u32::MAX` names its row and line.
+fn phases(
+    file: &ParticleFile,
+    name: &str,
+    input: &Path,
+    options: &ReadOptions,
+    rows: Option<&[usize]>,
+) -> Result<Vec<u32>, CliError> {
+    let attribute = point_attribute(file, name, input, "--phase-attribute", "a phase number")?;
+    let value = |i: usize| -> f64 {
+        match &attribute.values {
+            AttributeValues::Int(v) => v[i] as f64,
+            AttributeValues::Float(v) => v[i],
+        }
+    };
+    let phase = |i: usize| -> Result<u32, CliError> {
+        let x = value(i);
+        if x.is_finite() && x >= 0.0 && x <= f64::from(u32::MAX) && x.fract() == 0.0 {
+            return Ok(x as u32);
+        }
+        let line = boundary_io::particle_line(input, options, i).ok().flatten();
+        Err(CliError::PhaseValue {
+            path: input.to_path_buf(),
+            attribute: attribute.name.clone(),
+            index: i,
+            line,
+            value: x,
+        })
+    };
+    match rows {
+        Some(rows) => rows.iter().map(|&i| phase(i)).collect(),
+        None => (0..file.set.len()).map(phase).collect(),
+    }
+}
+
+/// Reads one `--walls` file in the dimension the options ask for, with its radii when
+/// `--radius-attribute` names an attribute it has. An empty file is an error.
+fn read_wall_file(
+    path: &Path,
+    input: &InputArgs,
+    mode: &RadiusMode,
+) -> Result<AnyParticleSet, CliError> {
+    let options = ReadOptions {
+        dim: input.dim.map(usize::from),
+        format: Format::from_path(path).or(input.format),
+    };
+    let set = match mode {
+        RadiusMode::PerParticle { attribute, scale } => {
+            let file = boundary_io::read_particle_file(path, &options)?;
+            if find_attribute(&file, attribute).is_some() {
+                attach_radii(file, attribute, *scale, path, &options)?.0.set
+            } else {
+                file.set
+            }
+        }
+        RadiusMode::Uniform(_) => boundary_io::read_particles(path, &options)?,
+    };
+    if set.is_empty() {
+        return Err(CliError::WallFile {
+            path: path.to_path_buf(),
+            problem: "the file holds no particle".to_owned(),
+        });
+    }
+    Ok(set)
+}
+
+/// The particles `rows` of `set`, in that order, with their radii.
+fn subset(set: &AnyParticleSet, rows: &[usize]) -> AnyParticleSet {
+    match set {
+        AnyParticleSet::D2(s) => s.subset(rows).into(),
+        AnyParticleSet::D3(s) => s.subset(rows).into(),
+    }
+}
+
+/// The particles of `parts` one after the other; radii where any part has them (factor 1
+/// for the particles of a part without).
+fn join<const D: usize>(parts: &[&ParticleSet<D>]) -> Result<ParticleSet<D>, CoreError> {
+    let positions: Vec<Point<D>> = parts
+        .iter()
+        .flat_map(|p| p.positions().iter().copied())
+        .collect();
+    let set = ParticleSet::new(positions)?;
+    if parts.iter().all(|p| p.radii().is_none()) {
+        return Ok(set);
+    }
+    let radii: Vec<f64> = parts
+        .iter()
+        .flat_map(|p| match p.radii() {
+            Some(r) => r.to_vec(),
+            None => vec![1.0; p.len()],
+        })
+        .collect();
+    set.with_radii(radii)
+}
+
+/// [`join`] of sets of one dimension (checked by the callers).
+fn join_any(parts: &[&AnyParticleSet]) -> Result<AnyParticleSet, CliError> {
+    let d2: Option<Vec<&ParticleSet<2>>> = parts
+        .iter()
+        .map(|p| match p {
+            AnyParticleSet::D2(s) => Some(s),
+            AnyParticleSet::D3(_) => None,
+        })
+        .collect();
+    if let Some(d2) = d2 {
+        return Ok(join(&d2)?.into());
+    }
+    let d3: Option<Vec<&ParticleSet<3>>> = parts
+        .iter()
+        .map(|p| match p {
+            AnyParticleSet::D3(s) => Some(s),
+            AnyParticleSet::D2(_) => None,
+        })
+        .collect();
+    match d3 {
+        Some(d3) => Ok(join(&d3)?.into()),
+        None => Err(CliError::Usage(
+            "the wall particles mix 2D and 3D sets (--dim 2 reads a 3D file with one constant \
+             axis as 2D)",
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wall_attribute_lists_parse_or_say_what_is_wrong() {
+        let s = parse_wall_attribute(" type = 0, 1.5 ").unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(
+            (s.name.as_str(), s.values.clone()),
+            ("type", vec![0.0, 1.5])
+        );
+        assert_eq!(s.describe(), "type=0,1.5");
+        for (bad, why) in [
+            ("type", "expected NAME=V"),
+            ("=1", "name is empty"),
+            ("type=", "empty value"),
+            ("type=1,,2", "empty value"),
+            ("type=a", "'a' is not a finite number"),
+            ("type=inf", "'inf' is not a finite number"),
+        ] {
+            let e = parse_wall_attribute(bad).unwrap_err();
+            assert!(e.contains(why) && e.contains(bad), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn joined_walls_keep_radii_and_give_factor_one_to_the_others() {
+        let a = ParticleSet::<2>::from_rows(&[[0.0, 0.0]]).unwrap_or_else(|e| panic!("{e}"));
+        let b = ParticleSet::<2>::from_rows(&[[1.0, 0.0], [2.0, 0.0]])
+            .and_then(|s| s.with_radii(vec![0.5, 2.0]))
+            .unwrap_or_else(|e| panic!("{e}"));
+        let joined = join(&[&a, &b]).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(joined.len(), 3);
+        assert_eq!(joined.radii(), Some(&[1.0, 0.5, 2.0][..]));
+        let plain = join(&[&a, &a]).unwrap_or_else(|e| panic!("{e}"));
+        assert!(plain.radii().is_none());
+    }
+}
