@@ -95,6 +95,28 @@
 //! likeliest cover (smallest `d_j − s_j`) first. Equal radii give the uniform labels; no false
 //! negative (tested against `exact` on two-level sets with radius ratios 2, 4 and 100).
 //!
+//! # Solid regions
+//! With solid half-spaces ([`boundary_core::Solids`], through
+//! [`BoundaryDetector::detect_owned_in`] or a [`boundary_core::Domain`]), particle `i` is
+//! interior iff every point of `S_i` outside the closed solids is covered by the balls. An
+//! element is *covered* when some ball holds its slab, as above, or when some solid holds every
+//! vertex of its slab: the slab is convex and the solid a half-space, so the slab and its patch
+//! lie in the solid. An element that no ball touches but that has a vertex in a solid is
+//! *partial* rather than uncovered, and is refined (its children keep its whole list of
+//! balls); a patch split between a solid and a ball is covered once its elements are small
+//! enough to lie wholly in one of them. So *interior* is still only answered when every patch
+//! of `S_i` lies in a ball or in a solid.
+//!
+//! **Rounding.** In the frame of `p_i` a solid `x_a <= c` is `x_a <= h`, `h = (c −
+//! p_{i,a})/r_i` computed within `2u` (relative). A vertex counts as inside the solid only if it
+//! lies at least [`SOLID_MARGIN`] `+ 4ε|h|` (units of `r_i`) beyond `h`, which absorbs both that
+//! rounding and that of the computed slab vertices, as [`COVER_MARGIN`] does for the balls. A
+//! point of `S_i` exactly on the surface of a solid is covered (the solids are closed), but where
+//! nothing else covers it (a sphere touching a solid from inside) the elements around it are
+//! never proven covered and the particle is labelled *boundary*: a false positive, never a
+//! false negative. Particles whose sphere no solid reaches take the code path without solids,
+//! so a detection without solids costs what it did.
+//!
 //! # Hard cases
 //! What `ge` returns on the hard cases of issue 11 (the test
 //! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
@@ -136,7 +158,7 @@ mod slab;
 
 use boundary_core::{
     AnyParticleSet, BoundaryDetector, CoreError, DetectError, Detection, Labels, NeighbourGrid,
-    ParamError, ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid,
+    ParamError, ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid, Solids,
 };
 use rayon::prelude::*;
 use slab::{Arc, Element, Triangle};
@@ -249,11 +271,23 @@ impl BoundaryDetector for GeDetector {
     }
 
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(detect_with::<2, Arc>(set, set.len(), r, self.depth)?)
+        Ok(detect_with::<2, Arc>(
+            set,
+            set.len(),
+            r,
+            self.depth,
+            &Solids::new(),
+        )?)
     }
 
     fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(detect_with::<3, Triangle>(set, set.len(), r, self.depth)?)
+        Ok(detect_with::<3, Triangle>(
+            set,
+            set.len(),
+            r,
+            self.depth,
+            &Solids::new(),
+        )?)
     }
 
     /// Classifies only the owned particles; the ghosts serve as neighbours only.
@@ -263,20 +297,41 @@ impl BoundaryDetector for GeDetector {
         owned: usize,
         r: Radius,
     ) -> Result<Detection, DetectError> {
+        self.detect_owned_in(set, owned, &Solids::new(), r)
+    }
+
+    /// Classifies the owned particles where the closed solid half-spaces cover too (crate
+    /// docs, "Solid regions").
+    fn detect_owned_in(
+        &self,
+        set: &AnyParticleSet,
+        owned: usize,
+        solids: &Solids,
+        r: Radius,
+    ) -> Result<Detection, DetectError> {
         DetectError::check_owned("ge", owned, set.len())?;
+        if let Some(h) = solids.half_spaces().iter().find(|h| h.axis() >= set.dim()) {
+            return Err(DetectError::Method {
+                method: "ge",
+                message: format!("solid '{h}': a {}D set has no axis {}", set.dim(), h.axis()),
+            });
+        }
+        let depth = self.depth;
         Ok(match set {
-            AnyParticleSet::D2(s) => detect_with::<2, Arc>(s, owned, r, self.depth)?,
-            AnyParticleSet::D3(s) => detect_with::<3, Triangle>(s, owned, r, self.depth)?,
+            AnyParticleSet::D2(s) => detect_with::<2, Arc>(s, owned, r, depth, solids)?,
+            AnyParticleSet::D3(s) => detect_with::<3, Triangle>(s, owned, r, depth, solids)?,
         })
     }
 }
 
-/// Classifies the first `count` particles of `set` (all of them serve as neighbours).
+/// Classifies the first `count` particles of `set` (all of them serve as neighbours), the
+/// closed half-spaces of `solids` covering too (their axes are those of the set).
 fn detect_with<const D: usize, E: Element<D> + Send + Sync>(
     set: &ParticleSet<D>,
     count: usize,
     r: Radius,
     depth: u32,
+    solids: &Solids,
 ) -> Result<Detection, CoreError> {
     let positions = set.positions();
     let mesh = Mesh::<D, E>::new(depth.min(TABLE_DEPTH));
@@ -296,12 +351,24 @@ fn detect_with<const D: usize, E: Element<D> + Send + Sync>(
                 (_, Some(grid)) => scratch.gather_radii(positions, grid, i),
                 (None, None) => unreachable!("one grid is built"),
             }
+            // A particle whose sphere no solid reaches takes the path without solids.
+            if !solids.is_empty() {
+                let r_i = radii.as_ref().map_or(r, |radii| radii[i]);
+                scratch.cut_by(solids, &positions[i], r_i);
+                if !scratch.cuts.is_empty() {
+                    return if radii.is_none() {
+                        scratch.is_boundary::<true, true>(&mesh, depth)
+                    } else {
+                        scratch.is_boundary::<false, true>(&mesh, depth)
+                    };
+                }
+            }
             // Monomorphised twice: at a uniform radius every ball is the unit ball, as
             // constants, so that path costs what it did before per-particle radii.
             if radii.is_none() {
-                scratch.is_boundary::<true>(&mesh, depth)
+                scratch.is_boundary::<true, false>(&mesh, depth)
             } else {
-                scratch.is_boundary::<false>(&mesh, depth)
+                scratch.is_boundary::<false, false>(&mesh, depth)
             }
         })
         .collect::<Vec<bool>>()
@@ -443,6 +510,8 @@ struct Scratch<const D: usize, E: Element<D>> {
     unsorted: Vec<(usize, Point<D>)>,
     /// The neighbour that covered the last covered element.
     last_cover: [usize; RECENT],
+    /// The solid half-spaces that reach the current particle's sphere ([`Cut`]).
+    cuts: Vec<Cut>,
 }
 
 impl<const D: usize, E: Element<D>> Default for Scratch<D, E> {
@@ -457,6 +526,7 @@ impl<const D: usize, E: Element<D>> Default for Scratch<D, E> {
             keys: Vec::new(),
             unsorted: Vec::new(),
             last_cover: [usize::MAX; RECENT],
+            cuts: Vec::new(),
         }
     }
 }
@@ -505,6 +575,46 @@ fn covers<const D: usize>(slab: &[Point<D>], q: &Point<D>, inner: f64) -> bool {
 #[inline]
 fn sort_key(d2: f64, k: u32) -> u64 {
     (d2.to_bits() & !0xffff_ffff) | u64::from(k)
+}
+
+/// A slab vertex counts as inside a solid only if it lies at least this far (units of r) on
+/// the solid side of the bound: absorbs the rounding of the computed slab vertices, as
+/// [`COVER_MARGIN`] does for the balls (crate docs, "Solid regions").
+pub const SOLID_MARGIN: f64 = 1e-12;
+
+/// A solid half-space in the frame of particle `i` (scaled by `1/r_i`): on axis `axis` the
+/// solid is `x <= h` (`below`) or `x >= h`, `h = fl(fl(c − p_i)/r_i)`; `t` is `h` moved by
+/// [`SOLID_MARGIN`] and `4ε|h|` (the rounding of `h`) into the solid.
+#[derive(Debug, Clone, Copy)]
+struct Cut {
+    axis: usize,
+    below: bool,
+    h: f64,
+    t: f64,
+}
+
+impl Cut {
+    /// Whether every slab vertex lies in the solid beyond `t`: then the slab (convex), hence
+    /// its patch, lies in the closed solid.
+    #[inline]
+    fn holds<const D: usize>(&self, slab: &[Point<D>]) -> bool {
+        if self.below {
+            slab.iter().all(|v| v[self.axis] <= self.t)
+        } else {
+            slab.iter().all(|v| v[self.axis] >= self.t)
+        }
+    }
+
+    /// Whether some slab vertex lies in the solid or on its bound (a heuristic, as
+    /// "uncovered" is: it only decides between refining and answering boundary).
+    #[inline]
+    fn touches<const D: usize>(&self, slab: &[Point<D>]) -> bool {
+        if self.below {
+            slab.iter().any(|v| v[self.axis] <= self.h)
+        } else {
+            slab.iter().any(|v| v[self.axis] >= self.h)
+        }
+    }
 }
 
 /// Puts `j` first in the list of recent covering balls, moving the first `k` entries one place
@@ -741,9 +851,72 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
         )
     }
 
-    /// Algorithm 3 for the gathered neighbours: true if boundary.
-    fn is_boundary<const UNIFORM: bool>(&mut self, mesh: &Mesh<D, E>, max_depth: u32) -> bool {
-        if self.centres.is_empty() {
+    /// The cuts of the solids that reach the sphere of the particle at `p` of radius `r_i`
+    /// (crate docs, "Solid regions"). A half-space whose bound lies beyond the unit ball on
+    /// the fluid side (`h <= -1` below) holds no patch and is left out; if none is left, the
+    /// particle takes the path without solids.
+    fn cut_by(&mut self, solids: &Solids, p: &Point<D>, r_i: f64) {
+        self.cuts.clear();
+        for h in solids.half_spaces() {
+            let axis = h.axis();
+            let q = (h.value() - p[axis]) / r_i;
+            let slack = SOLID_MARGIN + 4.0 * f64::EPSILON * q.abs();
+            let below = h.solid_below();
+            // An infinite quotient (a bound far beyond f64 range in units of r_i) stays as it
+            // is: its side is exact.
+            let (t, reaches) = match (q.is_finite(), below) {
+                (false, _) => (q, if below { q > 0.0 } else { q < 0.0 }),
+                (true, true) => (q - slack, q > -1.0),
+                (true, false) => (q + slack, q < 1.0),
+            };
+            if reaches {
+                self.cuts.push(Cut {
+                    axis,
+                    below,
+                    h: q,
+                    t,
+                });
+            }
+        }
+    }
+
+    /// The label of Algorithm 3 with the solids of [`Self::cut_by`] covering too (`SOLID`):
+    /// covered if a solid holds every slab vertex ([`Cut::holds`]); otherwise the label
+    /// against the balls, except that an element no ball touches but a solid does is partial,
+    /// its children keeping this element's whole list. Without solids, [`Self::label`].
+    #[inline]
+    fn label_in<const UNIFORM: bool, const SOLID: bool>(
+        &mut self,
+        node: &Node<E>,
+        slab: &[Point<D>],
+        reach: (Point<D>, f64),
+        uncoverable: bool,
+    ) -> (Label, usize, usize) {
+        if !SOLID {
+            return self.label::<UNIFORM>(node, slab, reach, uncoverable);
+        }
+        let mut touched = false;
+        for cut in &self.cuts {
+            if cut.holds(slab) {
+                return (Label::Covered, 0, 0);
+            }
+            touched |= cut.touches(slab);
+        }
+        match self.label::<UNIFORM>(node, slab, reach, uncoverable) {
+            (Label::Uncovered, _, _) if touched => (Label::Partial, node.start, node.len),
+            label => label,
+        }
+    }
+
+    /// Algorithm 3 for the gathered neighbours: true if boundary. With `SOLID`, the solids
+    /// of [`Self::cut_by`] cover too ([`Self::label_in`]), and a particle without neighbours
+    /// may be interior (its sphere in the solids).
+    fn is_boundary<const UNIFORM: bool, const SOLID: bool>(
+        &mut self,
+        mesh: &Mesh<D, E>,
+        max_depth: u32,
+    ) -> bool {
+        if !SOLID && self.centres.is_empty() {
             return true;
         }
         let n = self.centres.len();
@@ -772,11 +945,11 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
             let ((label, start, len), children) = if node.entry == NOT_IN_TABLE {
                 let slab = node.element.slab();
                 let reach = node.element.reach();
-                let label = self.label::<UNIFORM>(&node, slab.as_ref(), reach, false);
+                let label = self.label_in::<UNIFORM, SOLID>(&node, slab.as_ref(), reach, false);
                 (label, NOT_IN_TABLE)
             } else {
                 let e = &mesh.entries[node.entry as usize];
-                let label = self.label::<UNIFORM>(
+                let label = self.label_in::<UNIFORM, SOLID>(
                     &node,
                     e.slab.as_ref(),
                     (e.centre, e.reach),

@@ -66,6 +66,30 @@
 //! `IMAGE_ERROR` (so equal radii give the uniform labels). Still no false negative (tested
 //! against `exact` on two-level sets with radius ratios 2, 4 and 100).
 //!
+//! # Solid regions
+//! With solid half-spaces ([`boundary_core::Solids`], through
+//! [`BoundaryDetector::detect_owned_in`] or a [`boundary_core::Domain`]), particle `i` is
+//! interior iff every point of `S_i` outside the closed solids is covered by the balls. In the
+//! frame of `p_i` a solid `x_a <= c` is `x_a <= h`, `h = (c − p_{i,a})/r_i`, and the part of a
+//! query box outside it is again a box: the box with its lower bound on axis `a` raised to `h`.
+//! So every box is first clipped to its part outside the solids; a box with no such part is
+//! covered (R2), and the others are labelled exactly as above, with the clipped box in place of
+//! the box (the boundary-box test, the images, R1–R4). This proves what the method proves
+//! without solids: *interior* only when every point of `S_i` outside the solids lies in a
+//! ball. No subdivision is spent on the solid's surface itself: a box straddling it is as
+//! cheap as any other.
+//!
+//! **Rounding.** The computed `h` is within `2u` (relative) of the exact quotient, so the clip
+//! uses `t = h ∓ (4ε|h| + the smallest normal f64)`, moved out of the solid: the clipped box
+//! then holds the exact part outside the solid, and "in the solid" (`hi <= t` for `x_a <= c`)
+//! is a proof. The clipped bounds are floats in `[-1, 1]`, so the image's rounding bound and
+//! the boundary-box slack hold unchanged. A point of `S_i` exactly on the surface of a solid is
+//! covered (the solids are closed), but where nothing else covers it (a sphere touching a solid
+//! from inside) the boxes around it are never proven covered and the particle is labelled
+//! *boundary*: like ties between balls, a false positive, never a false negative. Particles
+//! whose sphere no solid reaches take the code path without solids, so a detection without
+//! solids costs what it did.
+//!
 //! # Hard cases
 //! What `ia` returns on the hard cases of issue 11 (the test
 //! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
@@ -102,7 +126,7 @@
 
 use boundary_core::{
     AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, NeighbourGrid, ParamError,
-    ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid,
+    ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid, Solids,
 };
 use rayon::prelude::*;
 
@@ -184,11 +208,11 @@ impl BoundaryDetector for IaDetector {
     }
 
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(detect_with(set, set.len(), r, self.depth)?)
+        Ok(detect_with(set, set.len(), r, self.depth, &Solids::new())?)
     }
 
     fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(detect_with(set, set.len(), r, self.depth)?)
+        Ok(detect_with(set, set.len(), r, self.depth, &Solids::new())?)
     }
 
     /// Classifies only the owned particles; the ghosts serve as neighbours only.
@@ -198,20 +222,40 @@ impl BoundaryDetector for IaDetector {
         owned: usize,
         r: Radius,
     ) -> Result<Detection, DetectError> {
+        self.detect_owned_in(set, owned, &Solids::new(), r)
+    }
+
+    /// Classifies the owned particles where the closed solid half-spaces cover too (crate
+    /// docs, "Solid regions").
+    fn detect_owned_in(
+        &self,
+        set: &AnyParticleSet,
+        owned: usize,
+        solids: &Solids,
+        r: Radius,
+    ) -> Result<Detection, DetectError> {
         DetectError::check_owned("ia", owned, set.len())?;
+        if let Some(h) = solids.half_spaces().iter().find(|h| h.axis() >= set.dim()) {
+            return Err(DetectError::Method {
+                method: "ia",
+                message: format!("solid '{h}': a {}D set has no axis {}", set.dim(), h.axis()),
+            });
+        }
         Ok(match set {
-            AnyParticleSet::D2(s) => detect_with(s, owned, r, self.depth)?,
-            AnyParticleSet::D3(s) => detect_with(s, owned, r, self.depth)?,
+            AnyParticleSet::D2(s) => detect_with(s, owned, r, self.depth, solids)?,
+            AnyParticleSet::D3(s) => detect_with(s, owned, r, self.depth, solids)?,
         })
     }
 }
 
-/// Classifies the first `count` particles of `set` (all of them serve as neighbours).
+/// Classifies the first `count` particles of `set` (all of them serve as neighbours), the
+/// closed half-spaces of `solids` covering too (their axes are those of the set).
 fn detect_with<const D: usize>(
     set: &ParticleSet<D>,
     count: usize,
     r: Radius,
     depth: u32,
+    solids: &Solids,
 ) -> Result<Detection, boundary_core::CoreError> {
     let positions = set.positions();
     let radii = set.resolved_radii(r)?;
@@ -229,6 +273,18 @@ fn detect_with<const D: usize>(
                 (Some(grid), _) => scratch.gather(positions, grid, i, r),
                 (_, Some(grid)) => scratch.gather_radii(positions, grid, i),
                 (None, None) => unreachable!("one grid is built"),
+            }
+            // A particle whose sphere no solid reaches takes the path without solids.
+            if !solids.is_empty() {
+                let r_i = radii.as_ref().map_or(r, |radii| radii[i]);
+                scratch.cut_by(solids, &positions[i], r_i);
+                if !scratch.cuts.is_empty() {
+                    return if radii.is_none() {
+                        scratch.is_boundary_in::<true>(depth)
+                    } else {
+                        scratch.is_boundary_in::<false>(depth)
+                    };
+                }
             }
             // Monomorphised twice: at a uniform radius every ball is (1, IMAGE_ERROR), as
             // constants, so that path costs what it did before per-particle radii.
@@ -283,6 +339,8 @@ struct Scratch<const D: usize> {
     covered: Vec<bool>,
     /// The neighbour that covered the last covered box: tried first.
     last_cover: usize,
+    /// The solid half-spaces that reach the current particle's sphere ([`Cut`]).
+    cuts: Vec<Cut>,
 }
 
 impl<const D: usize> Default for Scratch<D> {
@@ -298,6 +356,7 @@ impl<const D: usize> Default for Scratch<D> {
             sums: Vec::new(),
             covered: Vec::new(),
             last_cover: usize::MAX,
+            cuts: Vec::new(),
         }
     }
 }
@@ -465,6 +524,85 @@ fn is_boundary_box<const D: usize>(lo: &Point<D>, size: f64) -> bool {
         && hi2 > 1.0 - 8.0 * f64::EPSILON * max(hi2, 1.0)
 }
 
+/// A solid half-space in the frame of particle `i` (scaled by `1/r_i`): on axis `axis`, the
+/// solid is `x <= h` (`below`) or `x >= h` for the exact `h = (c − p_i)/r_i`, and `t` is a
+/// float on the fluid side of `h` or on it: `t <= h` below, `t >= h` above (crate docs,
+/// "Solid regions"). The fluid part of a box, `x > h` (`x < h`), lies in the box clipped to
+/// `x >= t` (`x <= t`), and a box with `hi <= t` (`lo >= t`) lies in the solid.
+#[derive(Debug, Clone, Copy)]
+struct Cut {
+    axis: usize,
+    below: bool,
+    t: f64,
+}
+
+/// The relative rounding `t` is moved by, away from the solid: `h` is `fl(fl(c − p)/r)`, at
+/// most `2u` relative from the exact quotient, and `t = fl(h ∓ slack)` rounds once more;
+/// `4ε = 8u` relative, plus the smallest normal number against underflow, covers both.
+const CUT_SLACK: f64 = 4.0 * f64::EPSILON;
+
+/// The fluid part of the box `[lo, lo + size]^D` clipped by every cut: `None` if it is empty
+/// (the box lies in the solids), else the bounds `(lo, hi)` of a box holding it.
+#[inline]
+fn clip<const D: usize>(lo: &Point<D>, size: f64, cuts: &[Cut]) -> Option<(Point<D>, Point<D>)> {
+    let mut lo = *lo;
+    let mut hi = lo.map(|x| x + size);
+    for c in cuts {
+        if c.below {
+            lo[c.axis] = max(lo[c.axis], c.t);
+        } else {
+            hi[c.axis] = min(hi[c.axis], c.t);
+        }
+    }
+    // Checked once every cut is applied: two cuts on one axis may leave nothing between them.
+    let empty = cuts.iter().any(|c| {
+        if c.below {
+            hi[c.axis] <= c.t
+        } else {
+            lo[c.axis] >= c.t
+        }
+    });
+    if empty {
+        None
+    } else {
+        Some((lo, hi))
+    }
+}
+
+/// [`image`] over the box `[lo, hi]` (a clipped box: its bounds are floats in `[-1, 1]`, so
+/// the rounding bound of [`image`] holds unchanged).
+#[inline]
+fn image_between<const D: usize>(
+    lo: &Point<D>,
+    hi: &Point<D>,
+    c: &Point<D>,
+    s2: f64,
+) -> (f64, f64) {
+    let (mut min, mut max) = (-s2, -s2);
+    for a in 0..D {
+        let (s_min, s_max) = square(lo[a], hi[a], c[a]);
+        min += s_min;
+        max += s_max;
+    }
+    (min, max)
+}
+
+/// [`is_boundary_box`] for the box `[lo, hi]`, any box in `[-1, 1]^D`: the exact image of
+/// `|x|²` over a box is the sum of the per-axis images, and a box meets `S_i` iff it contains 1.
+/// The squares of clipped bounds round (relative `u` each) where dyadic corners did not; the
+/// same slack of `16u` still covers the sum.
+#[inline]
+fn meets_sphere<const D: usize>(lo: &Point<D>, hi: &Point<D>) -> bool {
+    let (mut lo2, mut hi2) = (0.0, 0.0);
+    for a in 0..D {
+        let (s_min, s_max) = square(lo[a], hi[a], 0.0);
+        lo2 += s_min;
+        hi2 += s_max;
+    }
+    lo2 <= 1.0 + 8.0 * f64::EPSILON * max(lo2, 1.0)
+        && hi2 > 1.0 - 8.0 * f64::EPSILON * max(hi2, 1.0)
+}
+
 impl<const D: usize> Scratch<D> {
     /// Scaled neighbour centres of particle `i`, duplicates of `p_i` skipped. Not sorted: the
     /// depth-1 boxes test every neighbour, and their children get the partial ones sorted by
@@ -619,6 +757,88 @@ impl<const D: usize> Scratch<D> {
             let lo = Point::<D>::from_fn(|a, _| if o >> a & 1 == 1 { 0.0 } else { -1.0 });
             let len = self.candidates.len() - start;
             self.push_children(&lo, 1.0, 1, start, len);
+        }
+        false
+    }
+
+    /// The cuts of the solids that reach the sphere of the particle at `p` of radius `r_i`.
+    /// A half-space whose bound lies beyond the unit ball on the fluid side (`t <= -1` below)
+    /// meets no box's fluid part and is left out; if none is left, the particle takes the path
+    /// without solids.
+    fn cut_by(&mut self, solids: &Solids, p: &Point<D>, r_i: f64) {
+        self.cuts.clear();
+        for h in solids.half_spaces() {
+            let axis = h.axis();
+            let q = (h.value() - p[axis]) / r_i;
+            let slack = CUT_SLACK * q.abs() + f64::MIN_POSITIVE;
+            // An infinite quotient (a bound far beyond f64 range in units of r_i) stays as it
+            // is: its side is exact.
+            let below = h.solid_below();
+            let t = match (q.is_finite(), below) {
+                (false, _) => q,
+                (true, true) => q - slack,
+                (true, false) => q + slack,
+            };
+            let reaches = if below { t > -1.0 } else { t < 1.0 };
+            if reaches {
+                self.cuts.push(Cut { axis, below, t });
+            }
+        }
+    }
+
+    /// [`Self::is_boundary`] with the solids of [`Self::cut_by`] covering too: every box is
+    /// first clipped to its fluid part ([`clip`]); a box with none is covered by the solids
+    /// (R2), the others are labelled as their clipped box against the balls. The first level
+    /// is labelled box by box, and a particle without neighbours may be interior (its sphere in
+    /// the solids).
+    fn is_boundary_in<const UNIFORM: bool>(&mut self, max_depth: u32) -> bool {
+        self.candidates.clear();
+        self.stack.clear();
+        let n = u32::try_from(self.centres.len()).expect("fewer than 2^32 neighbours");
+        self.candidates.extend(0..n);
+        // Algorithm 2: the 2^D children of the bounding box [-1, 1]^D.
+        self.push_children(&Point::<D>::from_element(-1.0), 2.0, 0, 0, n as usize);
+        while let Some(q) = self.stack.pop() {
+            let Some((lo, hi)) = clip(&q.lo, q.size, &self.cuts) else {
+                continue; // R2, by the solids
+            };
+            if !meets_sphere(&lo, &hi) {
+                continue;
+            }
+            if let Some(c) = self.centres.get(self.last_cover) {
+                let (s2, error) = self.ball::<UNIFORM>(self.last_cover);
+                if classify(image_between(&lo, &hi, c, s2), error) == Relation::Inside {
+                    continue; // R2
+                }
+            }
+            let list_start = self.candidates.len();
+            let mut covered = false;
+            self.keyed.clear();
+            for k in q.start..q.start + q.len {
+                let j = self.candidates[k];
+                let (s2, error) = self.ball::<UNIFORM>(j as usize);
+                let f = image_between(&lo, &hi, &self.centres[j as usize], s2);
+                match classify(f, error) {
+                    Relation::Inside => {
+                        covered = true;
+                        self.last_cover = j as usize;
+                        break;
+                    }
+                    Relation::Straddles => self.keyed.push(sort_key(f.1, j)),
+                    Relation::Outside => {}
+                }
+            }
+            if covered {
+                continue; // R2
+            }
+            if self.keyed.is_empty() || q.depth >= max_depth {
+                // R1 (the clipped box, which meets S_i, misses every ball) or R4.
+                return true;
+            }
+            // R3: the children of the whole box, each clipped in turn.
+            extend_nearest_first(&mut self.candidates, &self.keyed);
+            let partial = self.candidates.len() - list_start;
+            self.push_children(&q.lo, q.size, q.depth, list_start, partial);
         }
         false
     }

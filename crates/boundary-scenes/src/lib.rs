@@ -21,6 +21,7 @@ mod generate;
 mod manifest;
 pub mod mesh;
 mod shared;
+pub mod solids;
 
 pub use generate::{
     all_scenes, enright, enright_sphere, fill, jittered_lattice_ball, jittered_lattice_disc, rk4,
