@@ -1,0 +1,194 @@
+//! What walls and solids cost: `cargo run --release -p boundary-exact --example walls_cost
+//! [N] [THREADS]`. A jittered block of about `N` particles (spacing 1, jitter ±0.15,
+//! r = 1.2) resting in an open tank, timed four ways on the same pool: the fluid alone, the
+//! fluid with three layers of wall particles (`Domain::with_walls`), the union of fluid and
+//! walls classified whole (what the walls must not exceed), and the tank as five solid
+//! half-spaces. Then the shared DualSPHysics 3D dam break with its wall file at r = 0.03
+//! (skipped with a note when the data folder is missing). Each variant runs twice,
+//! alternating, and its faster run is reported.
+#![allow(clippy::unwrap_used)] // a measuring tool: failing loudly is fine
+use boundary_core::{
+    AnyParticleSet, BoundaryDetector, Domain, HalfSpace, ParticleSet, Point, Radius,
+};
+use boundary_exact::ExactDetector;
+use boundary_scenes::shared_set;
+use std::time::Instant;
+
+/// A deterministic jitter in `[-0.5, 0.5)`.
+fn jitter(state: &mut u64) -> f64 {
+    *state = state
+        .wrapping_mul(6_364_136_223_846_793_005)
+        .wrapping_add(1_442_695_040_888_963_407);
+    (*state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+}
+
+/// The block (side `side`, `height` layers, lowest at y = 0) and its tank: three layers of
+/// wall particles under the floor and outside the four sides, up to two layers above the
+/// fluid.
+fn block_in_tank(side: usize, height: usize) -> (ParticleSet<3>, ParticleSet<3>) {
+    let mut state = 7;
+    let mut fluid = Vec::new();
+    for x in 0..side {
+        for y in 0..height {
+            for z in 0..side {
+                let p = [x as f64, y as f64, z as f64].map(|c| c + 0.3 * jitter(&mut state));
+                fluid.push(Point::<3>::from(p));
+            }
+        }
+    }
+    let mut walls = Vec::new();
+    let (lo, hi) = (-3i64, side as i64 + 2);
+    for x in lo..=hi {
+        for y in lo..(height as i64 + 2) {
+            for z in lo..=hi {
+                let inside =
+                    (0..side as i64).contains(&x) && (0..side as i64).contains(&z) && y >= 0;
+                if !inside {
+                    walls.push(Point::<3>::new(x as f64, y as f64, z as f64));
+                }
+            }
+        }
+    }
+    (
+        ParticleSet::new(fluid).unwrap(),
+        ParticleSet::new(walls).unwrap(),
+    )
+}
+
+fn union(a: &ParticleSet<3>, b: &ParticleSet<3>) -> AnyParticleSet {
+    let mut all = a.positions().to_vec();
+    all.extend(b.positions());
+    ParticleSet::new(all).unwrap().into()
+}
+
+/// Times each variant twice, alternating; prints the faster run and the boundary count.
+fn compare(pool: &rayon::ThreadPool, variants: &[(&str, &dyn Fn() -> usize)]) {
+    let mut best = vec![f64::INFINITY; variants.len()];
+    let mut counts = vec![0; variants.len()];
+    for _ in 0..2 {
+        for (k, (_, run)) in variants.iter().enumerate() {
+            let t = Instant::now();
+            counts[k] = pool.install(|| run());
+            best[k] = best[k].min(t.elapsed().as_secs_f64());
+        }
+    }
+    for (k, (name, _)) in variants.iter().enumerate() {
+        println!(
+            "  {name:<34} {:>8.3} s  {:>8} boundary (fluid)",
+            best[k], counts[k]
+        );
+    }
+}
+
+fn main() {
+    let n: usize = std::env::args()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1_000_000);
+    let threads: usize = std::env::args()
+        .nth(2)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    let side = ((n as f64 / 2.0).cbrt().round() as usize).max(2);
+    let (fluid, walls) = block_in_tank(side, 2 * side);
+    let r = Radius::new(1.2).unwrap();
+    let fluid_any = AnyParticleSet::from(fluid.clone());
+    let all = union(&fluid, &walls);
+    let with_walls = Domain::new().with_walls(walls.clone().into());
+    let edge = side as f64 - 0.5;
+    let tank = ["y<-0.5", "x<-0.5", "z<-0.5"]
+        .iter()
+        .map(|s| HalfSpace::parse(s).unwrap())
+        .chain([
+            HalfSpace::new(0, false, edge).unwrap(),
+            HalfSpace::new(2, false, edge).unwrap(),
+        ])
+        .fold(Domain::new(), |d, h| d.with_solid(h));
+    println!(
+        "block of {} particles in a tank of {} wall particles, r = 1.2, {threads} thread(s):",
+        fluid.len(),
+        walls.len()
+    );
+    let count = |d: &boundary_core::Detection| {
+        d.labels.as_slice()[..fluid.len()]
+            .iter()
+            .filter(|&&b| b)
+            .count()
+    };
+    compare(
+        &pool,
+        &[
+            ("fluid alone", &|| {
+                ExactDetector
+                    .detect(&fluid_any, r)
+                    .unwrap()
+                    .labels
+                    .boundary_count()
+            }),
+            ("fluid with walls (detect_in)", &|| {
+                ExactDetector
+                    .detect_in(&fluid_any, &with_walls, r)
+                    .unwrap()
+                    .detection
+                    .labels
+                    .boundary_count()
+            }),
+            ("union of fluid and walls (detect)", &|| {
+                count(&ExactDetector.detect(&all, r).unwrap())
+            }),
+            ("fluid in five half-spaces", &|| {
+                ExactDetector
+                    .detect_in(&fluid_any, &tank, r)
+                    .unwrap()
+                    .detection
+                    .labels
+                    .boundary_count()
+            }),
+        ],
+    );
+
+    let data = (
+        shared_set::<3>("walls/dualsphysics_dambreak3d_dp0.02_fluid.csv"),
+        shared_set::<3>("walls/dualsphysics_dambreak3d_dp0.02_walls.csv"),
+    );
+    let (Ok(Some(fluid)), Ok(Some(walls))) = data else {
+        println!("shared DualSPHysics dam break: data folder missing, skipped");
+        return;
+    };
+    let r = Radius::new(0.03).unwrap();
+    let fluid_any = AnyParticleSet::from(fluid.clone());
+    let all = union(&fluid, &walls);
+    let with_walls = Domain::new().with_walls(walls.clone().into());
+    println!(
+        "DualSPHysics 3D dam break: {} fluid, {} wall particles, r = 0.03:",
+        fluid.len(),
+        walls.len()
+    );
+    compare(
+        &pool,
+        &[
+            ("fluid alone", &|| {
+                ExactDetector
+                    .detect(&fluid_any, r)
+                    .unwrap()
+                    .labels
+                    .boundary_count()
+            }),
+            ("fluid with walls (detect_in)", &|| {
+                ExactDetector
+                    .detect_in(&fluid_any, &with_walls, r)
+                    .unwrap()
+                    .detection
+                    .labels
+                    .boundary_count()
+            }),
+            ("union of fluid and walls (detect)", &|| {
+                count(&ExactDetector.detect(&all, r).unwrap())
+            }),
+        ],
+    );
+}
