@@ -13,7 +13,7 @@
 //! widest gap if there is one, else minus half the narrowest overlap.
 
 use crate::{Cap, SphereCover, U};
-use boundary_core::{Point, Radius};
+use boundary_core::{HalfSpace, Point, Radius};
 use std::f64::consts::{PI, TAU};
 
 /// The 2D covering test; holds the arcs of the current particle.
@@ -41,6 +41,17 @@ impl SphereCover<2> for Arcs {
     fn set_slack(&mut self, slack: f64) {
         self.slack = slack;
     }
+
+    fn exact_in(
+        centre: &Point<2>,
+        r: f64,
+        others: &[(Point<2>, f64)],
+        solids: &[HalfSpace],
+    ) -> bool {
+        boundary_exact::sphere_uncovered_in_2d(centre, r, others, solids)
+    }
+
+    const MARGIN: bool = true;
 
     fn classify(&mut self, caps: &[Cap<2>], tol: f64) -> (Option<bool>, Option<f64>) {
         self.arcs.clear();

@@ -12,7 +12,7 @@
 //! the circles do not meet (the caps are disjoint or nested).
 
 use crate::{Cap, SphereCover, TANGENT_TOLERANCE, U};
-use boundary_core::{Point, Radius};
+use boundary_core::{HalfSpace, Point, Radius};
 
 /// Size of the first subset of caps tried (the largest ones); it doubles until the question is
 /// settled. A jittered cubic lattice is covered by its 6 to 14 largest caps.
@@ -209,6 +209,17 @@ impl SphereCover<3> for Caps {
     fn set_slack(&mut self, slack: f64) {
         self.slack = slack;
     }
+
+    fn exact_in(
+        centre: &Point<3>,
+        r: f64,
+        others: &[(Point<3>, f64)],
+        solids: &[HalfSpace],
+    ) -> bool {
+        boundary_exact::sphere_uncovered_in_3d(centre, r, others, solids)
+    }
+
+    const MARGIN: bool = false;
 
     fn classify(&mut self, caps: &[Cap<3>], tol: f64) -> (Option<bool>, Option<f64>) {
         let strict = tol == 0.0;

@@ -126,6 +126,31 @@
 //! `crates/boundary/tests/radii.rs` (labels equal `exact`'s on two-level sets with radius
 //! ratios 2, 4 and 100, which a sampled oracle with a Lipschitz bound confirms).
 //!
+//! # Solid half-spaces
+//! In a [`boundary_core::Domain`] with solid half-spaces (closed, axis-aligned), particle `i`
+//! is interior iff every point of `S_i` outside the solids is covered by the other balls (see
+//! [`boundary_core::domain`]); [`BoundaryDetector::detect_in`] and `detect_owned_in` take
+//! them. A solid covers a closed cap of the unit sphere, in units of `r_i`: for the solid
+//! `x_a <= c` the cap `x·(−e_a) >= δ` with `δ = (p_a − c)/r_i`, the particle's fluid depth (for
+//! `x_a >= c`, `x·e_a >= δ` with `δ = (c − p_a)/r_i`), the same form as a neighbour's cap
+//! `x·u_j >= h_j` above, and it joins the arc sweep (2D) or the cap test (3D) with them:
+//! - a solid with `δ > 1` (beyond its rounding) misses `S_i` and is left out; one with
+//!   `δ < −1` (by `1e-12` relative) holds all of `S_i`: interior at once (2D margin `−π·r_i`);
+//! - a solid with `δ <= 1e-3` covers a hemisphere or more (a particle on or inside the solid,
+//!   or about to touch it): the particle goes to `exact`'s decision with the solids
+//!   ([`boundary_exact::sphere_uncovered_in_2d`] and `_3d`, whose exact predicate takes the
+//!   solid planes as exact differences), as do the particles the float test leaves undecided;
+//! - the bound: a solid cap's direction `±e_a` is exact and its offset `δ = fl(fl(p_a − c)/r_i)`
+//!   is rounded twice (`2u` relative); every bound of the float test widens by `4u` as for
+//!   per-particle radii (`slack`), which holds that error with room.
+//!
+//! Two solids of the same direction count as the deeper one. Only particles whose ball reaches
+//! a solid (fluid depth at most `r_i`, `1e-9` relative slack) take this path; the others are
+//! classified exactly as without solids. Per-particle radii work as above, and with
+//! `tie > 0` a solid cap gets the same tolerance as the neighbours' caps. Tested against
+//! brute-force enumeration in exact rationals, near-ties included, and against `exact`
+//! (`tests/domain.rs`).
+//!
 //! # Policy: tolerances, ties, duplicates, degenerate input
 //! - **Ties.** A tie (a point of `S_i` at exactly `r` from the neighbours whose circles pass
 //!   through it) is interior, decided exactly. Perfect lattices at the float tie radius:
@@ -200,10 +225,11 @@ mod arcs;
 mod caps;
 
 use boundary_core::{
-    AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, NeighbourGrid, ParamError,
-    ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid,
+    AnyParticleSet, BoundaryDetector, DetectError, Detection, HalfSpace, Labels, NeighbourGrid,
+    ParamError, ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid, Solids,
 };
 use rayon::prelude::*;
+use std::f64::consts::PI;
 
 /// The covering tolerance of release 0.1, now the opt-in parameter `tie`: with
 /// `--set tie=1e-12` a point of `S_i` counts as covered by neighbour `j` iff
@@ -325,6 +351,30 @@ impl BoundaryDetector for DiltsDetector {
         Ok(detect_with::<3, caps::Caps>(set, set.len(), r, self.tie)?.0)
     }
 
+    /// Classifies the owned particles with the solids covering too (crate docs, "Solid
+    /// half-spaces"); exact with the default `tie = 0`.
+    fn detect_owned_in(
+        &self,
+        set: &AnyParticleSet,
+        owned: usize,
+        solids: &Solids,
+        r: Radius,
+    ) -> Result<Detection, DetectError> {
+        if solids.is_empty() {
+            return self.detect_owned(set, owned, r);
+        }
+        DetectError::check_owned("dilts", owned, set.len())?;
+        let half_spaces = solids.half_spaces();
+        Ok(match set {
+            AnyParticleSet::D2(s) => {
+                detect_in_solids::<2, arcs::Arcs>(s, owned, r, self.tie, half_spaces)?.0
+            }
+            AnyParticleSet::D3(s) => {
+                detect_in_solids::<3, caps::Caps>(s, owned, r, self.tie, half_spaces)?.0
+            }
+        })
+    }
+
     /// Classifies only the owned particles; the ghosts serve as neighbours only.
     fn detect_owned(
         &self,
@@ -346,7 +396,9 @@ impl BoundaryDetector for DiltsDetector {
 pub(crate) struct Cap<const D: usize> {
     /// `u_j = q_j / |q_j|`.
     pub u: Point<D>,
-    /// `d_j / 2 = cos α_j`, in `(0, 1]`.
+    /// `cos α_j`, in `(0, 1]` for the caps the covering test decides: `d_j / 2` at a uniform
+    /// radius, `h_j` with per-particle radii, `δ` for a solid (crate docs). A solid's cap of a
+    /// hemisphere or more (`δ` in `[−1, 1e-3]`) enters the 2D sweep only for the margin.
     pub half_distance: f64,
 }
 
@@ -367,9 +419,22 @@ pub(crate) trait SphereCover<const D: usize>: Default + Send {
     /// ([`boundary_exact::sphere_uncovered_power_2d`] and `_3d`).
     fn exact_power(centre: &Point<D>, r: f64, others: &[(Point<D>, f64)]) -> bool;
 
+    /// The exact label with a radius per ball and the closed solid half-spaces `solids`
+    /// covering too: `exact`'s certified decision ([`boundary_exact::sphere_uncovered_in_2d`]
+    /// and `_3d`).
+    fn exact_in(
+        centre: &Point<D>,
+        r: f64,
+        others: &[(Point<D>, f64)],
+        solids: &[HalfSpace],
+    ) -> bool;
+
     /// Sets the extra absolute error of every cap's `cos α` for the next [`Self::classify`]
-    /// calls (0 at a uniform radius; per-particle radii, crate docs).
+    /// calls (0 at a uniform radius; per-particle radii and solids, crate docs).
     fn set_slack(&mut self, slack: f64);
+
+    /// Whether [`Self::classify`] reports a margin.
+    const MARGIN: bool;
 }
 
 /// Per-thread working memory.
@@ -524,73 +589,18 @@ fn detect_radii<const D: usize, C: SphereCover<D>>(
         .map_init(Scratch::<D, C>::default, |scratch, i| {
             let r = radii[i];
             let p = positions[i];
-            let near = &mut scratch.neighbours;
-            near.clear();
-            grid.for_each_reaching(&p, r, |j, d2| {
-                // d2 == 0: `i` itself or an exact duplicate, which does not cover S_i.
-                if d2 > 0.0 {
-                    near.push((d2, j));
-                }
-            });
-            near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let found = gather_power_caps(positions, radii, &grid, i, scratch);
             let exact = |near: &[(f64, usize)]| {
-                let others: Vec<(Point<D>, f64)> = near
-                    .iter()
-                    .map(|&(_, j)| (positions[j], radii[j]))
-                    .collect();
-                C::exact_power(&p, r, &others)
+                C::exact_power(&p, r, &power_others(positions, radii, near))
             };
-            // The cap of j on S_i (units of r): x·u >= h = (d² + 1 − s²)/(2d), s = r_j/r.
-            // With s == 1 exactly, h = d/2 as at a uniform radius, with no extra error.
-            let caps = &mut scratch.caps;
-            caps.clear();
-            let mut slack = 0.0f64;
-            let mut general = false;
-            let mut twins = false;
-            let mut last: Option<(Point<D>, f64)> = None;
-            for &(_, j) in near.iter() {
-                let q = (positions[j] - p) / r;
-                let d = q.norm();
-                let s = radii[j] / r;
-                if last == Some((q, s)) {
-                    // An exact copy of the previous neighbour (position and radius) adds nothing.
-                    continue;
-                }
-                if last.is_some_and(|(ql, _)| (q - ql).norm() <= TWIN_TOLERANCE) {
-                    twins = true;
-                }
-                last = Some((q, s));
-                let h = 0.5 * d + 0.5 * ((1.0 - s * s) / d);
-                let err = if s == 1.0 {
-                    0.0
-                } else {
-                    8.0 * U * (d + (1.0 + s * s) / d)
-                };
-                if h - err > 1.0 {
-                    // The ball misses S_i (or touches it at one point): it covers nothing of
-                    // the open uncovered set.
-                    continue;
-                }
-                if !(h > RHO_MIN && h.is_finite()) {
-                    general = true;
-                    break;
-                }
-                slack = slack.max(err);
-                caps.push(Cap {
-                    u: q / d,
-                    half_distance: h.min(1.0),
-                });
+            if found.general || (found.twins && tie == 0.0) {
+                return (exact(&scratch.neighbours), None, true);
             }
-            if general || (twins && tie == 0.0) {
-                return (exact(near), None, true);
-            }
-            // Largest caps first, as at a uniform radius.
-            caps.sort_unstable_by(|a, b| a.half_distance.total_cmp(&b.half_distance));
-            scratch.cover.set_slack(slack);
-            let (label, margin) = scratch.cover.classify(caps, tie);
+            scratch.cover.set_slack(found.slack);
+            let (label, margin) = scratch.cover.classify(&scratch.caps, tie);
             match label {
                 Some(b) => (b, margin.map(|m| m * r), false),
-                None => (exact(near), margin.map(|m| m * r), true),
+                None => (exact(&scratch.neighbours), margin.map(|m| m * r), true),
             }
         })
         .collect();
@@ -598,4 +608,363 @@ fn detect_radii<const D: usize, C: SphereCover<D>>(
     let labels = results.iter().map(|x| x.0).collect::<Labels>();
     let margin = results.iter().map(|x| x.1).collect::<Option<Vec<f64>>>();
     Ok((Detection { labels, margin }, fallbacks))
+}
+
+/// What [`gather_power_caps`] found besides the caps.
+struct PowerCaps {
+    /// A cap of a hemisphere or more (or a non-finite one): the particle goes to `exact`'s
+    /// decision, and the caps gathered so far are incomplete.
+    general: bool,
+    /// Distinct neighbours closer than [`TWIN_TOLERANCE`] to each other.
+    twins: bool,
+    /// The extra absolute error of the caps' `cos α` (the largest over the caps).
+    slack: f64,
+}
+
+/// Fills `scratch.neighbours` with the neighbours of particle `i` whose balls reach its sphere
+/// (nearest first, exact duplicates of `p_i` left out) and `scratch.caps` with their caps on
+/// `S_i`, in units of `r_i` (crate docs, "A radius per particle"), largest first, unless a cap
+/// is general.
+fn gather_power_caps<const D: usize, C>(
+    positions: &[Point<D>],
+    radii: &[f64],
+    grid: &RadiusGrid<D>,
+    i: usize,
+    scratch: &mut Scratch<D, C>,
+) -> PowerCaps {
+    let r = radii[i];
+    let p = positions[i];
+    let near = &mut scratch.neighbours;
+    near.clear();
+    grid.for_each_reaching(&p, r, |j, d2| {
+        // d2 == 0: `i` itself or an exact duplicate, which does not cover S_i.
+        if d2 > 0.0 {
+            near.push((d2, j));
+        }
+    });
+    near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    // The cap of j on S_i (units of r): x·u >= h = (d² + 1 − s²)/(2d), s = r_j/r.
+    // With s == 1 exactly, h = d/2 as at a uniform radius, with no extra error.
+    let caps = &mut scratch.caps;
+    caps.clear();
+    let mut found = PowerCaps {
+        general: false,
+        twins: false,
+        slack: 0.0,
+    };
+    let mut last: Option<(Point<D>, f64)> = None;
+    for &(_, j) in near.iter() {
+        let q = (positions[j] - p) / r;
+        let d = q.norm();
+        let s = radii[j] / r;
+        if last == Some((q, s)) {
+            // An exact copy of the previous neighbour (position and radius) adds nothing.
+            continue;
+        }
+        if last.is_some_and(|(ql, _)| (q - ql).norm() <= TWIN_TOLERANCE) {
+            found.twins = true;
+        }
+        last = Some((q, s));
+        let h = 0.5 * d + 0.5 * ((1.0 - s * s) / d);
+        let err = if s == 1.0 {
+            0.0
+        } else {
+            8.0 * U * (d + (1.0 + s * s) / d)
+        };
+        if h - err > 1.0 {
+            // The ball misses S_i (or touches it at one point): it covers nothing of
+            // the open uncovered set.
+            continue;
+        }
+        if !(h > RHO_MIN && h.is_finite()) {
+            found.general = true;
+            return found;
+        }
+        found.slack = found.slack.max(err);
+        caps.push(Cap {
+            u: q / d,
+            half_distance: h.min(1.0),
+        });
+    }
+    // Largest caps first, as at a uniform radius.
+    caps.sort_unstable_by(|a, b| a.half_distance.total_cmp(&b.half_distance));
+    found
+}
+
+/// The balls `(centre, radius)` of the neighbours `near` (as [`gather_power_caps`] lists them),
+/// for `exact`'s decision.
+fn power_others<const D: usize>(
+    positions: &[Point<D>],
+    radii: &[f64],
+    near: &[(f64, usize)],
+) -> Vec<(Point<D>, f64)> {
+    near.iter()
+        .map(|&(_, j)| (positions[j], radii[j]))
+        .collect()
+}
+
+/// A solid holding all of `S_i` (fluid depth below `−r_i` by this relative slack, wider than
+/// the two roundings of `δ`) makes the particle interior at once.
+const HELD_SLACK: f64 = 1e-12;
+
+/// A particle whose fluid depth below some solid is at most `r_i` by this relative slack
+/// (wider than the rounding of the depth) may see the solid: it takes [`classify_near`].
+const REACH_SLACK: f64 = 1e-9;
+
+/// The absolute error of a solid cap's offset `δ = fl(fl(p_a − c)/r_i)` (two roundings, `2u`
+/// relative, for `|δ| <= 1 + 4u`), with room to spare.
+const SOLID_ERR: f64 = 4.0 * U;
+
+/// [`detect_with`] with the closed solid half-spaces `solids` covering too (crate docs, "Solid
+/// half-spaces"). The particles whose closed ball stays clear of every solid are classified by
+/// [`detect_with`] (on a reordered copy of the set, when some particles are near a solid); the
+/// others by [`classify_near`]. Also returns how many the exact predicate decided.
+fn detect_in_solids<const D: usize, C: SphereCover<D>>(
+    set: &ParticleSet<D>,
+    count: usize,
+    r: Radius,
+    tie: f64,
+    solids: &[HalfSpace],
+) -> Result<(Detection, usize), DetectError> {
+    if let Some(h) = solids.iter().find(|h| h.axis() >= D) {
+        return Err(DetectError::Method {
+            method: "dilts",
+            message: format!("solid '{h}' has no axis in a {D}D set"),
+        });
+    }
+    let radii = set.resolved_radii(r)?;
+    let positions = set.positions();
+    let radius = |i: usize| radii.as_ref().map_or(r.get(), |v| v[i]);
+    let reaches = |i: usize| {
+        solids
+            .iter()
+            .any(|h| h.fluid_depth(positions[i].as_slice()) <= radius(i) * (1.0 + REACH_SLACK))
+    };
+    let (near, far): (Vec<usize>, Vec<usize>) = (0..count).partition(|&i| reaches(i));
+    if near.is_empty() {
+        return detect_with::<D, C>(set, count, r, tie);
+    }
+    let mut boundary = vec![false; count];
+    let mut margin = C::MARGIN.then(|| vec![0.0; count]);
+    let mut fallbacks = 0;
+    if !far.is_empty() {
+        // The particles clear of the solids first, then all the others as neighbours.
+        let mut order = far.clone();
+        order.extend(&near);
+        order.extend(count..set.len());
+        let (far_detection, far_fallbacks) =
+            detect_with::<D, C>(&set.subset(&order), far.len(), r, tie)?;
+        fallbacks += far_fallbacks;
+        for (slot, &i) in far.iter().enumerate() {
+            boundary[i] = far_detection.labels.is_boundary(slot);
+        }
+        match (margin.as_mut(), far_detection.margin) {
+            (Some(all), Some(m)) => far.iter().zip(m).for_each(|(&i, m)| all[i] = m),
+            _ => margin = None,
+        }
+    }
+    let near_results = classify_near::<D, C>(set, &near, r, radii.as_deref(), tie, solids)?;
+    for (&i, (label, m, exact)) in near.iter().zip(near_results) {
+        boundary[i] = label;
+        fallbacks += usize::from(exact);
+        match (margin.as_mut(), m) {
+            (Some(all), Some(m)) => all[i] = m,
+            _ => margin = None,
+        }
+    }
+    Ok((
+        Detection {
+            labels: Labels::new(boundary),
+            margin,
+        },
+        fallbacks,
+    ))
+}
+
+/// `(label, margin, decided by the exact predicate)` of the particles `indices` of `set`, each
+/// near a solid: the caps of its neighbours as on the usual path (uniform radius `r`, or the
+/// radii `radii`), plus one cap per solid that reaches its sphere (crate docs, "Solid
+/// half-spaces").
+fn classify_near<const D: usize, C: SphereCover<D>>(
+    set: &ParticleSet<D>,
+    indices: &[usize],
+    r: Radius,
+    radii: Option<&[f64]>,
+    tie: f64,
+    solids: &[HalfSpace],
+) -> Result<Vec<(bool, Option<f64>, bool)>, DetectError> {
+    enum Grid<'a, const D: usize> {
+        Uniform(NeighbourGrid<D>),
+        Radii(RadiusGrid<D>, &'a [f64]),
+    }
+    let grid = match radii {
+        None => Grid::Uniform(NeighbourGrid::new(set, 2.0 * r.get())?),
+        Some(radii) => Grid::Radii(RadiusGrid::new(set, radii)?, radii),
+    };
+    let positions = set.positions();
+    Ok(indices
+        .par_iter()
+        .map_init(Scratch::<D, C>::default, |scratch, &i| {
+            let p = positions[i];
+            // The neighbours' caps, largest first, exactly as on the usual path.
+            let (r_i, found) = match &grid {
+                Grid::Uniform(grid) => {
+                    let twins = gather_caps(positions, grid, i, r.get(), scratch);
+                    let found = PowerCaps {
+                        general: false,
+                        twins,
+                        slack: 0.0,
+                    };
+                    (r.get(), found)
+                }
+                Grid::Radii(grid, radii) => (
+                    radii[i],
+                    gather_power_caps(positions, radii, grid, i, scratch),
+                ),
+            };
+            let exact = |near: &[(f64, usize)]| {
+                let others: Vec<(Point<D>, f64)> = near
+                    .iter()
+                    .map(|&(_, j)| {
+                        let r_j = match &grid {
+                            Grid::Uniform(_) => r.get(),
+                            Grid::Radii(_, radii) => radii[j],
+                        };
+                        (positions[j], r_j)
+                    })
+                    .collect();
+                C::exact_in(&p, r_i, &others, solids)
+            };
+            // The solids' caps `x·u >= δ`: one per direction, the deepest solid of each.
+            let first = scratch.caps.len();
+            let mut general = found.general;
+            let mut slack = found.slack;
+            for h in solids {
+                let delta = h.fluid_depth(p.as_slice()) / r_i;
+                if delta < -(1.0 + HELD_SLACK) {
+                    // The solid holds the whole sphere: no point of it needs covering.
+                    return (false, C::MARGIN.then_some(-PI * r_i), false);
+                }
+                if delta - SOLID_ERR * delta.abs() > 1.0 {
+                    // The solid misses S_i (or touches it at one point).
+                    continue;
+                }
+                // A hemisphere or more (or a particle on or inside the solid): exact decides.
+                general |= delta <= RHO_MIN;
+                slack = slack.max(SOLID_ERR);
+                let sign = if h.solid_below() { -1.0 } else { 1.0 };
+                let u = Point::<D>::from_fn(|k, _| if k == h.axis() { sign } else { 0.0 });
+                let c = delta.clamp(-1.0, 1.0);
+                match scratch.caps[first..].iter_mut().find(|cap| cap.u == u) {
+                    Some(cap) => cap.half_distance = cap.half_distance.min(c),
+                    None => scratch.caps.push(Cap {
+                        u,
+                        half_distance: c,
+                    }),
+                }
+            }
+            if found.general {
+                // The neighbours' caps are incomplete: no float margin either.
+                return (exact(&scratch.neighbours), None, true);
+            }
+            if general && !C::MARGIN {
+                return (exact(&scratch.neighbours), None, true);
+            }
+            if scratch.caps.len() > first {
+                scratch
+                    .caps
+                    .sort_unstable_by(|a, b| a.half_distance.total_cmp(&b.half_distance));
+            }
+            scratch.cover.set_slack(slack);
+            let (label, margin) = scratch.cover.classify(&scratch.caps, tie);
+            let margin = margin.map(|m| m * r_i);
+            match label {
+                Some(b) if !(general || found.twins && tie == 0.0) => (b, margin, false),
+                _ => (exact(&scratch.neighbours), margin, true),
+            }
+        })
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A jittered 2D block of spacing 1 whose lowest row lies at height 0.5 (± 0.25).
+    fn block(nx: usize, ny: usize) -> ParticleSet<2> {
+        let mut state = 7u64;
+        let mut jitter = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            0.5 * ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5)
+        };
+        let rows: Vec<[f64; 2]> = (0..nx * ny)
+            .map(|k| [(k % nx) as f64 + jitter(), (k / nx) as f64 + 0.5 + jitter()])
+            .collect();
+        ParticleSet::from_rows(&rows).expect("finite rows")
+    }
+
+    #[test]
+    fn the_float_test_decides_the_layer_on_a_floor() {
+        let set = block(20, 8);
+        let r = Radius::new(0.8).expect("a radius");
+        let floor = [HalfSpace::new(1, true, -0.2).expect("a floor")];
+        let (with, fallbacks) =
+            detect_in_solids::<2, arcs::Arcs>(&set, set.len(), r, 0.0, &floor).expect("runs");
+        let (bare, _) = detect_with::<2, arcs::Arcs>(&set, set.len(), r, 0.0).expect("runs");
+        // The floor covers part of the lowest row (fewer boundary particles), and the solid
+        // caps are decided by the float sweep: no particle needs the exact predicate.
+        assert!(with.labels.boundary_count() < bare.labels.boundary_count());
+        assert_eq!(fallbacks, 0);
+        assert_eq!(with.margin.map(|m| m.len()), Some(set.len()));
+        // A floor through the lowest row: the particles within 1e-3·r of it or below it go
+        // to `exact`'s decision, the others stay with the float test.
+        let through = [HalfSpace::new(1, true, 0.5).expect("a floor")];
+        let (_, fallbacks) =
+            detect_in_solids::<2, arcs::Arcs>(&set, set.len(), r, 0.0, &through).expect("runs");
+        let general = set
+            .positions()
+            .iter()
+            .filter(|p| p.y - 0.5 <= 1e-3 * 0.8)
+            .count();
+        assert!(
+            general > 0 && fallbacks == general,
+            "{fallbacks} != {general}"
+        );
+    }
+
+    #[test]
+    fn the_float_test_decides_the_layer_in_a_3d_tank() {
+        let mut state = 3u64;
+        let mut jitter = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            0.5 * ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5)
+        };
+        let rows: Vec<[f64; 3]> = (0..8 * 6 * 8)
+            .map(|k| {
+                let (x, y, z) = (k % 8, (k / 8) % 6, k / 48);
+                [
+                    x as f64 + jitter(),
+                    y as f64 + 0.5 + jitter(),
+                    z as f64 + jitter(),
+                ]
+            })
+            .collect();
+        let set = ParticleSet::from_rows(&rows).expect("finite rows");
+        let r = Radius::new(0.95).expect("a radius");
+        let tank = [
+            HalfSpace::new(1, true, -0.2).expect("a floor"),
+            HalfSpace::new(0, true, -0.7).expect("a wall"),
+            HalfSpace::new(2, false, 7.7).expect("a wall"),
+        ];
+        let (with, fallbacks) =
+            detect_in_solids::<3, caps::Caps>(&set, set.len(), r, 0.0, &tank).expect("runs");
+        let (bare, _) = detect_with::<3, caps::Caps>(&set, set.len(), r, 0.0).expect("runs");
+        assert!(with.labels.boundary_count() < bare.labels.boundary_count());
+        assert!(with.margin.is_none());
+        assert_eq!(fallbacks, 0);
+    }
 }
