@@ -216,6 +216,46 @@ fn the_summary_line_counts_the_wall_particles() {
     );
 }
 
+/// The README's tank of half-spaces around the splashsurf dam-break frame: the floor's
+/// particles are covered, and `ia` and `ge` (certified) label every particle `exact` labels
+/// boundary.
+#[test]
+fn the_splashsurf_frame_in_its_tank_of_half_spaces() {
+    let Some(frame) = shared("particles3d/splashsurf_dam_break_frame_23_24389.csv") else {
+        return;
+    };
+    let tank = [
+        "--solid", "y<0", "--solid", "x<-1.55", "--solid", "x>1.55", "--solid", "z<-0.8",
+        "--solid", "z>0.8",
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    let mut labels = Vec::new();
+    for method in ["exact", "ia", "ge"] {
+        let out = dir.path().join(format!("{method}.csv"));
+        let mut args = vec!["detect", s(&frame), "--radius", "0.1", "--method", method];
+        args.extend(tank);
+        args.extend(["-o", s(&out)]);
+        let v = json(&args);
+        assert_eq!(v["n"].as_u64(), Some(24389), "{method}");
+        if method == "exact" {
+            assert_eq!(v["boundary"].as_u64(), Some(2592));
+        }
+        labels.push(column(&out, "boundary"));
+    }
+    let y = column(&dir.path().join("exact.csv"), "y");
+    let floor: Vec<usize> = (0..y.len()).filter(|&i| y[i] < 0.031_408_95 + 0.02).collect();
+    assert_eq!(floor.len(), 1710);
+    assert_eq!(floor.iter().filter(|&&i| labels[0][i] == 1.0).count(), 15);
+    for (k, method) in ["ia", "ge"].iter().enumerate() {
+        for i in 0..y.len() {
+            assert!(
+                labels[k + 1][i] == 1.0 || labels[0][i] == 0.0,
+                "{method}: particle {i} is a false negative"
+            );
+        }
+    }
+}
+
 /// A 2D tank: a jittered block of fluid 12 x 8 at spacing 1 on a floor and between two side
 /// walls of two layers each. Rows `[x, y, type]`, fluid (type 0) and walls (type 1: floor,
 /// 2: sides) interleaved in file order.

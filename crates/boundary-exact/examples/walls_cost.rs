@@ -62,7 +62,7 @@ fn union(a: &ParticleSet<3>, b: &ParticleSet<3>) -> AnyParticleSet {
 }
 
 /// Times each variant twice, alternating; prints the faster run and the boundary count.
-fn compare(pool: &rayon::ThreadPool, variants: &[(&str, &dyn Fn() -> usize)]) {
+fn compare(pool: &rayon::ThreadPool, variants: &[(&str, &(dyn Fn() -> usize + Sync))]) {
     let mut best = vec![f64::INFINITY; variants.len()];
     let mut counts = vec![0; variants.len()];
     for _ in 0..2 {
@@ -113,8 +113,8 @@ fn main() {
         fluid.len(),
         walls.len()
     );
-    let count = |d: &boundary_core::Detection| {
-        d.labels.as_slice()[..fluid.len()]
+    let count = |d: &boundary_core::Detection, n: usize| {
+        d.labels.as_slice()[..n]
             .iter()
             .filter(|&&b| b)
             .count()
@@ -138,7 +138,7 @@ fn main() {
                     .boundary_count()
             }),
             ("union of fluid and walls (detect)", &|| {
-                count(&ExactDetector.detect(&all, r).unwrap())
+                count(&ExactDetector.detect(&all, r).unwrap(), fluid.len())
             }),
             ("fluid in five half-spaces", &|| {
                 ExactDetector
@@ -187,7 +187,7 @@ fn main() {
                     .boundary_count()
             }),
             ("union of fluid and walls (detect)", &|| {
-                count(&ExactDetector.detect(&all, r).unwrap())
+                count(&ExactDetector.detect(&all, r).unwrap(), fluid.len())
             }),
         ],
     );
