@@ -216,7 +216,34 @@ pub enum DetectError {
     },
 }
 
+/// The option a refusal of solid meshes names ([`DetectError::check_no_solid_meshes`]).
+pub(crate) const SOLID_MESH_OPTION: &str = "solid meshes (--solid-mesh)";
+
+/// The reason of the default [`BoundaryDetector::solid_mesh_refusal`].
+const SOLID_MESH_REFUSAL: &str = "the method has no rule for a solid given as a triangle mesh \
+     covering part of a sphere; use exact, or give the solid as half-spaces (--solid) or as \
+     wall particles (--walls) where the method takes them";
+
 impl DetectError {
+    /// `Ok` when `solids` holds no mesh, else [`DetectError::UnsupportedOption`] naming the
+    /// option `solid meshes (--solid-mesh)` with `reason`: the first line of a
+    /// [`BoundaryDetector::detect_owned_in`] that honours half-spaces but not meshes.
+    pub fn check_no_solid_meshes(
+        method: &'static str,
+        solids: &Solids,
+        reason: &'static str,
+    ) -> Result<(), Self> {
+        if solids.meshes().is_empty() {
+            Ok(())
+        } else {
+            Err(DetectError::UnsupportedOption {
+                method,
+                option: SOLID_MESH_OPTION,
+                reason,
+            })
+        }
+    }
+
     /// `Ok` for a set without per-particle radii (`radii` is the set's
     /// [`ParticleSet::radii`] or [`AnyParticleSet::radii`]), else
     /// [`DetectError::PerParticleRadii`]: what a method that supports only a uniform radius
@@ -307,8 +334,10 @@ pub trait BoundaryDetector: Send + Sync + fmt::Debug {
     /// Classifies the first `owned` particles of `set` (the others cover only, as in
     /// [`BoundaryDetector::detect_owned`]) where the closed solid regions `solids` cover too
     /// (see [`crate::domain`]). The default honours an empty `solids` and refuses any other
-    /// with [`DetectError::UnsupportedOption`]; methods that can count a solid as covering
-    /// override it.
+    /// with [`DetectError::UnsupportedOption`] (naming `solid meshes (--solid-mesh)` when
+    /// `solids` holds a mesh, `solid regions (--solid)` otherwise); methods that can count a
+    /// solid as covering override it, and call [`DetectError::check_no_solid_meshes`] first
+    /// unless they honour meshes too.
     fn detect_owned_in(
         &self,
         set: &AnyParticleSet,
@@ -316,6 +345,7 @@ pub trait BoundaryDetector: Send + Sync + fmt::Debug {
         solids: &Solids,
         r: Radius,
     ) -> Result<Detection, DetectError> {
+        DetectError::check_no_solid_meshes(self.name(), solids, self.solid_refusal())?;
         if !solids.is_empty() {
             return Err(DetectError::UnsupportedOption {
                 method: self.name(),
@@ -324,6 +354,21 @@ pub trait BoundaryDetector: Send + Sync + fmt::Debug {
             });
         }
         self.detect_owned(set, owned, r)
+    }
+
+    /// Whether [`BoundaryDetector::detect_owned_in`] honours solid meshes
+    /// ([`crate::SolidMesh`]). Default `false`: [`BoundaryDetector::detect_in`] then refuses a
+    /// domain with a mesh before classifying (with
+    /// [`BoundaryDetector::solid_mesh_refusal`]), so that a method that honours half-spaces
+    /// only never ignores a mesh. A method that honours meshes overrides it.
+    fn honours_solid_meshes(&self) -> bool {
+        false
+    }
+
+    /// Why the method refuses solid meshes, in its terms (see
+    /// [`BoundaryDetector::honours_solid_meshes`]).
+    fn solid_mesh_refusal(&self) -> &'static str {
+        SOLID_MESH_REFUSAL
     }
 
     /// Why the default [`BoundaryDetector::detect_owned_in`] refuses solid regions, in the

@@ -7,7 +7,8 @@
 //!   ([`Domain::with_periodic`]) of every particle. They cover, and get no label.
 //!
 //! Particle `i` is **interior** iff every point of its sphere `S_i` that lies outside the
-//! solid regions ([`Solids`]: half-spaces, [`HalfSpace`]) is covered by the closed balls of the
+//! solid regions ([`Solids`]: half-spaces, [`HalfSpace`], and in 3D closed triangle meshes,
+//! [`SolidMesh`]) is covered by the closed balls of the
 //! other particles of both kinds. Coincident duplicates still do not cover each other, walls
 //! included. A per-particle radius (see [`crate::ParticleSet::with_radii`]) applies to walls as
 //! well; walls without radii have the factor 1 (radius `r`) when the fluid has radii, and the
@@ -32,6 +33,12 @@
 //!   `[min, max]` on a periodic axis, and the period `max − min` must be at least the method's
 //!   reach (else an image of an image would be needed); both are checked, and the error names
 //!   the particle or the period. An axis cannot be both periodic and bounded by a solid.
+//! - **Solid meshes** ([`Domain::with_solid_mesh`], [`SolidMesh`]) are 3D only, closed like
+//!   the half-spaces, and not repeated across a period: with a periodic axis every mesh must
+//!   lie at least the reach inside its range (checked). A method that cannot honour a mesh
+//!   refuses it ([`crate::BoundaryDetector::honours_solid_meshes`]) rather than ignore it.
+//!   The geometry of a mesh is known to its [`SolidMesh::rounding`] only, so a method that
+//!   honours meshes states its own tolerance (`exact`: see its crate docs).
 //!
 //! ```
 //! use boundary_core::{AnyParticleSet, Domain, HalfSpace, ParticleSet, Radius};
@@ -59,8 +66,10 @@
 
 use crate::{
     AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, ParticleSet, Point, Radius,
+    SolidMesh,
 };
 use std::fmt;
+use std::sync::Arc;
 
 /// The axis names of messages and of [`HalfSpace::parse`].
 const AXES: [char; 3] = ['x', 'y', 'z'];
@@ -174,10 +183,12 @@ impl fmt::Display for HalfSpace {
 }
 
 /// The solid regions of a detection: what covers part of a sphere without being a particle.
-/// Empty for a bare particle cloud.
+/// Empty for a bare particle cloud. Half-spaces ([`HalfSpace`]) in 2D and 3D, and in 3D the
+/// insides of closed triangle meshes ([`SolidMesh`]).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Solids {
     half_spaces: Vec<HalfSpace>,
+    meshes: Vec<Arc<SolidMesh>>,
 }
 
 impl Solids {
@@ -191,9 +202,14 @@ impl Solids {
         &self.half_spaces
     }
 
-    /// Whether there is no solid region at all.
+    /// The solid meshes (3D only).
+    pub fn meshes(&self) -> &[Arc<SolidMesh>] {
+        &self.meshes
+    }
+
+    /// Whether there is no solid region at all (no half-space and no mesh).
     pub fn is_empty(&self) -> bool {
-        self.half_spaces.is_empty()
+        self.half_spaces.is_empty() && self.meshes.is_empty()
     }
 
     /// Adds a half-space.
@@ -201,8 +217,23 @@ impl Solids {
         self.half_spaces.push(h);
     }
 
-    /// Whether some solid holds all of the closed ball of radius `radius` around `x`,
-    /// decided conservatively (a `false` may be a near-tie).
+    /// Adds a solid mesh.
+    pub fn push_mesh(&mut self, mesh: Arc<SolidMesh>) {
+        self.meshes.push(mesh);
+    }
+
+    /// The same solids without the meshes: what a method that honours half-spaces passes on
+    /// once it has dealt with the meshes itself.
+    pub fn without_meshes(&self) -> Solids {
+        Solids {
+            half_spaces: self.half_spaces.clone(),
+            meshes: Vec::new(),
+        }
+    }
+
+    /// Whether some half-space holds all of the closed ball of radius `radius` around `x`,
+    /// decided conservatively (a `false` may be a near-tie). Meshes are not consulted (`x`
+    /// may be 2D); see [`SolidMesh::distance`].
     pub fn holds_ball(&self, x: &[f64], radius: f64) -> bool {
         self.half_spaces
             .iter()
@@ -333,6 +364,13 @@ impl Domain {
         self
     }
 
+    /// Adds a solid mesh (3D sets only: [`detect_in`] refuses it for a 2D set). The mesh is
+    /// shared, so one read mesh can serve many detections.
+    pub fn with_solid_mesh(mut self, mesh: Arc<SolidMesh>) -> Self {
+        self.solids.push_mesh(mesh);
+        self
+    }
+
     /// Adds a periodic axis.
     pub fn with_periodic(mut self, p: Periodic) -> Self {
         self.periodic.push(p);
@@ -427,6 +465,21 @@ pub fn detect_in<T: BoundaryDetector + ?Sized>(
             )));
         }
     }
+    if !domain.solids.meshes.is_empty() {
+        if set.dim() != 3 {
+            return Err(err(format!(
+                "a solid mesh needs a 3D set; the particles are {}D",
+                set.dim()
+            )));
+        }
+        if !detector.honours_solid_meshes() {
+            return Err(DetectError::UnsupportedOption {
+                method: detector.name(),
+                option: crate::detector::SOLID_MESH_OPTION,
+                reason: detector.solid_mesh_refusal(),
+            });
+        }
+    }
     for (k, p) in domain.periodic.iter().enumerate() {
         if p.axis >= set.dim() {
             return Err(err(format!(
@@ -454,6 +507,26 @@ pub fn detect_in<T: BoundaryDetector + ?Sized>(
                 p.period(),
                 detector.name()
             )));
+        }
+    }
+    // A mesh is not repeated across a period: it must stay clear of the ends of every
+    // periodic range by the reach, where no sphere can meet an image of it.
+    for mesh in domain.solids.meshes() {
+        let (lo, hi) = mesh.bounds();
+        for p in &domain.periodic {
+            let a = p.axis;
+            if !(lo[a] >= p.min + reach && hi[a] <= p.max - reach) {
+                return Err(err(format!(
+                    "periodic '{p}': a solid mesh spans {}..{} along {}, within the reach \
+                     {reach} of the ends of the period; a mesh is not repeated across a \
+                     period, so it must lie inside {}..{}",
+                    lo[a],
+                    hi[a],
+                    AXES[a],
+                    p.min + reach,
+                    p.max - reach
+                )));
+            }
         }
     }
     let n = set.len();

@@ -16,6 +16,20 @@
 //! - [`BoundaryDetector`]: the trait every method implements, returning a [`Detection`].
 //! - [`median_nearest_neighbour_distance`]: the particle spacing, to estimate `r`.
 //! - [`Confusion`]: accuracy metrics (Rec, FPR, M = Rec·(1−FPR), precision, F1).
+//! - [`Domain`]: walls, solid regions ([`Solids`]: half-spaces, and in 3D closed triangle
+//!   meshes), periodic axes and phases around a set (see [`domain`]).
+//!
+//! # Solid meshes
+//! [`SolidMesh::new`] takes vertices and triangles (as `boundary_io::read_mesh` returns them)
+//! and checks that they bound a solid: finite, indices in range, no zero-area triangle, every
+//! edge shared by exactly two triangles running in opposite directions (the first bad edge is
+//! named by its vertex indices); inward-facing meshes are flipped. Its queries,
+//! [`SolidMesh::contains`] (closed: the surface is solid) and [`SolidMesh::distance`], are
+//! floating-point projections onto the nearest triangle (parry), accurate to
+//! [`SolidMesh::rounding`]: unlike a [`HalfSpace`], a mesh is not an exact input of the
+//! covering predicate, so a method that honours meshes states its tolerance near the surface.
+//! [`Domain::with_solid_mesh`] adds one; a method that cannot honour it refuses it by name
+//! ([`BoundaryDetector::honours_solid_meshes`], [`DetectError::check_no_solid_meshes`]).
 //!
 //! Architecture invariant: this crate knows no file format, prints nothing and touches no file.
 //!
@@ -40,6 +54,7 @@ mod grid;
 mod metrics;
 mod particles;
 pub mod radius_grid;
+pub mod solid_mesh;
 mod spacing;
 
 pub use detector::{
@@ -51,6 +66,7 @@ pub use grid::{NeighbourGrid, Neighbourhood};
 pub use metrics::Confusion;
 pub use particles::{AnyParticleSet, ParticleSet, Point, Radius};
 pub use radius_grid::RadiusGrid;
+pub use solid_mesh::{MeshError, SolidMesh};
 pub use spacing::median_nearest_neighbour_distance;
 
 /// Re-export of the linear-algebra crate used in public signatures.

@@ -107,6 +107,12 @@
 //! value fits, `Int64` otherwise, and consecutive columns `name:0`, `name:1`, … of one kind are
 //! written as one array `name` with that many components.
 //!
+//! # Meshes
+//!
+//! [`read_mesh`] reads the closed triangle mesh of a solid region (STL ascii or binary, OBJ,
+//! PLY with faces) into vertices and triangles for `boundary_core::SolidMesh::new`, which
+//! checks that they bound a solid. Errors name the file and the line, triangle or face.
+//!
 //! # Errors and robustness
 //!
 //! Every [`IoError`] names the file, and the line and column (text formats and ascii PLY) or the
@@ -137,6 +143,7 @@
 mod bgeo;
 mod csv;
 mod error;
+mod mesh;
 mod ply;
 mod text;
 mod vtk;
@@ -376,6 +383,91 @@ pub(crate) struct Positions {
     pub attributes: Vec<Attribute>,
     /// Attributes not kept, with the reason.
     pub skipped: Vec<String>,
+}
+
+/// A triangle-mesh file format (see [`read_mesh`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MeshFormat {
+    /// STL, ascii or binary (`.stl`).
+    Stl,
+    /// Wavefront OBJ (`.obj`): its `v` and `f` statements.
+    Obj,
+    /// PLY with the elements `vertex` and `face` (`.ply`).
+    Ply,
+}
+
+impl MeshFormat {
+    /// The format named by the extension of `path`, case-insensitive: `stl`, `obj`, `ply`.
+    pub fn from_path(path: &Path) -> Option<MeshFormat> {
+        match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+            "stl" => Some(MeshFormat::Stl),
+            "obj" => Some(MeshFormat::Obj),
+            "ply" => Some(MeshFormat::Ply),
+            _ => None,
+        }
+    }
+}
+
+/// The vertices and triangles (indices into the vertices) of a triangle mesh.
+pub type TriangleMesh = (Vec<[f64; 3]>, Vec<[u32; 3]>);
+
+/// Reads a triangle mesh, for a solid region (`boundary_core::SolidMesh::new` validates it):
+/// STL (ascii or binary), OBJ or PLY, by the extension of `path`.
+///
+/// - **STL**: binary when the size is `84 + 50·n` for the count `n` in its header, else ascii
+///   (`solid` … `facet` … `vertex x y z` … `endfacet` … `endsolid`). Corners with identical
+///   coordinates become one vertex (STL stores each triangle's corners by value).
+/// - **OBJ**: the `v x y z` and `f` statements (`f 1 2 3`, `f 1/1/1 2/2/2 3/3/3`, negative
+///   indices relative to the last vertex); other statements are skipped.
+/// - **PLY**: `x, y, z` of the element `vertex` and the list `vertex_indices` (or
+///   `vertex_index`) of the element `face`, ascii or binary.
+///
+/// Polygons with more corners are split into a fan from their first corner. Errors name the
+/// file and the line (text) or the triangle, vertex or face (binary). Nothing here checks that
+/// the surface is closed; the core constructor does.
+///
+/// ```
+/// let dir = tempfile::tempdir().expect("temporary directory");
+/// let path = dir.path().join("tetra.obj");
+/// std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")?;
+/// let (vertices, triangles) = boundary_io::read_mesh(&path)?;
+/// assert_eq!((vertices.len(), triangles.len()), (4, 4));
+/// assert_eq!(triangles[0], [0, 2, 1]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn read_mesh(path: &Path) -> Result<TriangleMesh, IoError> {
+    let name = path.display().to_string();
+    let format = MeshFormat::from_path(path).ok_or_else(|| {
+        IoError::parse(
+            &name,
+            Location::File,
+            "unknown mesh format: expected extension .stl, .obj or .ply",
+        )
+    })?;
+    let file = std::fs::File::open(path).map_err(|e| IoError::read(&name, e))?;
+    read_mesh_from(file, &name, format)
+}
+
+/// [`read_mesh`] from a reader; `name` names the source in error messages.
+pub fn read_mesh_from(
+    reader: impl Read,
+    name: &str,
+    format: MeshFormat,
+) -> Result<TriangleMesh, IoError> {
+    let reader = BufReader::new(reader);
+    let mesh = match format {
+        MeshFormat::Stl => mesh::read_stl(reader, name)?,
+        MeshFormat::Obj => mesh::read_obj(reader, name)?,
+        MeshFormat::Ply => ply::read_mesh(reader, name)?,
+    };
+    if mesh.1.is_empty() {
+        return Err(IoError::parse(
+            name,
+            Location::File,
+            "the mesh has no triangle",
+        ));
+    }
+    Ok(mesh)
 }
 
 /// Reads the particles of the file at `path`; the format is `options.format` or the one the

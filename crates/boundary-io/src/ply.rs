@@ -286,3 +286,175 @@ pub(crate) fn write(
     }
     Ok(())
 }
+
+/// A face: the corners of its list property `vertex_indices` (or `vertex_index`), as `i64`
+/// so that every PLY integer type converts exactly and a negative index is caught.
+struct Face(Option<Vec<i64>>);
+
+impl Face {
+    fn set(&mut self, name: &str, value: Vec<i64>) -> ply_rs_bw::ply::PropertyAccessResult {
+        if name == "vertex_indices" || name == "vertex_index" {
+            self.0 = Some(value);
+        }
+        ply_rs_bw::ply::PropertyAccessResult::Set
+    }
+}
+
+impl PropertyAccess for Face {
+    fn new() -> Self {
+        Face(None)
+    }
+    fn set_list_char(&mut self, n: &str, v: Vec<i8>) -> ply_rs_bw::ply::PropertyAccessResult {
+        self.set(n, v.into_iter().map(i64::from).collect())
+    }
+    fn set_list_uchar(&mut self, n: &str, v: Vec<u8>) -> ply_rs_bw::ply::PropertyAccessResult {
+        self.set(n, v.into_iter().map(i64::from).collect())
+    }
+    fn set_list_short(&mut self, n: &str, v: Vec<i16>) -> ply_rs_bw::ply::PropertyAccessResult {
+        self.set(n, v.into_iter().map(i64::from).collect())
+    }
+    fn set_list_ushort(&mut self, n: &str, v: Vec<u16>) -> ply_rs_bw::ply::PropertyAccessResult {
+        self.set(n, v.into_iter().map(i64::from).collect())
+    }
+    fn set_list_int(&mut self, n: &str, v: Vec<i32>) -> ply_rs_bw::ply::PropertyAccessResult {
+        self.set(n, v.into_iter().map(i64::from).collect())
+    }
+    fn set_list_uint(&mut self, n: &str, v: Vec<u32>) -> ply_rs_bw::ply::PropertyAccessResult {
+        self.set(n, v.into_iter().map(i64::from).collect())
+    }
+}
+
+/// Reads a triangle mesh: the `x, y, z` of the element `vertex` and the list property
+/// `vertex_indices` (or `vertex_index`) of the element `face`, in any order and encoding;
+/// other elements and properties are skipped. Polygons are split into fans.
+pub(crate) fn read_mesh<R: BufRead>(reader: R, name: &str) -> Result<crate::mesh::Mesh, IoError> {
+    let mut reader = Reader::new(reader);
+    let header = Parser::<Skip>::new()
+        .read_header(&mut reader)
+        .map_err(|e| {
+            let at = e.line().map_or(Location::File, Location::Line);
+            IoError::parse(name, at, flatten(&e))
+        })?;
+    let binary = header.encoding != Encoding::Ascii;
+    for (key, label) in [("vertex", "x"), ("vertex", "y"), ("vertex", "z")] {
+        let ok = header.elements.get(key).is_some_and(|e| {
+            matches!(
+                e.properties.get(label).map(|p| &p.data_type),
+                Some(PropertyType::Scalar(_))
+            )
+        });
+        if !ok {
+            return Err(IoError::parse(
+                name,
+                Location::File,
+                format!("a PLY mesh needs the scalar vertex property {label}"),
+            ));
+        }
+    }
+    let has_faces = header.elements.get("face").is_some_and(|e| {
+        ["vertex_indices", "vertex_index"].iter().any(|k| {
+            matches!(
+                e.properties.get(*k).map(|p| &p.data_type),
+                Some(PropertyType::List(..))
+            )
+        })
+    });
+    if !has_faces {
+        return Err(IoError::parse(
+            name,
+            Location::File,
+            "a PLY mesh needs the element face with a list property vertex_indices",
+        ));
+    }
+    let mut vertices: Vec<[f64; 3]> = Vec::new();
+    let mut faces: Vec<Face> = Vec::new();
+    let mut face_start = None;
+    for (key, element) in &header.elements {
+        if element.properties.is_empty() && element.count > 0 {
+            return Err(IoError::parse(
+                name,
+                Location::File,
+                format!(
+                    "malformed PLY: element {:?} declares {} items but no properties",
+                    crate::error::excerpt(key, 40),
+                    element.count
+                ),
+            ));
+        }
+        let first = reader.line().max(1);
+        let kind: &'static str = if key == "face" { "face" } else { "vertex" };
+        let locate = move |line: Option<usize>| match (binary, line) {
+            (false, Some(line)) => Location::Line(line),
+            (true, Some(line)) => Location::Item {
+                kind,
+                index: line.saturating_sub(first),
+            },
+            (_, None) => Location::File,
+        };
+        match key.as_str() {
+            "vertex" => {
+                let read = Parser::<Vertex>::new()
+                    .read_payload_for_element(&mut reader, element, &header)
+                    .map_err(|e| IoError::parse(name, locate(e.line()), flatten(&e)))?;
+                for (index, v) in read.iter().enumerate() {
+                    if let Some(axis) = v.0.iter().position(|c| !c.is_finite()) {
+                        return Err(IoError::NonFinite {
+                            file: name.to_owned(),
+                            at: if binary {
+                                Location::Item {
+                                    kind: "vertex",
+                                    index,
+                                }
+                            } else {
+                                Location::Line(first + index)
+                            },
+                            index,
+                            axis,
+                            value: v.0[axis],
+                        });
+                    }
+                }
+                vertices = read.into_iter().map(|v| v.0).collect();
+            }
+            "face" => {
+                face_start = Some(first);
+                faces = Parser::<Face>::new()
+                    .read_payload_for_element(&mut reader, element, &header)
+                    .map_err(|e| IoError::parse(name, locate(e.line()), flatten(&e)))?;
+            }
+            _ => {
+                Parser::<Skip>::new()
+                    .read_payload_for_element(&mut reader, element, &header)
+                    .map_err(|e| IoError::parse(name, locate(e.line()), flatten(&e)))?;
+            }
+        }
+    }
+    let first = face_start.unwrap_or(1);
+    let n = vertices.len();
+    let mut triangles = Vec::new();
+    for (index, face) in faces.iter().enumerate() {
+        let at = if binary {
+            Location::Item {
+                kind: "face",
+                index,
+            }
+        } else {
+            Location::Line(first + index)
+        };
+        let corners = face.0.as_deref().unwrap_or(&[]);
+        let mut checked = Vec::with_capacity(corners.len());
+        for &i in corners {
+            if i < 0 || i as u64 >= n as u64 || i > i64::from(u32::MAX) {
+                return Err(IoError::parse(
+                    name,
+                    at,
+                    format!("face {index}: vertex index {i} out of range ({n} vertices)"),
+                ));
+            }
+            checked.push(i as u32);
+        }
+        crate::mesh::fan(&checked, &mut triangles)
+            .map_err(|m| IoError::parse(name, at, format!("face {index}: {m}")))?;
+    }
+    Ok((vertices, triangles))
+}
