@@ -320,11 +320,17 @@ pub trait BoundaryDetector: Send + Sync + fmt::Debug {
             return Err(DetectError::UnsupportedOption {
                 method: self.name(),
                 option: "solid regions (--solid)",
-                reason: "the method has no rule for a solid covering part of a sphere; use \
-                         wall particles (--walls) instead",
+                reason: self.solid_refusal(),
             });
         }
         self.detect_owned(set, owned, r)
+    }
+
+    /// Why the default [`BoundaryDetector::detect_owned_in`] refuses solid regions, in the
+    /// method's terms (a method that honours them overrides `detect_owned_in` instead).
+    fn solid_refusal(&self) -> &'static str {
+        "the method has no rule for a solid covering part of a sphere; give the walls as \
+         particles (--walls) instead"
     }
 
     /// Classifies `set` in a [`Domain`]: walls, solids, periodic axes and phases (see

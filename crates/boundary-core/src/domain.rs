@@ -447,7 +447,7 @@ pub fn detect_in<T: BoundaryDetector + ?Sized>(
     let scale = largest(set.radii()).max(largest(domain.walls.as_ref().and_then(|w| w.radii())));
     let reach = detector.halo_width(Radius::new(r.get() * scale).map_err(DetectError::Core)?);
     for p in &domain.periodic {
-        if !(p.period() >= reach) {
+        if p.period() < reach {
             return Err(err(format!(
                 "periodic '{p}': the period {} is shorter than the reach {reach} of method \
                  '{}' at r = {r}; use a longer period or a smaller radius",
@@ -577,7 +577,7 @@ fn extend<const D: usize>(
     let mut positions: Vec<Point<D>> = members.iter().map(|&i| set.positions()[i]).collect();
     let mut radii: Vec<f64> = members.iter().map(|&i| factor(set, i)).collect();
     if members.is_empty() {
-        return Ok(ParticleSet::new(Vec::new()).map_err(DetectError::Core)?);
+        return ParticleSet::new(Vec::new()).map_err(DetectError::Core);
     }
     // The bounding box of the classified particles, widened by the reach.
     let mut lo = positions[0];

@@ -141,7 +141,7 @@
 //! [`sphere_uncovered`] (measured before its set-up moved to `i128` and its lattices to
 //! `i64`; not measured since).
 
-use crate::Point;
+use crate::{HalfSpace, Point};
 use num_bigint::BigInt;
 use num_traits::{Signed, ToPrimitive, Zero};
 
@@ -448,7 +448,50 @@ pub fn sphere_uncovered_power<const D: usize>(
     r_centre: f64,
     others: &[(Point<D>, f64)],
 ) -> bool {
+    sphere_uncovered_in(centre, r_centre, others, &[])
+}
+
+/// [`sphere_uncovered_power`] where the closed solid half-spaces `solids` cover too: whether
+/// some point of the sphere of radius `r_centre` around `centre` that lies outside every
+/// solid is outside every ball of `others` (boundary), decided exactly for the given `f64`
+/// input (see [`crate::domain`] for the definition).
+///
+/// A solid `x_a <= c` is the half-space `−y_a <= p_a − c` of the cell (`y = x − centre`),
+/// `x_a >= c` is `y_a <= c − p_a`: planes whose integer offsets are exact differences in the
+/// common unit, like the neighbours' (module docs). With `y` in the unit `2^t` the offset is
+/// divided by `2^t`, so `t` is also bounded by its trailing zeros. The centre may lie on or
+/// inside a solid (a negative offset): the general test, (a), (b) and (c) of the module
+/// docs, decides it; with every offset positive the uniform test does. The closed solid makes
+/// a point on its surface covered: a tie, interior.
+///
+/// # Panics
+/// As [`sphere_uncovered_power`]; a solid's axis must be below `D`.
+///
+/// ```
+/// use boundary_core::{exact_cover::sphere_uncovered_in, HalfSpace, Point};
+///
+/// // A lone particle at height 1 above the floor y <= 0, radius 1: its lowest point touches
+/// // the floor, the rest is open: boundary. Deep in the floor: interior.
+/// let floor = [HalfSpace::parse("y<0").unwrap()];
+/// assert!(sphere_uncovered_in(&Point::<2>::new(0.0, 1.0), 1.0, &[], &floor));
+/// assert!(!sphere_uncovered_in(&Point::<2>::new(0.0, -1.0), 1.0, &[], &floor));
+/// // Four neighbours at distance 1 below and beside it (a row on the floor and one above):
+/// // a particle at height 0.5 with r = 0.75 is covered where the floor does not hold it.
+/// let c = Point::<2>::new(0.0, 0.5);
+/// let n = [[1.0, 0.5], [-1.0, 0.5], [0.0, 1.5]].map(|p| (Point::<2>::from(p), 0.75));
+/// assert!(!sphere_uncovered_in(&c, 0.75, &n, &floor));
+/// assert!(sphere_uncovered_in(&c, 0.75, &n, &[]));
+/// ```
+pub fn sphere_uncovered_in<const D: usize>(
+    centre: &Point<D>,
+    r_centre: f64,
+    others: &[(Point<D>, f64)],
+    solids: &[HalfSpace],
+) -> bool {
     assert!(D == 2 || D == 3, "exact_cover supports D = 2 and D = 3");
+    for h in solids {
+        assert!(h.axis() < D, "solid {h} has no axis in {D}D");
+    }
     assert!(
         r_centre > 0.0 && r_centre.is_finite(),
         "r_centre must be positive and finite (it is {r_centre})"
@@ -472,6 +515,7 @@ pub fn sphere_uncovered_power<const D: usize>(
         note(*r);
         p.iter().for_each(|&x| note(x));
     }
+    solids.iter().for_each(|h| note(h.value()));
     let to_int = |x: f64| -> BigInt {
         match dyadic(x) {
             None => BigInt::from(0u8),
@@ -481,6 +525,19 @@ pub fn sphere_uncovered_power<const D: usize>(
     let rc = to_int(r_centre);
     let rc2 = &rc * &rc;
     let c: [BigInt; D] = std::array::from_fn(|k| to_int(centre[k]));
+    // The solids' planes (a, b) in the base unit: sign·y_axis <= b, with b the exact depth
+    // of the centre on the fluid side.
+    let walls: Vec<(f64, usize, i32, BigInt)> = solids
+        .iter()
+        .map(|h| {
+            let (sign, b) = if h.solid_below() {
+                (-1, &c[h.axis()] - to_int(h.value()))
+            } else {
+                (1, to_int(h.value()) - &c[h.axis()])
+            };
+            (b.approx(), h.axis(), sign, b)
+        })
+        .collect();
     // (signed distance of the power plane from the centre, for the order only; q_j; r_j)
     let mut near: Vec<(f64, [BigInt; D], BigInt)> = Vec::new();
     for (p, r) in others {
@@ -522,6 +579,11 @@ pub fn sphere_uncovered_power<const D: usize>(
             t = t.min(z / 2);
         }
     }
+    for (_, _, _, b) in &walls {
+        if let Some(z) = b.trailing_zeros() {
+            t = t.min(z);
+        }
+    }
     let sh = t as usize;
     let big_r = BigInt::from(1u8) << ((k_box - t) as usize);
     let mut planes: Vec<([BigInt; D], BigInt)> = Vec::with_capacity(2 * D + near.len());
@@ -537,10 +599,20 @@ pub fn sphere_uncovered_power<const D: usize>(
             planes.push((a, big_r.clone()));
         }
     }
-    for (_, q, rj) in near {
+    // The neighbours' and the solids' planes merged, strongest (most negative distance) first.
+    let mut keyed: Vec<(f64, ([BigInt; D], BigInt))> = Vec::with_capacity(near.len() + walls.len());
+    for (key, q, rj) in near {
         let offset = (norm2_big(&q) + &rc2 - &rj * &rj) >> (2 * sh);
-        planes.push((q.map(|x| (x >> sh) << 1usize), offset));
+        keyed.push((key, (q.map(|x| (x >> sh) << 1usize), offset)));
     }
+    for (key, axis, sign, b) in walls {
+        let a: [BigInt; D] =
+            std::array::from_fn(|k| BigInt::from(if k == axis { sign } else { 0 }));
+        keyed.push((key, (a, b >> sh)));
+    }
+    keyed.sort_by(|x, y| x.0.total_cmp(&y.0));
+    keyed.dedup_by(|x, y| x.1 == y.1);
+    planes.extend(keyed.into_iter().map(|(_, plane)| plane));
     // Every offset positive: the centre lies strictly inside every power half-space, so the
     // cell is full-dimensional and its minimum is 0 (module docs): the uniform test decides.
     let fast = planes.iter().all(|(_, b)| b.is_positive());

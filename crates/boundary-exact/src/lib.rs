@@ -178,6 +178,25 @@
 //!   1,794 particles of `graded_column2d`, 96 of 1,567 of `graded_pool3d` (61 and 289
 //!   without the general float test).
 //!
+//! # Solid half-spaces
+//! In a [`boundary_core::Domain`] with solid half-spaces, particle `i` is interior iff every
+//! point of `S_i` outside the closed solids is covered (see [`boundary_core::domain`]). With
+//! `y = x − p_i`, a point of `S_i` outside the solid `x_a <= c` lies strictly inside the
+//! half-space `−y_a <= p_a − c` (and for `x_a >= c` inside `y_a <= c − p_a`), so the uncovered
+//! part of `S_i` is `S_i` in the interior of the cell cut by one more plane per solid: the
+//! power-cell question of the previous section, with planes that may pass through or beyond
+//! `p_i` (a particle on or inside a solid). It is decided by the same code: the float power
+//! cell with the solid planes among its planes (their normals exact, their offsets rounded
+//! twice, `2u` relative, inside the plane error of the bound), its general test where a plane
+//! comes within `1e-3·r_i` of `p_i`, and the exact predicate
+//! ([`boundary_core::exact_cover::sphere_uncovered_in`]), whose integer planes take the solids
+//! as exact differences in the common unit. Only particles whose closed ball reaches a solid
+//! (fluid depth at most `r_i`, with `1e-9` relative slack for the rounded depth) take this
+//! path; the others cannot see a solid and keep the usual one. A solid holding the whole
+//! ball (depth below `−r_i` by `1e-12` relative) makes the particle interior at once. A point
+//! on a solid's surface is covered (closed solids): a tie, interior. Tested against
+//! brute-force enumeration in exact rationals, near-ties included (`tests/domain.rs`).
+//!
 //! # Policy: ties, duplicates, degenerate input
 //! - **Ties.** A cell that reaches exactly to `r` touches `S_i` only at points equidistant from
 //!   `p_i` and another particle, which the closed ball of that particle covers: a tie is
@@ -238,8 +257,8 @@ mod power;
 
 use boundary_core::exact_cover;
 use boundary_core::{
-    AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, NeighbourGrid, ParamError,
-    ParamInfo, Params, ParticleSet, Point, Radius,
+    AnyParticleSet, BoundaryDetector, DetectError, Detection, HalfSpace, Labels, NeighbourGrid,
+    ParamError, ParamInfo, Params, ParticleSet, Point, Radius, Solids,
 };
 use cell::{Clipper, ConvexCell, Polygon, Polyhedron};
 use rayon::prelude::*;
@@ -391,6 +410,91 @@ impl BoundaryDetector for ExactDetector {
             AnyParticleSet::D3(s) => dispatch::<3, Polyhedron>(s, owned, r, self.tie)?.0,
         })
     }
+
+    /// Classifies the owned particles with the solids covering too (crate docs, "Solid
+    /// half-spaces"); exact, like every other label of `exact`.
+    fn detect_owned_in(
+        &self,
+        set: &AnyParticleSet,
+        owned: usize,
+        solids: &Solids,
+        r: Radius,
+    ) -> Result<Detection, DetectError> {
+        if solids.is_empty() {
+            return self.detect_owned(set, owned, r);
+        }
+        DetectError::check_owned("exact", owned, set.len())?;
+        Ok(match set {
+            AnyParticleSet::D2(s) => dispatch_in::<2, Polygon>(s, owned, r, self.tie, solids)?.0,
+            AnyParticleSet::D3(s) => dispatch_in::<3, Polyhedron>(s, owned, r, self.tie, solids)?.0,
+        })
+    }
+}
+
+/// [`dispatch`] with solid half-spaces. A particle whose closed ball stays clear of every solid
+/// (fluid depth above `r_i`, with `1e-9` of slack for the rounded depth) gets the label it
+/// would get without them, by the usual path; the others, the layer next to the solids, are
+/// decided with each solid as one more plane of the power cell, where the float test and the
+/// exact predicate take the solid planes too. Returns the detection and the number of exact
+/// fallbacks of the first part.
+fn dispatch_in<const D: usize, C>(
+    set: &ParticleSet<D>,
+    count: usize,
+    r: Radius,
+    tie: f64,
+    solids: &Solids,
+) -> Result<(Detection, usize), DetectError>
+where
+    C: ConvexCell<D> + Default + Send + Clone,
+{
+    let half_spaces: &[HalfSpace] = solids.half_spaces();
+    if let Some(h) = half_spaces.iter().find(|h| h.axis() >= D) {
+        return Err(DetectError::Method {
+            method: "exact",
+            message: format!("solid '{h}' has no axis in a {D}D set"),
+        });
+    }
+    let radii = match set.resolved_radii(r)? {
+        Some(radii) => radii,
+        None => vec![r.get(); set.len()],
+    };
+    let positions = set.positions();
+    let touches = |i: usize| {
+        half_spaces
+            .iter()
+            .any(|h| h.fluid_depth(positions[i].as_slice()) <= radii[i] * (1.0 + 1e-9))
+    };
+    let (near, far): (Vec<usize>, Vec<usize>) = (0..count).partition(|&i| touches(i));
+    if near.is_empty() {
+        return dispatch::<D, C>(set, count, r, tie);
+    }
+    // The particles clear of the solids first, then the rest of the set, as one reordered
+    // copy: the usual path classifies its first `far.len()` particles.
+    let mut order = far.clone();
+    order.extend(&near);
+    order.extend(count..set.len());
+    let (far_detection, fallbacks) = dispatch::<D, C>(&set.subset(&order), far.len(), r, tie)?;
+    let near_results = power::classify_some::<D, C>(set, &near, &radii, tie, half_spaces)?;
+    let mut margins = vec![0.0; count];
+    let mut boundary = vec![false; count];
+    let far_margins = far_detection.margin.unwrap_or_default();
+    for (slot, &i) in far.iter().enumerate() {
+        boundary[i] = far_detection.labels.is_boundary(slot);
+        margins[i] = far_margins.get(slot).copied().unwrap_or(0.0);
+    }
+    let mut near_fallbacks = 0;
+    for (&i, (margin, label, exact)) in near.iter().zip(near_results) {
+        boundary[i] = label;
+        margins[i] = margin;
+        near_fallbacks += usize::from(exact);
+    }
+    Ok((
+        Detection {
+            labels: Labels::new(boundary),
+            margin: Some(margins),
+        },
+        fallbacks + near_fallbacks,
+    ))
 }
 
 /// A neighbour: `(|p_j − p_i|²` as its bit pattern, `j`, the index of `p_j` in the positions
@@ -660,12 +764,46 @@ pub fn sphere_uncovered_3d(centre: &Point<3>, others: &[Point<3>], r: Radius) ->
 /// assert!(boundary_exact::sphere_uncovered_power_2d(&c, 1.0, &[(Point::<2>::new(0.5, 0.0), 1.4)]));
 /// ```
 pub fn sphere_uncovered_power_2d(centre: &Point<2>, r: f64, others: &[(Point<2>, f64)]) -> bool {
-    power::sphere_uncovered::<2, Polygon>(centre, r, others)
+    power::sphere_uncovered::<2, Polygon>(centre, r, others, &[])
 }
 
 /// [`sphere_uncovered_power_2d`] in 3D.
 pub fn sphere_uncovered_power_3d(centre: &Point<3>, r: f64, others: &[(Point<3>, f64)]) -> bool {
-    power::sphere_uncovered::<3, Polyhedron>(centre, r, others)
+    power::sphere_uncovered::<3, Polyhedron>(centre, r, others, &[])
+}
+
+/// [`sphere_uncovered_power_2d`] where the closed solid half-spaces `solids` cover too (crate
+/// docs, "Solid half-spaces"): the decision `exact` takes for a particle next to a solid.
+///
+/// ```
+/// use boundary_core::{HalfSpace, Point};
+///
+/// // A lone particle resting on the floor y <= 0 at height 0.5 (r = 1) is boundary; with a
+/// // row of neighbours 0.5 apart beside it and one above, it is covered.
+/// let floor = [HalfSpace::parse("y<0").unwrap()];
+/// let c = Point::<2>::new(0.0, 0.5);
+/// assert!(boundary_exact::sphere_uncovered_in_2d(&c, 1.0, &[], &floor));
+/// let n = [[0.9, 0.5], [-0.9, 0.5], [0.0, 1.4], [0.7, 1.2], [-0.7, 1.2]].map(|p| (Point::<2>::from(p), 1.0));
+/// assert!(!boundary_exact::sphere_uncovered_in_2d(&c, 1.0, &n, &floor));
+/// assert!(boundary_exact::sphere_uncovered_in_2d(&c, 1.0, &n, &[]));
+/// ```
+pub fn sphere_uncovered_in_2d(
+    centre: &Point<2>,
+    r: f64,
+    others: &[(Point<2>, f64)],
+    solids: &[HalfSpace],
+) -> bool {
+    power::sphere_uncovered::<2, Polygon>(centre, r, others, solids)
+}
+
+/// [`sphere_uncovered_in_2d`] in 3D.
+pub fn sphere_uncovered_in_3d(
+    centre: &Point<3>,
+    r: f64,
+    others: &[(Point<3>, f64)],
+    solids: &[HalfSpace],
+) -> bool {
+    power::sphere_uncovered::<3, Polyhedron>(centre, r, others, solids)
 }
 
 fn sphere_uncovered<const D: usize, C: ConvexCell<D> + Default + Clone>(

@@ -3,7 +3,9 @@
 
 use crate::cell::{self, ConvexCell};
 use crate::{INTERIOR_BAND, U};
-use boundary_core::{exact_cover, DetectError, Detection, ParticleSet, Point, RadiusGrid};
+use boundary_core::{
+    exact_cover, DetectError, Detection, HalfSpace, ParticleSet, Point, RadiusGrid,
+};
 use rayon::prelude::*;
 
 /// The float power cell decides a particle only when every half-space it uses keeps a ball of
@@ -37,6 +39,7 @@ pub(crate) fn sphere_uncovered<const D: usize, C: ConvexCell<D> + Default>(
     centre: &Point<D>,
     r: f64,
     others: &[(Point<D>, f64)],
+    solids: &[HalfSpace],
 ) -> bool {
     let positions: Vec<Point<D>> = others.iter().map(|o| o.0).collect();
     let radii: Vec<f64> = others.iter().map(|o| o.1).collect();
@@ -48,7 +51,7 @@ pub(crate) fn sphere_uncovered<const D: usize, C: ConvexCell<D> + Default>(
             scratch.near.push((j, d2));
         }
     }
-    classify(centre, r, &positions, &radii, 0.0, &mut scratch).1
+    classify(centre, r, &positions, &radii, 0.0, solids, &mut scratch).1
 }
 
 /// Classifies the first `count` particles of `set` with radii `radii` (all particles are
@@ -62,11 +65,35 @@ pub(crate) fn detect_power<const D: usize, C>(
 where
     C: ConvexCell<D> + Default + Send,
 {
+    let all: Vec<usize> = (0..count).collect();
+    Ok(crate::assemble(classify_some::<D, C>(
+        set,
+        &all,
+        radii,
+        tie,
+        &[],
+    )?))
+}
+
+/// `(margin, label, decided by the exact predicate)` of the particles `indices` of `set`
+/// (radii `radii`; every particle of `set` is a neighbour) with the closed solid half-spaces
+/// `solids` covering too: each solid is one more plane of the power cell (crate docs,
+/// "Solid half-spaces").
+pub(crate) fn classify_some<const D: usize, C>(
+    set: &ParticleSet<D>,
+    indices: &[usize],
+    radii: &[f64],
+    tie: f64,
+    solids: &[HalfSpace],
+) -> Result<Vec<(f64, bool, bool)>, DetectError>
+where
+    C: ConvexCell<D> + Default + Send,
+{
     let grid = RadiusGrid::new(set, radii)?;
     let positions = set.positions();
-    let results: Vec<(f64, bool, bool)> = (0..count)
-        .into_par_iter()
-        .map_init(Scratch::<C, D>::default, |scratch, i| {
+    Ok(indices
+        .par_iter()
+        .map_init(Scratch::<C, D>::default, |scratch, &i| {
             let p = positions[i];
             scratch.near.clear();
             grid.for_each_reaching(&p, radii[i], |j, d2| {
@@ -75,10 +102,9 @@ where
                     scratch.near.push((j, d2));
                 }
             });
-            classify(&p, radii[i], positions, radii, tie, scratch)
+            classify(&p, radii[i], positions, radii, tie, solids, scratch)
         })
-        .collect();
-    Ok(crate::assemble(results))
+        .collect())
 }
 
 /// `(margin, label, whether the exact predicate decided)` of the particle at `p` of radius
@@ -89,8 +115,16 @@ fn classify<const D: usize, C: ConvexCell<D>>(
     positions: &[Point<D>],
     radii: &[f64],
     tie: f64,
+    solids: &[HalfSpace],
     scratch: &mut Scratch<C, D>,
 ) -> (f64, bool, bool) {
+    // A solid holding the whole closed ball settles it: the sphere has no point outside it.
+    for h in solids {
+        let depth = h.fluid_depth(p.as_slice()) / r;
+        if depth < -(1.0 + CONTAIN_SLACK) {
+            return (-r, false, false);
+        }
+    }
     // A neighbour whose ball holds all of S_i settles it.
     for &(j, d2) in &scratch.near {
         let held = radii[j] - d2.sqrt() - r;
@@ -115,6 +149,15 @@ fn classify<const D: usize, C: ConvexCell<D>>(
         let n: [f64; D] = std::array::from_fn(|k| q[k] / len);
         planes.push(Plane { n, offset });
     }
+    // A solid x_a <= c bounds the cell by −y_a <= (p_a − c)/r, x_a >= c by y_a <= (c − p_a)/r:
+    // an exact normal, and an offset rounded twice (2u relative).
+    for h in solids {
+        let offset = h.fluid_depth(p.as_slice()) / r;
+        delta = delta.max(8.0 * U * offset.abs() + 24.0 * U);
+        let mut n = [0.0; D];
+        n[h.axis()] = if h.solid_below() { -1.0 } else { 1.0 };
+        planes.push(Plane { n, offset });
+    }
     planes.sort_unstable_by(|a, b| a.offset.total_cmp(&b.offset));
     let rho0 = planes.first().map_or(1.0, |pl| pl.offset.min(1.0));
     if !(rho0 > RHO_MIN && delta < 0.25 * rho0) {
@@ -122,7 +165,7 @@ fn classify<const D: usize, C: ConvexCell<D>>(
         if let Some((margin, label)) = general_cell(scratch, delta, tie) {
             return (margin * r, label, false);
         }
-        return exact(p, r, positions, radii, scratch, 0.0);
+        return exact(p, r, positions, radii, solids, scratch, 0.0);
     }
     let cell = &mut scratch.cell;
     let (reach, clips) = clip_cell(cell, planes, 1.0 - INTERIOR_BAND);
@@ -137,7 +180,7 @@ fn classify<const D: usize, C: ConvexCell<D>>(
     if !cell.degenerate() && margin.abs() > tau {
         return (margin * r, margin > 0.0, false);
     }
-    exact(p, r, positions, radii, scratch, margin * r)
+    exact(p, r, positions, radii, solids, scratch, margin * r)
 }
 
 /// Slack of the general case's point certificates (units of `r_i`): far above the rounding of
@@ -312,6 +355,7 @@ fn exact<const D: usize, C>(
     r: f64,
     positions: &[Point<D>],
     radii: &[f64],
+    solids: &[HalfSpace],
     scratch: &Scratch<C, D>,
     margin: f64,
 ) -> (f64, bool, bool) {
@@ -322,7 +366,7 @@ fn exact<const D: usize, C>(
         .collect();
     (
         margin,
-        exact_cover::sphere_uncovered_power(p, r, &others),
+        exact_cover::sphere_uncovered_in(p, r, &others, solids),
         true,
     )
 }

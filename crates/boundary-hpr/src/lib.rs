@@ -644,6 +644,10 @@ impl BoundaryDetector for HprDetector {
         HALO_FACTOR * r.get()
     }
 
+    fn solid_refusal(&self) -> &'static str {
+        "hidden point removal sees points, and a solid region is none; give the walls as particles (--walls): they occlude and are never reported"
+    }
+
     /// Classifies only the owned particles; viewpoints that see none of them are skipped.
     fn detect_owned(
         &self,

@@ -371,6 +371,10 @@ impl BoundaryDetector for MarroneDetector {
         2.0 * SUPPORT_FACTOR * self.h_over_r * r.get()
     }
 
+    fn solid_refusal(&self) -> &'static str {
+        "its renormalisation matrix and normal are kernel sums over particles, and a half-space is no particle; give the walls as particles (--walls), which enter the sums as in DualSPHysics"
+    }
+
     /// Classifies only the owned particles; the ghosts serve as neighbours and for volumes.
     fn detect_owned(
         &self,

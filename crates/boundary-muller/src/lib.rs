@@ -352,6 +352,10 @@ impl BoundaryDetector for MullerDetector {
         2.0 * SUPPORT_FACTOR * self.h_over_r * r.get()
     }
 
+    fn solid_refusal(&self) -> &'static str {
+        "its density and colour-field gradient are kernel sums over particles, and a half-space is no particle; give the walls as particles (--walls), which enter the sums"
+    }
+
     /// Classifies only the owned particles; the ghosts serve as neighbours and for volumes.
     fn detect_owned(
         &self,

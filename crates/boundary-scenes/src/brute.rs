@@ -99,6 +99,21 @@ pub fn power_uncovered_by_enumeration<const D: usize>(
     r: f64,
     others: &[([f64; D], f64)],
 ) -> bool {
+    solid_uncovered_by_enumeration(centre, r, others, &[])
+}
+
+/// [`power_uncovered_by_enumeration`] with closed solid half-spaces covering too: each solid
+/// `(axis, solid_below, c)` is `{x_axis <= c}` (`solid_below`) or `{x_axis >= c}`, and the
+/// sphere's points outside every solid must be covered by the balls. A point of the sphere
+/// outside the closed solid lies strictly on the fluid side, so each solid is one more
+/// half-space of the cell `K` (`−y_a <= p_a − c`, or `y_a <= c − p_a`), and the same three
+/// conditions decide, by the same brute force.
+pub fn solid_uncovered_by_enumeration<const D: usize>(
+    centre: [f64; D],
+    r: f64,
+    others: &[([f64; D], f64)],
+    solids: &[(usize, bool, f64)],
+) -> bool {
     let rc = rational(r);
     let c: Vec<BigRational> = centre.iter().map(|&x| rational(x)).collect();
     let two = BigRational::from_integer(BigInt::from(2));
@@ -115,6 +130,14 @@ pub fn power_uncovered_by_enumeration<const D: usize>(
         // |y|² − r² <= |y − q|² − r_j²  <=>  q·y <= (|q|² + r² − r_j²)/2.
         let b = (d2 + &r2 - &rj * &rj) / &two;
         planes.push((q, b));
+    }
+    for &(axis, below, value) in solids {
+        let sign = if below { -1 } else { 1 };
+        let a: Vec<BigRational> = (0..D)
+            .map(|k| BigRational::from_integer(BigInt::from(if k == axis { sign } else { 0 })))
+            .collect();
+        let depth = rational(value) - &c[axis];
+        planes.push((a, if below { -depth } else { depth }));
     }
     let feasible = |x: &[BigRational]| {
         planes.iter().all(|(a, b)| {

@@ -511,6 +511,10 @@ impl BoundaryDetector for SvmDetector {
         feature_reach(r)
     }
 
+    fn solid_refusal(&self) -> &'static str {
+        "its features are sums over neighbour particles and its models were trained without solids; give the walls as particles (--walls), which enter the features"
+    }
+
     /// Classifies only the owned particles; the ghosts serve as neighbours and for volumes.
     fn detect_owned(
         &self,
