@@ -750,11 +750,24 @@ where
         head.push_str(&format!(", {interface} interface (orange)"));
     }
     if pic.dim == 3 {
-        head.push_str(", slab across y");
+        head.push_str(" in the slab across y");
     }
     let root = root.titled(&head, ("sans-serif", 17)).map_err(err)?;
+    // The window holds the particles, the walls and every solid bound.
+    let centre = pic.points.first().copied().unwrap_or([0.0, 0.0]);
+    let bounds: Vec<(f64, f64)> = pic
+        .solids
+        .iter()
+        .map(|&(k, value, _)| {
+            if k == 0 {
+                (value, centre[1])
+            } else {
+                (centre[0], value)
+            }
+        })
+        .collect();
     let points = pic.points.iter().chain(&pic.walls).map(|p| (p[0], p[1]));
-    let ((x0, x1), (y0, y1)) = square_window(points);
+    let ((x0, x1), (y0, y1)) = square_window(points.chain(bounds));
     let mut chart = ChartBuilder::on(&root)
         .caption(&pic.about, ("sans-serif", 14))
         .margin(10)
