@@ -1,7 +1,7 @@
 //! Scene generators: only what each scene needs (analytic velocity fields integrated with RK4,
 //! lattices, jitter from a seeded generator); no fluid solver.
 
-use boundary_core::{AnyParticleSet, ParticleSet, Point};
+use boundary_core::{AnyParticleSet, Domain, HalfSpace, ParticleSet, Periodic, Point};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use std::f64::consts::PI;
 
@@ -18,6 +18,9 @@ pub struct Scene {
     pub generator: &'static str,
     /// Generator parameters, `key=value` separated by `, `.
     pub params: String,
+    /// Walls, solids, periodic axes and phases around the particles (the bare cloud for most
+    /// scenes): what every method classifies the scene in.
+    pub domain: Domain,
 }
 
 /// Lattice points of spacing `h` (plus uniform jitter of `±jitter·h` per axis) in the box
@@ -147,6 +150,7 @@ pub fn all_scenes() -> Vec<Scene> {
             .map(|&p| rk4(p, 0.0, t, steps.max(1), |q, s| single_vortex(q, s, period)))
             .collect();
         scenes.push(Scene {
+            domain: Domain::new(),
             name: format!("vortex2d_t{t}"),
             set: set(points),
             radius: R_OVER_H * H2,
@@ -172,6 +176,7 @@ pub fn all_scenes() -> Vec<Scene> {
             })
             .collect();
         scenes.push(Scene {
+            domain: Domain::new(),
             name: format!("zalesak2d_rot{degrees}"),
             set: set(points),
             radius: R_OVER_H * H2,
@@ -199,6 +204,7 @@ pub fn all_scenes() -> Vec<Scene> {
             .map(|&p| rk4(p, 0.0, t, steps.max(1), |q, s| enright(q, s, period)))
             .collect();
         scenes.push(Scene {
+            domain: Domain::new(),
             name: format!("enright3d_t{t}"),
             set: set(points),
             radius: R_OVER_H * H3,
@@ -213,6 +219,7 @@ pub fn all_scenes() -> Vec<Scene> {
         p.norm() <= 1.0 && (p - bubble).norm() >= 0.45
     });
     scenes.push(Scene {
+        domain: Domain::new(),
         name: "ball_bubble3d".into(),
         set: set(points),
         radius: 0.15,
@@ -248,6 +255,7 @@ pub fn all_scenes() -> Vec<Scene> {
         |p| (p - c).norm() <= 0.25,
     ));
     scenes.push(Scene {
+        domain: Domain::new(),
         name: "sheet_ligament_droplets3d".into(),
         set: set(sheet),
         radius: 0.15,
@@ -260,6 +268,7 @@ pub fn all_scenes() -> Vec<Scene> {
     // --- Hard cases.
     let square = rows(&crate::square_lattice(16, 1.0));
     scenes.push(Scene {
+        domain: Domain::new(),
         name: "square_lattice_tie2d".into(),
         set: set(square),
         radius: std::f64::consts::FRAC_1_SQRT_2,
@@ -268,6 +277,7 @@ pub fn all_scenes() -> Vec<Scene> {
     });
     let cubic = rows(&crate::cubic_lattice(10, 1.0));
     scenes.push(Scene {
+        domain: Domain::new(),
         name: "cubic_lattice_tie3d".into(),
         set: set(cubic),
         radius: 3f64.sqrt() / 2.0,
@@ -277,6 +287,7 @@ pub fn all_scenes() -> Vec<Scene> {
     let one = rows(&crate::cubic_lattice(6, 1.0));
     let six = one.iter().chain(one.iter()).copied().collect();
     scenes.push(Scene {
+        domain: Domain::new(),
         name: "duplicates3d".into(),
         set: set(six),
         radius: 1.2,
@@ -292,6 +303,7 @@ pub fn all_scenes() -> Vec<Scene> {
     .map(|p| p + offset)
     .collect();
     scenes.push(Scene {
+        domain: Domain::new(),
         name: "far_offset3d".into(),
         set: set(far),
         radius: 0.012,
@@ -308,6 +320,7 @@ pub fn all_scenes() -> Vec<Scene> {
         (p - drop_c).norm() <= 0.02
     });
     scenes.push(Scene {
+        domain: Domain::new(),
         name: "graded_column2d".into(),
         set: graded(coarse, [fine, drop].concat()),
         radius: R_OVER_H * H2,
@@ -339,6 +352,7 @@ pub fn all_scenes() -> Vec<Scene> {
         |p| (p - drop_c).norm() <= 0.035,
     );
     scenes.push(Scene {
+        domain: Domain::new(),
         name: "graded_pool3d".into(),
         set: graded(coarse, [fine, drop].concat()),
         radius: R_OVER_H * H3,
@@ -349,6 +363,7 @@ pub fn all_scenes() -> Vec<Scene> {
         ),
     });
     scenes.push(Scene {
+        domain: Domain::new(),
         name: "tiny2d".into(),
         set: set(rows(&[[0.0, 0.0], [1.0, 0.0], [0.5, 0.8]])),
         radius: 1.0,
@@ -356,11 +371,198 @@ pub fn all_scenes() -> Vec<Scene> {
         params: "3 particles".into(),
     });
     scenes.push(Scene {
+        domain: Domain::new(),
         name: "tiny3d".into(),
         set: set(rows(&[[0.0, 0.0, 0.0], [1.5, 0.0, 0.0]])),
         radius: 1.0,
         generator: "explicit",
         params: "2 particles 1.5r apart".into(),
+    });
+    scenes.extend(domain_scenes());
+    scenes
+}
+
+/// The centres `(k + 1/2)·h` of the integer cells `k` with `lo <= k < hi` per axis for which
+/// `keep(k)` holds, x fastest, each moved by up to `±jitter·h` per axis (not at all, and no
+/// draw, when `jitter` is 0). Integer cells keep fluid, walls and solid faces on one lattice
+/// without a rounded count.
+fn cell_centres<const D: usize>(
+    lo: [i64; D],
+    hi: [i64; D],
+    h: f64,
+    jitter: f64,
+    rng: &mut StdRng,
+    keep: impl Fn([i64; D]) -> bool,
+) -> Vec<Point<D>> {
+    let counts: [i64; D] = std::array::from_fn(|a| (hi[a] - lo[a]).max(0));
+    let total: i64 = counts.iter().product();
+    let mut out = Vec::new();
+    for k in 0..total {
+        let mut rest = k;
+        let cell: [i64; D] = std::array::from_fn(|a| {
+            let c = lo[a] + rest % counts[a];
+            rest /= counts[a];
+            c
+        });
+        if !keep(cell) {
+            continue;
+        }
+        let mut p = Point::<D>::from_fn(|a, _| (cell[a] as f64 + 0.5) * h);
+        if jitter > 0.0 {
+            for a in 0..D {
+                p[a] += rng.gen_range(-jitter..=jitter) * h;
+            }
+        }
+        out.push(p);
+    }
+    out
+}
+
+/// Whether `cell` lies in the box `[lo, hi)` of cells.
+fn in_box<const D: usize>(cell: [i64; D], lo: [i64; D], hi: [i64; D]) -> bool {
+    (0..D).all(|a| cell[a] >= lo[a] && cell[a] < hi[a])
+}
+
+/// The wall particles of an open-topped tank of `inner` cells (`[0, inner)` per axis, the
+/// last axis vertical): `layers` unjittered layers of cells around the floor and the sides,
+/// up to the tank's rim.
+fn tank_walls<const D: usize>(inner: [i64; D], layers: i64, h: f64) -> AnyParticleSet {
+    let lo: [i64; D] = [-layers; D];
+    let hi: [i64; D] = std::array::from_fn(|a| {
+        if a == D - 1 {
+            inner[a]
+        } else {
+            inner[a] + layers
+        }
+    });
+    let mut unused = StdRng::seed_from_u64(0);
+    set(cell_centres(lo, hi, h, 0.0, &mut unused, |c| {
+        !in_box(c, [0; D], inner)
+    }))
+}
+
+/// Spacing of the 2D domain scenes.
+const H_DOMAIN2: f64 = 0.01;
+/// Spacing of the 3D domain scenes.
+const H_DOMAIN3: f64 = 0.02;
+
+/// The scenes with a domain (see [`boundary_core::domain`]): fluid in a tank of wall particles
+/// or of solid half-spaces, a periodic channel, a two-phase pool. Fluid on a lattice of cells
+/// of spacing `h` jittered by ±0.05h, walls unjittered on the same lattice, the tank's inner
+/// faces on cell faces (half a spacing from the outermost fluid layer), `r = 1.5h`.
+fn domain_scenes() -> Vec<Scene> {
+    let mut scenes = Vec::new();
+    let h = H_DOMAIN2;
+    // --- 2D dam break: a 40 x 60 column in the corner of a 100 x 70 tank, 3 wall layers.
+    let mut rng = StdRng::seed_from_u64(9);
+    let fluid = cell_centres([0, 0], [40, 60], h, 0.05, &mut rng, |_| true);
+    scenes.push(Scene {
+        name: "tank_dambreak2d_walls".into(),
+        set: set(fluid),
+        radius: R_OVER_H * h,
+        generator: "tank_dambreak",
+        params: format!(
+            "h={h}: water column 40x60 cells at the left of a tank of 100x70 cells (inner \
+             faces x=0, x=1, y=0), 3 layers of wall particles; jitter=0.05h (fluid), seed=9"
+        ),
+        domain: Domain::new().with_walls(tank_walls([100, 70], 3, h)),
+    });
+    // --- 3D dam break: a 10 x 15 x 18 column across the width of a 20 x 15 x 20 tank (z up).
+    let h = H_DOMAIN3;
+    let column = || {
+        let mut rng = StdRng::seed_from_u64(10);
+        set(cell_centres(
+            [0, 0, 0],
+            [10, 15, 18],
+            h,
+            0.05,
+            &mut rng,
+            |_| true,
+        ))
+    };
+    scenes.push(Scene {
+        name: "tank_dambreak3d_walls".into(),
+        set: column(),
+        radius: R_OVER_H * h,
+        generator: "tank_dambreak",
+        params: format!(
+            "h={h}: water column 10x15x18 cells across the width of a tank of 20x15x20 cells \
+             (z up), 2 layers of wall particles; jitter=0.05h (fluid), seed=10"
+        ),
+        domain: Domain::new().with_walls(tank_walls([20, 15, 20], 2, h)),
+    });
+    let solid = |text: &str| HalfSpace::parse(text).expect("a valid half-space");
+    let (x1, y1) = (20.0 * h, 15.0 * h);
+    scenes.push(Scene {
+        name: "tank_dambreak3d_solids".into(),
+        set: column(),
+        radius: R_OVER_H * h,
+        generator: "tank_dambreak",
+        params: format!(
+            "h={h}: the column of tank_dambreak3d_walls in the same tank given as 5 solid \
+             half-spaces at its inner faces; jitter=0.05h, seed=10"
+        ),
+        domain: Domain::new()
+            .with_solid(solid("x<0"))
+            .with_solid(solid(&format!("x>{x1}")))
+            .with_solid(solid("y<0"))
+            .with_solid(solid(&format!("y>{y1}")))
+            .with_solid(solid("z<0")),
+    });
+    // --- 2D periodic channel: 100 cells of period 1 in x, a wave on the free surface, a
+    // floor of 3 wall layers.
+    let h = H_DOMAIN2;
+    let columns = 100;
+    let period = columns as f64 * h;
+    let surface = |x: f64| 0.2 + 0.03 * (2.0 * PI * x / period).sin();
+    let mut rng = StdRng::seed_from_u64(11);
+    let fluid = cell_centres([0, 0], [columns, 30], h, 0.05, &mut rng, |c| {
+        (c[1] as f64 + 0.5) * h <= surface((c[0] as f64 + 0.5) * h)
+    });
+    let mut unused = StdRng::seed_from_u64(0);
+    let floor = cell_centres([0, -3], [columns, 0], h, 0.0, &mut unused, |_| true);
+    scenes.push(Scene {
+        name: "channel2d_periodic".into(),
+        set: set(fluid),
+        radius: R_OVER_H * h,
+        generator: "periodic_channel",
+        params: format!(
+            "h={h}: periodic in x over [0, {period}] ({columns} cells), free surface \
+             y = 0.2 + 0.03 sin(2 pi x), 3 layers of floor walls; jitter=0.05h (fluid), seed=11"
+        ),
+        domain: Domain::new()
+            .with_walls(set(floor))
+            .with_periodic(Periodic::new(0, 0.0, period).expect("a valid period")),
+    });
+    // --- 2D two-phase pool: a heavy layer (phase 0) under a light one (phase 1), a heavy
+    // droplet inside the light layer, in a tank of 60 x 45 cells with 3 wall layers.
+    let mut rng = StdRng::seed_from_u64(12);
+    let drop_c = [0.3, 0.3];
+    let drop_r = 0.05;
+    let in_drop = |c: [i64; 2]| {
+        let (x, y) = ((c[0] as f64 + 0.5) * h, (c[1] as f64 + 0.5) * h);
+        (x - drop_c[0]).hypot(y - drop_c[1]) <= drop_r
+    };
+    let cells: Vec<[i64; 2]> = (0..60 * 40).map(|k| [k % 60, k / 60]).collect();
+    let phases: Vec<u32> = cells
+        .iter()
+        .map(|&c| u32::from(c[1] >= 20 && !in_drop(c)))
+        .collect();
+    let fluid = cell_centres([0, 0], [60, 40], h, 0.05, &mut rng, |_| true);
+    scenes.push(Scene {
+        name: "pool_droplet2d_phases".into(),
+        set: set(fluid),
+        radius: R_OVER_H * h,
+        generator: "two_phase_pool",
+        params: format!(
+            "h={h}: 60x40 cells, phase 0 below y=0.2, phase 1 above, a phase-0 droplet \
+             R={drop_r} at ({}, {}), in a tank of 60x45 cells with 3 layers of wall \
+             particles; jitter=0.05h, seed=12",
+            drop_c[0], drop_c[1]
+        ),
+        domain: Domain::new()
+            .with_walls(tank_walls([60, 45], 3, h))
+            .with_phases(phases),
     });
     scenes
 }

@@ -27,7 +27,9 @@ pub use generate::{
     all_scenes, enright, enright_sphere, fill, jittered_lattice_ball, jittered_lattice_disc, rk4,
     single_vortex, Scene,
 };
-pub use manifest::{Manifest, Origin, SceneEntry, SceneError, SHARED_SCENES};
+pub use manifest::{
+    load_scene, Manifest, Origin, SceneDomain, SceneEntry, SceneError, SHARED_SCENES,
+};
 pub use shared::{SharedData, ALLOW_MISSING_DATA_VAR};
 
 use boundary_core::ParticleSet;

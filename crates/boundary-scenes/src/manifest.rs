@@ -1,6 +1,6 @@
 //! The scene manifest `fixtures/scenes.toml`.
 
-use boundary_core::AnyParticleSet;
+use boundary_core::{AnyParticleSet, Domain, HalfSpace, Periodic};
 use boundary_io::{read_particle_file, read_particles, Attribute, AttributeValues, ReadOptions};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -38,6 +38,20 @@ pub struct SceneEntry {
     /// `i` has radius `radius · attribute[i]`), if the scene has one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub radius_attribute: Option<String>,
+    /// Wall particles (covering only, no label; see [`boundary_core::domain`]): a file with the
+    /// same origin rules as `file`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub walls: Option<String>,
+    /// Solid half-spaces, as [`HalfSpace::parse`] reads them (`"y<0"`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub solids: Vec<String>,
+    /// Periodic axes, as [`Periodic::parse`] reads them (`"x:0:1"`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub periodic: Vec<String>,
+    /// The point attribute holding each particle's phase (a non-negative integer), if the
+    /// scene has phases.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phase_attribute: Option<String>,
     /// Independently known boundary count at `radius` (shared data README), if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub expected_boundary: Option<usize>,
@@ -61,42 +75,214 @@ impl SceneEntry {
         }
     }
 
-    /// The scene's particles: read from its file, or sampled from its mesh.
+    /// The scene's particles: read from its file (with the radius factors of
+    /// `radius_attribute`), or sampled from its mesh. The domain, if any, is left out: see
+    /// [`SceneEntry::load_in_domain`].
     pub fn load(&self, fixtures_dir: &Path, data_dir: &Path) -> Result<AnyParticleSet, String> {
         let path = self.path(fixtures_dir, data_dir);
         match self.origin {
             Origin::Mesh => crate::mesh::sample_obj(&path, self.params.as_deref().unwrap_or(""))
                 .map(AnyParticleSet::from),
-            Origin::Fixture | Origin::Shared => {
-                let options = ReadOptions {
-                    dim: Some(self.dim),
-                    ..Default::default()
-                };
-                let Some(name) = &self.radius_attribute else {
-                    return read_particles(&path, &options).map_err(|e| e.to_string());
-                };
-                let file = read_particle_file(&path, &options).map_err(|e| e.to_string())?;
-                let radii = match file.attributes.iter().find(|a| &a.name == name) {
-                    Some(Attribute {
-                        values: AttributeValues::Float(v),
-                        ..
-                    }) => v.clone(),
-                    Some(Attribute {
-                        values: AttributeValues::Int(v),
-                        ..
-                    }) => v.iter().map(|&x| x as f64).collect(),
-                    None => {
-                        return Err(format!(
-                            "{}: no attribute '{name}' for the radii",
+            Origin::Fixture | Origin::Shared => load_scene(
+                &path,
+                self.dim,
+                self.radius_attribute.as_deref(),
+                &SceneDomain::default(),
+            )
+            .map(|(set, _)| set),
+        }
+    }
+
+    /// Whether the scene has a domain: walls, solids, periodic axes or phases.
+    pub fn has_domain(&self) -> bool {
+        self.walls.is_some()
+            || !self.solids.is_empty()
+            || !self.periodic.is_empty()
+            || self.phase_attribute.is_some()
+    }
+
+    /// The scene's domain as the manifest states it: the wall file resolved like `file`, the
+    /// solids and periodic axes parsed. The default (bare) for a scene without one.
+    pub fn scene_domain(
+        &self,
+        fixtures_dir: &Path,
+        data_dir: &Path,
+    ) -> Result<SceneDomain, String> {
+        let solids = self
+            .solids
+            .iter()
+            .map(|s| HalfSpace::parse(s).map_err(|e| e.to_string()))
+            .collect::<Result<Vec<_>, _>>()?;
+        let periodic = self
+            .periodic
+            .iter()
+            .map(|p| Periodic::parse(p).map_err(|e| e.to_string()))
+            .collect::<Result<Vec<_>, _>>()?;
+        let walls = self.walls.as_ref().map(|w| match self.origin {
+            Origin::Fixture => fixtures_dir.join(w),
+            Origin::Shared | Origin::Mesh => data_dir.join(w),
+        });
+        Ok(SceneDomain {
+            walls,
+            solids,
+            periodic,
+            phase_attribute: self.phase_attribute.clone(),
+        })
+    }
+
+    /// The scene's particles and its [`Domain`] (the bare one for a scene without a domain):
+    /// what `exact` and every method classify the scene in.
+    pub fn load_in_domain(
+        &self,
+        fixtures_dir: &Path,
+        data_dir: &Path,
+    ) -> Result<(AnyParticleSet, Domain), String> {
+        if self.origin == Origin::Mesh {
+            if self.has_domain() {
+                return Err(format!(
+                    "scene '{}': a mesh scene has no walls, solids, periodic axes or phases",
+                    self.name
+                ));
+            }
+            return Ok((self.load(fixtures_dir, data_dir)?, Domain::new()));
+        }
+        let domain = self.scene_domain(fixtures_dir, data_dir)?;
+        load_scene(
+            &self.path(fixtures_dir, data_dir),
+            self.dim,
+            self.radius_attribute.as_deref(),
+            &domain,
+        )
+    }
+}
+
+/// A scene's domain as files and parsed options, before anything is read: see
+/// [`SceneEntry::scene_domain`] and [`load_scene`]. The default is the bare cloud.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SceneDomain {
+    /// The file of the wall particles.
+    pub walls: Option<PathBuf>,
+    /// The solid half-spaces.
+    pub solids: Vec<HalfSpace>,
+    /// The periodic axes.
+    pub periodic: Vec<Periodic>,
+    /// The point attribute of the particle file holding the phases.
+    pub phase_attribute: Option<String>,
+}
+
+impl SceneDomain {
+    /// Whether this is the bare cloud.
+    pub fn is_bare(&self) -> bool {
+        self.walls.is_none()
+            && self.solids.is_empty()
+            && self.periodic.is_empty()
+            && self.phase_attribute.is_none()
+    }
+
+    /// One line for a report: `walls (FILE), solids y<0 x>1, periodic x:0:1, phases (NAME)`.
+    pub fn describe(&self) -> String {
+        let mut parts = Vec::new();
+        if let Some(w) = &self.walls {
+            let name = w.file_name().map_or_else(
+                || w.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            );
+            parts.push(format!("walls ({name})"));
+        }
+        if !self.solids.is_empty() {
+            let list: Vec<String> = self.solids.iter().map(ToString::to_string).collect();
+            parts.push(format!("solids {}", list.join(" ")));
+        }
+        if !self.periodic.is_empty() {
+            let list: Vec<String> = self.periodic.iter().map(ToString::to_string).collect();
+            parts.push(format!("periodic {}", list.join(" ")));
+        }
+        if let Some(p) = &self.phase_attribute {
+            parts.push(format!("phases ({p})"));
+        }
+        parts.join(", ")
+    }
+}
+
+/// Reads the particle file `path` as a `dim`-dimensional set, with the radius factors of the
+/// attribute `radius_attribute` if named, and builds its [`Domain`] from `domain` (the walls
+/// read from their file in the same dimension, the phases from the particle file's attribute).
+/// Errors name the file and the attribute.
+pub fn load_scene(
+    path: &Path,
+    dim: usize,
+    radius_attribute: Option<&str>,
+    domain: &SceneDomain,
+) -> Result<(AnyParticleSet, Domain), String> {
+    let options = ReadOptions {
+        dim: Some(dim),
+        ..Default::default()
+    };
+    let mut out = Domain::new();
+    let set = if radius_attribute.is_none() && domain.phase_attribute.is_none() {
+        read_particles(path, &options).map_err(|e| e.to_string())?
+    } else {
+        let file = read_particle_file(path, &options).map_err(|e| e.to_string())?;
+        let mut set = file.set;
+        if let Some(name) = radius_attribute {
+            let radii = attribute(&file.attributes, name, path, "the radii")?;
+            set = set
+                .with_radii(radii)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+        if let Some(name) = &domain.phase_attribute {
+            let values = attribute(&file.attributes, name, path, "the phases")?;
+            let phases = values
+                .iter()
+                .enumerate()
+                .map(|(i, &v)| {
+                    if v >= 0.0 && v <= f64::from(u32::MAX) && v.fract() == 0.0 {
+                        Ok(v as u32)
+                    } else {
+                        Err(format!(
+                            "{}: particle {i}: phase {v} is not a non-negative integer",
                             path.display()
                         ))
                     }
-                };
-                file.set
-                    .with_radii(radii)
-                    .map_err(|e| format!("{}: {e}", path.display()))
-            }
+                })
+                .collect::<Result<Vec<u32>, String>>()?;
+            out = out.with_phases(phases);
         }
+        set
+    };
+    if let Some(walls) = &domain.walls {
+        let w = read_particles(walls, &options).map_err(|e| e.to_string())?;
+        out = out.with_walls(w);
+    }
+    for &h in &domain.solids {
+        out = out.with_solid(h);
+    }
+    for &p in &domain.periodic {
+        out = out.with_periodic(p);
+    }
+    Ok((set, out))
+}
+
+/// The values of the attribute `name` as reals; `what` says what they are for.
+fn attribute(
+    attributes: &[Attribute],
+    name: &str,
+    path: &Path,
+    what: &str,
+) -> Result<Vec<f64>, String> {
+    match attributes.iter().find(|a| a.name == name) {
+        Some(Attribute {
+            values: AttributeValues::Float(v),
+            ..
+        }) => Ok(v.clone()),
+        Some(Attribute {
+            values: AttributeValues::Int(v),
+            ..
+        }) => Ok(v.iter().map(|&x| x as f64).collect()),
+        None => Err(format!(
+            "{}: no attribute '{name}' for {what}",
+            path.display()
+        )),
     }
 }
 
@@ -173,6 +359,29 @@ impl Manifest {
                     "radius must be positive, got {}",
                     s.radius
                 )));
+            }
+            for text in &s.solids {
+                let h = HalfSpace::parse(text).map_err(|e| invalid(e.to_string()))?;
+                if h.axis() >= s.dim {
+                    return Err(invalid(format!(
+                        "solid '{text}': a {}D scene has no such axis",
+                        s.dim
+                    )));
+                }
+            }
+            for text in &s.periodic {
+                let p = Periodic::parse(text).map_err(|e| invalid(e.to_string()))?;
+                if p.axis() >= s.dim {
+                    return Err(invalid(format!(
+                        "periodic '{text}': a {}D scene has no such axis",
+                        s.dim
+                    )));
+                }
+            }
+            if s.origin == Origin::Mesh && s.has_domain() {
+                return Err(invalid(
+                    "a mesh scene has no walls, solids, periodic axes or phases".into(),
+                ));
             }
         }
         Ok(manifest)
@@ -354,6 +563,10 @@ mod tests {
                 radius: 0.5,
                 n: 10,
                 radius_attribute: None,
+                walls: None,
+                solids: Vec::new(),
+                periodic: Vec::new(),
+                phase_attribute: None,
                 expected_boundary: Some(4),
                 generator: None,
                 params: None,
@@ -369,5 +582,84 @@ mod tests {
         assert!(err.to_string().contains("'a'") && err.to_string().contains("radius"));
         let err = Manifest::parse("[[scene]]\nname = 1\n", "m.toml").expect_err("bad type");
         assert!(err.to_string().starts_with("m.toml:"), "{err}");
+    }
+
+    #[test]
+    fn domain_fields_round_trip_and_are_checked() {
+        let entry = SceneEntry {
+            name: "tank".into(),
+            origin: Origin::Fixture,
+            dim: 2,
+            file: "tank.csv".into(),
+            radius: 0.5,
+            n: 3,
+            radius_attribute: None,
+            walls: Some("tank_walls.csv".into()),
+            solids: vec!["y<0".into()],
+            periodic: vec!["x:0:4".into()],
+            phase_attribute: Some("phase".into()),
+            expected_boundary: None,
+            generator: None,
+            params: None,
+            provenance: None,
+        };
+        let m = Manifest {
+            scene: vec![entry.clone()],
+        };
+        let text = m.to_toml();
+        assert!(text.contains("solids = [\"y<0\"]"), "{text}");
+        assert_eq!(Manifest::parse(&text, "m").expect("valid"), m);
+        assert!(entry.has_domain());
+        let bad = text.replace("\"y<0\"", "\"z<0\"");
+        let err = Manifest::parse(&bad, "m.toml").expect_err("no z in 2D");
+        assert!(err.to_string().contains("'z<0'"), "{err}");
+        let bad = text.replace("x:0:4", "x:4:0");
+        assert!(Manifest::parse(&bad, "m.toml").is_err());
+        let bad = text.replace("\"y<0\"", "\"y=0\"");
+        assert!(Manifest::parse(&bad, "m.toml").is_err());
+
+        // The files: the particles with their phases, the walls beside them.
+        let dir = tempfile::tempdir().expect("temporary folder");
+        std::fs::write(
+            dir.path().join("tank.csv"),
+            "x,y,phase\n1,1,0\n2,1,1\n3,1,1\n",
+        )
+        .expect("written");
+        std::fs::write(dir.path().join("tank_walls.csv"), "x,y\n1,0\n2,0\n").expect("written");
+        let (set, domain) = entry
+            .load_in_domain(dir.path(), Path::new("/nonexistent"))
+            .expect("loads");
+        assert_eq!(set.len(), 3);
+        assert_eq!(domain.phases(), Some(&[0, 1, 1][..]));
+        assert_eq!(domain.walls().map(AnyParticleSet::len), Some(2));
+        assert_eq!(
+            domain.solids().half_spaces(),
+            &[HalfSpace::parse("y<0").unwrap()]
+        );
+        assert_eq!(domain.periodic(), &[Periodic::parse("x:0:4").unwrap()]);
+        // The bare load leaves the domain out; a missing phase column is named.
+        assert!(
+            entry
+                .load(dir.path(), Path::new("/nonexistent"))
+                .expect("loads")
+                == set
+        );
+        let no_phase = SceneEntry {
+            phase_attribute: Some("colour".into()),
+            ..entry.clone()
+        };
+        let err = no_phase
+            .load_in_domain(dir.path(), Path::new("/nonexistent"))
+            .expect_err("no such column");
+        assert!(err.contains("'colour'") && err.contains("phases"), "{err}");
+        std::fs::write(
+            dir.path().join("tank.csv"),
+            "x,y,phase\n1,1,0\n2,1,-1\n3,1,1\n",
+        )
+        .expect("written");
+        let err = entry
+            .load_in_domain(dir.path(), Path::new("/nonexistent"))
+            .expect_err("negative phase");
+        assert!(err.contains("particle 1"), "{err}");
     }
 }

@@ -573,6 +573,8 @@ mod tests {
             threads: 1,
             error: None,
             unsupported: false,
+            interface: None,
+            interface_confusion: None,
         }
     }
 

@@ -14,9 +14,10 @@ pub mod report;
 pub mod scale;
 
 use boundary::{
-    AnyParticleSet, BoundaryDetector, Confusion, DetectError, Labels, NeighbourGrid, ParticleSet,
-    Radius,
+    AnyParticleSet, BoundaryDetector, Confusion, DetectError, Domain, Labels, NeighbourGrid,
+    ParticleSet, Radius,
 };
+use boundary_scenes::SceneDomain;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -37,6 +38,11 @@ pub struct SceneSpec {
     pub origin: String,
     /// What the scene is: its generator and parameters, or its provenance (for the report).
     pub about: String,
+    /// The point attribute of the file holding the per-particle radius factors, if any.
+    pub radius_attribute: Option<String>,
+    /// Walls, solids, periodic axes and phases (bare for most scenes): every method, `exact`
+    /// included, classifies the scene in this domain.
+    pub domain: SceneDomain,
 }
 
 /// A detector with parameter values.
@@ -143,9 +149,42 @@ pub struct Row {
     pub threads: usize,
     /// The error, when the detection failed.
     pub error: Option<String>,
-    /// The method does not apply to the scene (per-particle radii it does not support): not a
-    /// failure; `error` says why.
+    /// The method does not apply to the scene (per-particle radii, or a solid region, it
+    /// cannot honour): not a failure; `error` says why in a few words.
     pub unsupported: bool,
+    /// With phases: the number of particles the method puts on an interface between phases.
+    pub interface: Option<usize>,
+    /// With phases: the interface labels against those of `exact`.
+    pub interface_confusion: Option<Confusion>,
+}
+
+/// The exact labels of a scene with a domain, for its picture: in 2D every particle, in 3D the
+/// slab of half-width `r/2` across the middle of the fluid along y, drawn in the x–z plane.
+#[derive(Debug, Clone)]
+pub struct DomainPicture {
+    /// Scene name.
+    pub scene: String,
+    /// Dimension of the scene.
+    pub dim: usize,
+    /// The drawn plane's axes (x and y in 2D, x and z in 3D).
+    pub axes: [usize; 2],
+    /// The fluid particles drawn, in the drawn plane.
+    pub points: Vec<[f64; 2]>,
+    /// Exact free-surface label of each drawn particle.
+    pub boundary: Vec<bool>,
+    /// Exact interface label of each drawn particle (empty without phases).
+    pub interface: Vec<bool>,
+    /// Phase of each drawn particle (empty without phases).
+    pub phases: Vec<u32>,
+    /// The wall particles drawn, in the drawn plane.
+    pub walls: Vec<[f64; 2]>,
+    /// Solid half-spaces bounding the drawn plane: (0 or 1 for the plane's axis, the bound,
+    /// whether the solid lies below it).
+    pub solids: Vec<(usize, f64, bool)>,
+    /// Periodic axes in the drawn plane: (0 or 1, min, max).
+    pub periodic: Vec<(usize, f64, f64)>,
+    /// The domain in words.
+    pub about: String,
 }
 
 /// Labels of one 2D scene for the pictures: positions, exact labels, each default method's.
@@ -185,6 +224,10 @@ pub struct Outcome {
     /// (scene, mean number of other particles within `2r` of a particle), in run order: the
     /// density of the neighbourhoods every method reads, beside its timings.
     pub neighbours: Vec<(String, f64)>,
+    /// (scene, its domain in words) for the scenes with a domain, in run order.
+    pub domains: Vec<(String, String)>,
+    /// The exact labels of each scene with a domain, for its picture.
+    pub domain_pictures: Vec<DomainPicture>,
 }
 
 /// The mean number of other particles within `2r` of a particle of `set` (the scene's uniform
@@ -243,16 +286,36 @@ fn pool(threads: usize) -> Result<rayon::ThreadPool, String> {
         .map_err(|e| e.to_string())
 }
 
+/// Free-surface labels and, with phases, interface labels.
+type Classified = (Labels, Option<Labels>);
+
+/// One detection, timed: the bare cloud through `detect`, a domain through `detect_in`.
 fn timed(
     detector: &dyn BoundaryDetector,
     set: &AnyParticleSet,
+    domain: Option<&Domain>,
     r: Radius,
     pool: &rayon::ThreadPool,
-) -> (Result<Labels, DetectError>, f64) {
+) -> (Result<Classified, DetectError>, f64) {
     let start = Instant::now();
-    let result = pool.install(|| detector.detect(set, r));
+    let result = pool.install(|| match domain {
+        None => detector.detect(set, r).map(|d| (d.labels, None)),
+        Some(domain) => detector
+            .detect_in(set, domain, r)
+            .map(|d| (d.detection.labels, d.interface)),
+    });
     let seconds = start.elapsed().as_secs_f64();
-    (result.map(|d| d.labels), seconds)
+    (result, seconds)
+}
+
+/// For a method that does not apply to the scene, why, in a few words (the report's `n/a`);
+/// `None` for a real failure.
+fn unsupported_reason(e: &DetectError) -> Option<String> {
+    match e {
+        DetectError::PerParticleRadii { .. } => Some("no per-particle radii".into()),
+        DetectError::UnsupportedOption { option, .. } => Some(format!("cannot honour {option}")),
+        _ => None,
+    }
 }
 
 /// Runs the sweep. Failures of one scene or one detector are recorded, never fatal.
@@ -264,16 +327,15 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
     let total = opts.scenes.len() * (opts.configs.len() + 1);
     let mut done = 0;
     for scene in &opts.scenes {
-        let read = boundary_io::read_particles(
+        let read = boundary_scenes::load_scene(
             &scene.path,
-            &boundary_io::ReadOptions {
-                dim: Some(scene.dim),
-                ..Default::default()
-            },
+            scene.dim,
+            scene.radius_attribute.as_deref(),
+            &scene.domain,
         );
-        let set = match read {
-            Ok(set) if set.dim() == scene.dim => set,
-            Ok(set) => {
+        let (set, domain) = match read {
+            Ok((set, domain)) if set.dim() == scene.dim => (set, domain),
+            Ok((set, _)) => {
                 out.skipped.push((
                     scene.name.clone(),
                     format!("file is {}D, manifest says {}D", set.dim(), scene.dim),
@@ -282,18 +344,30 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
                 continue;
             }
             Err(e) => {
-                out.skipped.push((scene.name.clone(), e.to_string()));
+                out.skipped.push((scene.name.clone(), e));
                 done += opts.configs.len() + 1;
                 continue;
             }
         };
+        let domain = (!domain.is_bare()).then_some(domain);
+        let domain = domain.as_ref();
         let r = Radius::new(scene.radius).map_err(|e| format!("{}: {e}", scene.name))?;
         let exact = boundary::detector_by_name("exact").map_err(|e| e.to_string())?;
-        let (truth, t_all) = timed(exact.as_ref(), &set, r, &all);
-        let truth = truth.map_err(|e| format!("{}: exact failed: {e}", scene.name))?;
+        let (truth, t_all) = timed(exact.as_ref(), &set, domain, r, &all);
+        let (truth, truth_interface) = match truth {
+            Ok(t) => t,
+            // Without the reference a scene with a domain has nothing to score against.
+            Err(e) if domain.is_some() => {
+                out.skipped
+                    .push((scene.name.clone(), format!("exact cannot classify it: {e}")));
+                done += opts.configs.len() + 1;
+                continue;
+            }
+            Err(e) => return Err(format!("{}: exact failed: {e}", scene.name)),
+        };
         let t_one = opts
             .single_thread
-            .then(|| timed(exact.as_ref(), &set, r, &one).1);
+            .then(|| timed(exact.as_ref(), &set, domain, r, &one).1);
         if let Some(expected) = scene.expected_boundary {
             if truth.boundary_count() != expected {
                 out.count_mismatches
@@ -316,6 +390,10 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
             threads,
             error: None,
             unsupported: false,
+            interface: truth_interface.as_ref().map(Labels::boundary_count),
+            interface_confusion: truth_interface
+                .as_ref()
+                .and_then(|t| Confusion::from_labels(t.as_slice(), t.as_slice()).ok()),
         });
         done += 1;
         progress(Progress {
@@ -327,6 +405,19 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
         if let Some(k) = mean_neighbours(&set, scene.radius) {
             out.neighbours.push((scene.name.clone(), k));
         }
+        if let Some(domain) = domain {
+            out.domains
+                .push((scene.name.clone(), scene.domain.describe()));
+            out.domain_pictures.push(domain_picture(
+                &scene.name,
+                &set,
+                domain,
+                &truth,
+                truth_interface.as_ref(),
+                scene.radius,
+                scene.domain.describe(),
+            ));
+        }
         // Classes of the particles for the miss profiles, computed once on first need.
         let mut classes: Option<Result<failures::SceneClasses, String>> = None;
         let mut picture_methods = Vec::new();
@@ -337,17 +428,27 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
             }
             let detector = boundary::detector_with_params(&config.method, &config.params)
                 .map_err(|e| e.to_string())?;
-            let (labels, t_all) = timed(detector.as_ref(), &set, r, &all);
-            let t_one = (opts.single_thread && labels.is_ok())
-                .then(|| timed(detector.as_ref(), &set, r, &one).1);
-            let (confusion, error) = match &labels {
-                Ok(l) => (
+            let (classified, t_all) = timed(detector.as_ref(), &set, domain, r, &all);
+            let t_one = (opts.single_thread && classified.is_ok())
+                .then(|| timed(detector.as_ref(), &set, domain, r, &one).1);
+            let (confusion, error) = match &classified {
+                Ok((l, _)) => (
                     Confusion::from_labels(l.as_slice(), truth.as_slice()).ok(),
                     None,
                 ),
-                Err(e) => (None, Some(e.to_string())),
+                Err(e) => (None, Some(unsupported_reason(e).unwrap_or(e.to_string()))),
             };
-            let unsupported = matches!(labels, Err(DetectError::PerParticleRadii { .. }));
+            let unsupported = classified
+                .as_ref()
+                .is_err_and(|e| unsupported_reason(e).is_some());
+            let (interface, interface_confusion) = match (&classified, &truth_interface) {
+                (Ok((_, Some(i))), Some(t)) => (
+                    Some(i.boundary_count()),
+                    Confusion::from_labels(i.as_slice(), t.as_slice()).ok(),
+                ),
+                _ => (None, None),
+            };
+            let labels = classified.map(|(l, _)| l);
             if config.params.is_empty() {
                 if let (Ok(l), AnyParticleSet::D2(_)) = (&labels, &set) {
                     picture_methods.push((config.method.clone(), l.clone()));
@@ -396,6 +497,8 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
                 threads,
                 error,
                 unsupported,
+                interface,
+                interface_confusion,
             });
         }
         if let AnyParticleSet::D2(s) = &set {
@@ -421,6 +524,75 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
         }
     }
     Ok(out)
+}
+
+/// The picture of the exact labels of a scene with a domain (see [`DomainPicture`]).
+fn domain_picture(
+    scene: &str,
+    set: &AnyParticleSet,
+    domain: &Domain,
+    truth: &Labels,
+    interface: Option<&Labels>,
+    r: f64,
+    about: String,
+) -> DomainPicture {
+    let dim = set.dim();
+    let axes = [0, dim - 1];
+    // In 3D, the slab across the middle of the fluid along y.
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for i in 0..set.len() {
+        let y = set.coords(i)[1];
+        lo = lo.min(y);
+        hi = hi.max(y);
+    }
+    let middle = 0.5 * (lo + hi);
+    let kept = |c: &[f64]| dim == 2 || (c[1] - middle).abs() <= 0.5 * r;
+    let mut picture = DomainPicture {
+        scene: scene.to_owned(),
+        dim,
+        axes,
+        points: Vec::new(),
+        boundary: Vec::new(),
+        interface: Vec::new(),
+        phases: Vec::new(),
+        walls: Vec::new(),
+        solids: Vec::new(),
+        periodic: Vec::new(),
+        about,
+    };
+    for i in 0..set.len() {
+        let c = set.coords(i);
+        if !kept(c) {
+            continue;
+        }
+        picture.points.push([c[axes[0]], c[axes[1]]]);
+        picture.boundary.push(truth.is_boundary(i));
+        if let Some(t) = interface {
+            picture.interface.push(t.is_boundary(i));
+        }
+        if let Some(p) = domain.phases() {
+            picture.phases.push(p[i]);
+        }
+    }
+    if let Some(w) = domain.walls() {
+        for i in 0..w.len() {
+            let c = w.coords(i);
+            if kept(c) {
+                picture.walls.push([c[axes[0]], c[axes[1]]]);
+            }
+        }
+    }
+    for h in domain.solids().half_spaces() {
+        if let Some(k) = axes.iter().position(|&a| a == h.axis()) {
+            picture.solids.push((k, h.value(), h.solid_below()));
+        }
+    }
+    for p in domain.periodic() {
+        if let Some(k) = axes.iter().position(|&a| a == p.axis()) {
+            picture.periodic.push((k, p.min(), p.max()));
+        }
+    }
+    picture
 }
 
 /// Makes (scene, labels) the failure picture of `method` when the method has a miss there and

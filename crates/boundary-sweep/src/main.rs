@@ -310,7 +310,23 @@ fn load_scenes(
             (None, Some(p), None) => p.clone(),
             (None, None, None) => String::new(),
         };
+        let domain = match entry.scene_domain(fixtures, data_dir) {
+            Ok(d) => d,
+            Err(why) => {
+                skipped.push((entry.name, why));
+                continue;
+            }
+        };
+        if let Some(walls) = domain.walls.as_ref().filter(|w| !w.is_file()) {
+            skipped.push((
+                entry.name,
+                format!("{} not found (run `cargo xtask fixtures`)", walls.display()),
+            ));
+            continue;
+        }
         scenes.push(SceneSpec {
+            radius_attribute: entry.radius_attribute.clone(),
+            domain,
             about,
             name: entry.name,
             dim: entry.dim,

@@ -17,10 +17,15 @@
 //!   false negatives (blue) and false positives (red); a 3D scene is drawn as the 2r-thick
 //!   slab holding the most misses ([`FailurePicture::slab`]) beside the projection of every
 //!   particle along the slab's axis with all misses on top.
+//! - `domain_<scene>`: for each scene with a domain, the exact labels in it: fluid interior
+//!   (by phase) and free surface, interface particles, walls in a neutral grey, solid
+//!   half-spaces as lines at their bounds (hatched side solid) and periodic bounds dashed; a
+//!   3D scene as the slab of half-width r/2 across the middle of the fluid along y, in the
+//!   x–z plane.
 
 use crate::failures::FailurePicture;
 use crate::scale::ScaleOutcome;
-use crate::{Outcome, Picture, Row};
+use crate::{DomainPicture, Outcome, Picture, Row};
 use boundary::Confusion;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -723,6 +728,165 @@ where
     root.present().map_err(err)
 }
 
+/// File name of the domain picture of `scene` (`domain_<scene>.<ext>`).
+pub fn domain_file(scene: &str, ext: &str) -> String {
+    format!("domain_{}.{ext}", file_stem(scene))
+}
+
+/// The exact labels of a scene with a domain (see the module docs).
+fn domain_plot<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    pic: &DomainPicture,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE).map_err(err)?;
+    let names = ["x", "y", "z"];
+    let boundary = pic.boundary.iter().filter(|&&b| b).count();
+    let interface = pic.interface.iter().filter(|&&b| b).count();
+    let mut head = format!("{}: exact, {} free surface (green)", pic.scene, boundary);
+    if !pic.interface.is_empty() {
+        head.push_str(&format!(", {interface} interface (orange)"));
+    }
+    if pic.dim == 3 {
+        head.push_str(" in the slab across y");
+    }
+    let root = root.titled(&head, ("sans-serif", 17)).map_err(err)?;
+    // The window holds the particles, the walls and every solid bound.
+    let centre = pic.points.first().copied().unwrap_or([0.0, 0.0]);
+    let bounds: Vec<(f64, f64)> = pic
+        .solids
+        .iter()
+        .map(|&(k, value, _)| {
+            if k == 0 {
+                (value, centre[1])
+            } else {
+                (centre[0], value)
+            }
+        })
+        .collect();
+    let points = pic.points.iter().chain(&pic.walls).map(|p| (p[0], p[1]));
+    let ((x0, x1), (y0, y1)) = square_window(points.chain(bounds));
+    let mut chart = ChartBuilder::on(&root)
+        .caption(&pic.about, ("sans-serif", 14))
+        .margin(10)
+        .x_label_area_size(28)
+        .y_label_area_size(40)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc(names[pic.axes[0]])
+        .y_desc(names[pic.axes[1]])
+        .draw()
+        .map_err(err)?;
+    let wall = RGBColor(150, 150, 150);
+    chart
+        .draw_series(
+            pic.walls
+                .iter()
+                .map(|p| Circle::new((p[0], p[1]), 2, wall.filled())),
+        )
+        .map_err(err)?;
+    // Interior by phase (phase 0 pale blue, others pale sand), then the labels on top.
+    let interior = |i: usize| {
+        if pic.phases.get(i).copied().unwrap_or(0) == 0 {
+            RGBColor(170, 195, 230)
+        } else {
+            RGBColor(230, 205, 160)
+        }
+    };
+    let is_interface = |i: usize| pic.interface.get(i).copied().unwrap_or(false);
+    let n = pic.points.len();
+    let xy = |i: usize| (pic.points[i][0], pic.points[i][1]);
+    chart
+        .draw_series(
+            (0..n)
+                .filter(|&i| !pic.boundary[i] && !is_interface(i))
+                .map(|i| Circle::new(xy(i), 2, interior(i).filled())),
+        )
+        .map_err(err)?;
+    chart
+        .draw_series(
+            (0..n)
+                .filter(|&i| is_interface(i))
+                .map(|i| Circle::new(xy(i), 3, RGBColor(240, 130, 0).filled())),
+        )
+        .map_err(err)?;
+    chart
+        .draw_series(
+            (0..n)
+                .filter(|&i| pic.boundary[i])
+                .map(|i| Circle::new(xy(i), 3, RGBColor(40, 150, 60).filled())),
+        )
+        .map_err(err)?;
+    // Solid bounds: a line, with short ticks into the solid side.
+    let solid = RGBColor(60, 60, 60);
+    let tick = 0.015 * (x1 - x0);
+    for &(k, value, below) in &pic.solids {
+        let sign = if below { -1.0 } else { 1.0 };
+        type Segment = [(f64, f64); 2];
+        let (line, ticks): (Segment, Vec<Segment>) = if k == 0 {
+            let ticks = (0..=20)
+                .map(|j| y0 + (y1 - y0) * f64::from(j) / 20.0)
+                .map(|y| [(value, y), (value + sign * tick, y - tick)])
+                .collect();
+            ([(value, y0), (value, y1)], ticks)
+        } else {
+            let ticks = (0..=20)
+                .map(|j| x0 + (x1 - x0) * f64::from(j) / 20.0)
+                .map(|x| [(x, value), (x - tick, value + sign * tick)])
+                .collect();
+            ([(x0, value), (x1, value)], ticks)
+        };
+        chart
+            .draw_series(LineSeries::new(line, solid.stroke_width(2)))
+            .map_err(err)?;
+        chart
+            .draw_series(
+                ticks
+                    .into_iter()
+                    .map(|t| PathElement::new(t.to_vec(), solid)),
+            )
+            .map_err(err)?;
+    }
+    // Periodic bounds: dashed lines at both ends of the period.
+    for &(k, lo, hi) in &pic.periodic {
+        for value in [lo, hi] {
+            let dashes = (0..40).filter(|j| j % 2 == 0).map(|j| {
+                let (a, b) = (f64::from(j) / 40.0, f64::from(j + 1) / 40.0);
+                if k == 0 {
+                    vec![(value, y0 + a * (y1 - y0)), (value, y0 + b * (y1 - y0))]
+                } else {
+                    vec![(x0 + a * (x1 - x0), value), (x0 + b * (x1 - x0), value)]
+                }
+            });
+            chart
+                .draw_series(dashes.map(|d| PathElement::new(d, RGBColor(120, 60, 160))))
+                .map_err(err)?;
+        }
+    }
+    root.present().map_err(err)
+}
+
+/// Writes the domain pictures (SVG and PNG) into `dir`; returns the files written.
+pub fn write_domains(pictures: &[DomainPicture], dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let mut written = Vec::new();
+    for pic in pictures {
+        let svg = dir.join(domain_file(&pic.scene, "svg"));
+        domain_plot(SVGBackend::new(&svg, (760, 800)).into_drawing_area(), pic)?;
+        let png = dir.join(domain_file(&pic.scene, "png"));
+        domain_plot(
+            BitMapBackend::new(&png, (760, 800)).into_drawing_area(),
+            pic,
+        )?;
+        written.extend([svg, png]);
+    }
+    Ok(written)
+}
+
 /// File name of the failure picture of `method` (`fail_<method>.<ext>`).
 pub fn failure_file(method: &str, ext: &str) -> String {
     format!("fail_{}.{ext}", file_stem(method))
@@ -871,6 +1035,7 @@ pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<PathBuf>, String> 
         written.extend([svg, png]);
     }
     written.extend(write_failures(&outcome.failure_pictures, dir)?);
+    written.extend(write_domains(&outcome.domain_pictures, dir)?);
     Ok(written)
 }
 
@@ -901,6 +1066,8 @@ mod tests {
             threads: 2,
             error: None,
             unsupported: false,
+            interface: None,
+            interface_confusion: None,
         }
     }
 

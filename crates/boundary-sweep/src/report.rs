@@ -131,6 +131,8 @@ pub fn report_md(outcome: &Outcome, header: &str) -> String {
         md.push('\n');
     }
 
+    md.push_str(&domains_md(outcome));
+
     let pictures: Vec<(String, String)> = outcome
         .failure_pictures
         .iter()
@@ -441,8 +443,9 @@ fn accuracy_line(row: &Row) -> String {
             row.seconds_all
         ),
         (None, _) if row.unsupported => format!(
-            "| {} | n/a: no per-particle radii | | | | | | | |",
-            label(row)
+            "| {} | n/a: {} | | | | | | | |",
+            label(row),
+            row.error.as_deref().unwrap_or("does not apply")
         ),
         (None, error) => format!(
             "| {} | failed: {} | | | | | | | |",
@@ -450,6 +453,102 @@ fn accuracy_line(row: &Row) -> String {
             error.as_deref().unwrap_or("")
         ),
     }
+}
+
+/// The section on the scenes with a domain (walls, solids, periodic axes, phases): what each
+/// holds, its picture, and per method at default parameters the free-surface score against
+/// `exact` in the same domain and, with phases, the interface count and score.
+pub fn domains_md(outcome: &Outcome) -> String {
+    let mut md = String::new();
+    if outcome.domains.is_empty() {
+        return md;
+    }
+    let _ = writeln!(
+        md,
+        "## Scenes with a domain
+"
+    );
+    let _ = writeln!(
+        md,
+        "Walls and periodic images cover and get no label; solid half-spaces cover what lies \
+         in them. Every method runs in the scene's domain and is scored against `exact` in the \
+         same domain; `n/a` marks a method that cannot honour part of it (it refuses rather \
+         than ignoring it). With phases, a particle is on an interface when only its own \
+         phase (and the walls) leave its sphere uncovered.\n"
+    );
+    for (scene, about) in &outcome.domains {
+        let Some(exact) = outcome
+            .rows
+            .iter()
+            .find(|r| &r.scene == scene && r.method == "exact" && r.is_default)
+        else {
+            continue;
+        };
+        let truth = exact.confusion.map_or(0, |c| c.tp + c.fn_);
+        let _ = writeln!(
+            md,
+            "### `{scene}` ({}D, |P| = {}, r = {}): {about}\n",
+            exact.dim, exact.n, exact.radius
+        );
+        let mut line = format!("`exact`: {truth} free-surface particles");
+        if let Some(k) = exact.interface {
+            let _ = write!(line, ", {k} on an interface");
+        }
+        let _ = writeln!(
+            md,
+            "{line}. ![exact labels]({})\n",
+            crate::plots::domain_file(scene, "png")
+        );
+        let phases = exact.interface.is_some();
+        let _ = writeln!(
+            md,
+            "| Method | Rec | FPR | M | FP | FN |{}\n|---|---|---|---|---|---|{}",
+            if phases {
+                " interface | interface M |"
+            } else {
+                ""
+            },
+            if phases { "---|---|" } else { "" }
+        );
+        for row in outcome
+            .rows
+            .iter()
+            .filter(|r| &r.scene == scene && r.is_default)
+        {
+            let extra = if phases {
+                format!(
+                    " {} | {} |",
+                    row.interface.map_or("".into(), |k| k.to_string()),
+                    row.interface_confusion
+                        .map_or("".into(), |c| format!("{:.4}", c.m()))
+                )
+            } else {
+                String::new()
+            };
+            let _ = match (row.confusion, &row.error) {
+                (Some(c), _) => writeln!(
+                    md,
+                    "| {} | {:.4} | {:.4} | {:.4} | {} | {} |{extra}",
+                    row.method,
+                    c.recall(),
+                    c.fpr(),
+                    c.m(),
+                    c.fp,
+                    c.fn_
+                ),
+                (None, error) => writeln!(
+                    md,
+                    "| {} | {}: {} | | | | |{}",
+                    row.method,
+                    if row.unsupported { "n/a" } else { "failed" },
+                    error.as_deref().unwrap_or(""),
+                    if phases { " | |" } else { "" }
+                ),
+            };
+        }
+        md.push('\n');
+    }
+    md
 }
 
 /// Scenes in first-seen order with (name, dim, n, r).
@@ -729,6 +828,8 @@ mod tests {
             threads: 2,
             error: None,
             unsupported: false,
+            interface: None,
+            interface_confusion: None,
         }
     }
 

@@ -18,6 +18,8 @@ fn spec(name: &str, dim: usize, radius: f64) -> SceneSpec {
         expected_boundary: None,
         origin: "fixture".into(),
         about: format!("the {name} fixture"),
+        radius_attribute: None,
+        domain: Default::default(),
     }
 }
 

@@ -21,11 +21,32 @@ fn run() -> Result<(), String> {
     for scene in all_scenes() {
         let file = format!("{}.csv", scene.name);
         let path = dir.join(&file);
-        // Per-particle radii (factors of `radius`) go in a column the manifest names.
-        let radii = scene.set.radii().map(|r| ("radius", Column::Float(r)));
-        write_particles(&path, Some(Format::Csv), &scene.set, radii.as_slice())
+        // Per-particle radii (factors of `radius`) and phases go in columns the manifest names.
+        let phases: Option<Vec<i64>> = scene
+            .domain
+            .phases()
+            .map(|p| p.iter().map(|&k| i64::from(k)).collect());
+        let mut columns = Vec::new();
+        if let Some(r) = scene.set.radii() {
+            columns.push(("radius", Column::Float(r)));
+        }
+        if let Some(p) = &phases {
+            columns.push(("phase", Column::Int(p)));
+        }
+        write_particles(&path, Some(Format::Csv), &scene.set, &columns)
             .map_err(|e| e.to_string())?;
         eprintln!("{}: {} particles", path.display(), scene.set.len());
+        // Wall particles in a file of their own beside the scene's.
+        let walls = match scene.domain.walls() {
+            Some(w) => {
+                let file = format!("{}_walls.csv", scene.name);
+                let path = dir.join(&file);
+                write_particles(&path, Some(Format::Csv), w, &[]).map_err(|e| e.to_string())?;
+                eprintln!("{}: {} wall particles", path.display(), w.len());
+                Some(file)
+            }
+            None => None,
+        };
         manifest.scene.push(SceneEntry {
             name: scene.name,
             origin: Origin::Fixture,
@@ -34,6 +55,21 @@ fn run() -> Result<(), String> {
             radius: scene.radius,
             n: scene.set.len(),
             radius_attribute: scene.set.radii().map(|_| "radius".to_owned()),
+            walls,
+            solids: scene
+                .domain
+                .solids()
+                .half_spaces()
+                .iter()
+                .map(ToString::to_string)
+                .collect(),
+            periodic: scene
+                .domain
+                .periodic()
+                .iter()
+                .map(ToString::to_string)
+                .collect(),
+            phase_attribute: phases.as_ref().map(|_| "phase".to_owned()),
             expected_boundary: None,
             generator: Some(scene.generator.to_owned()),
             params: Some(scene.params),
@@ -49,6 +85,10 @@ fn run() -> Result<(), String> {
             radius,
             n,
             radius_attribute: None,
+            walls: None,
+            solids: Vec::new(),
+            periodic: Vec::new(),
+            phase_attribute: None,
             expected_boundary: Some(expected),
             generator: None,
             params: None,
@@ -69,6 +109,10 @@ fn run() -> Result<(), String> {
             radius,
             n: set.len(),
             radius_attribute: None,
+            walls: None,
+            solids: Vec::new(),
+            periodic: Vec::new(),
+            phase_attribute: None,
             expected_boundary: None,
             generator: Some("mesh_volume_sample".to_owned()),
             params: Some(params.to_owned()),
