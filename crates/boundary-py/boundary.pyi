@@ -32,13 +32,30 @@ Conventions shared by every function:
   ``--radius-scale r``). Without ``radii``, ``r`` is required. Particle *i* is interior iff
   its sphere of radius ``r_i`` is covered by the balls of radius ``r_j`` of the others. A
   method without per-particle support raises ``ValueError`` saying so.
+- A simulation's domain (:func:`detect`): ``walls`` are covering-only particles (a solver's
+  fixed boundary particles: they cover, and get no label), ``solids`` closed solid
+  half-spaces such as ``"y<0"`` (the solid ``{y <= 0}``: what lies in it counts as covered),
+  ``periodic`` periodic axes such as ``"x:0:1"`` (images of every particle cover across the
+  period), ``phases`` a phase number per particle (interface labels besides the free
+  surface).
 - Errors raise ``ValueError`` (bad shape, non-finite coordinate, ``r <= 0``, a bad radius,
   naming the particle, unknown method or parameter, malformed file) or ``OSError`` (a file
   that cannot be opened or written), with the message the ``boundary`` command prints.
 """
 
 from os import PathLike
-from typing import Any, Dict, List, Literal, Optional, Tuple, TypedDict, Union, overload
+from typing import (
+    Any,
+    Dict,
+    List,
+    Literal,
+    Optional,
+    Sequence,
+    Tuple,
+    TypedDict,
+    Union,
+    overload,
+)
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -72,6 +89,10 @@ class Score(TypedDict):
     FPR: float
     M: float
 
+_Labels = NDArray[np.bool_]
+_Margin = Optional[NDArray[np.float64]]
+_Texts = Union[str, Sequence[str]]
+
 @overload
 def detect(
     points: ArrayLike,
@@ -80,8 +101,13 @@ def detect(
     threads: Optional[int] = None,
     margin: Literal[False] = False,
     radii: Optional[ArrayLike] = None,
+    walls: Optional[ArrayLike] = None,
+    wall_radii: Optional[ArrayLike] = None,
+    solids: Optional[_Texts] = None,
+    periodic: Optional[_Texts] = None,
+    phases: None = None,
     **params: _Param,
-) -> NDArray[np.bool_]: ...
+) -> _Labels: ...
 @overload
 def detect(
     points: ArrayLike,
@@ -91,8 +117,45 @@ def detect(
     *,
     margin: Literal[True],
     radii: Optional[ArrayLike] = None,
+    walls: Optional[ArrayLike] = None,
+    wall_radii: Optional[ArrayLike] = None,
+    solids: Optional[_Texts] = None,
+    periodic: Optional[_Texts] = None,
+    phases: None = None,
     **params: _Param,
-) -> Tuple[NDArray[np.bool_], Optional[NDArray[np.float64]]]: ...
+) -> Tuple[_Labels, _Margin]: ...
+@overload
+def detect(
+    points: ArrayLike,
+    r: Optional[float] = None,
+    method: str = "exact",
+    threads: Optional[int] = None,
+    margin: Literal[False] = False,
+    radii: Optional[ArrayLike] = None,
+    walls: Optional[ArrayLike] = None,
+    wall_radii: Optional[ArrayLike] = None,
+    solids: Optional[_Texts] = None,
+    periodic: Optional[_Texts] = None,
+    *,
+    phases: ArrayLike,
+    **params: _Param,
+) -> Tuple[_Labels, _Labels]: ...
+@overload
+def detect(
+    points: ArrayLike,
+    r: Optional[float] = None,
+    method: str = "exact",
+    threads: Optional[int] = None,
+    *,
+    margin: Literal[True],
+    radii: Optional[ArrayLike] = None,
+    walls: Optional[ArrayLike] = None,
+    wall_radii: Optional[ArrayLike] = None,
+    solids: Optional[_Texts] = None,
+    periodic: Optional[_Texts] = None,
+    phases: ArrayLike,
+    **params: _Param,
+) -> Tuple[_Labels, _Margin, _Labels]: ...
 def detect(
     points: ArrayLike,
     r: Optional[float] = None,
@@ -100,8 +163,18 @@ def detect(
     threads: Optional[int] = None,
     margin: bool = False,
     radii: Optional[ArrayLike] = None,
+    walls: Optional[ArrayLike] = None,
+    wall_radii: Optional[ArrayLike] = None,
+    solids: Optional[_Texts] = None,
+    periodic: Optional[_Texts] = None,
+    phases: Optional[ArrayLike] = None,
     **params: _Param,
-) -> Union[NDArray[np.bool_], Tuple[NDArray[np.bool_], Optional[NDArray[np.float64]]]]:
+) -> Union[
+    _Labels,
+    Tuple[_Labels, _Margin],
+    Tuple[_Labels, _Labels],
+    Tuple[_Labels, _Margin, _Labels],
+]:
     """Labels every particle: ``True`` on the boundary, ``False`` inside.
 
     Args:
@@ -117,17 +190,46 @@ def detect(
             particle's Voronoi cell reaches beyond ``r``), or ``None`` when the method has none.
         radii: optional ``(n,)`` radius factors, one per particle, each positive and finite
             (a C-contiguous float64 array is read in place; anything else is converted).
+        walls: optional ``(m, d)`` covering-only particles of the points' dimension ``d``
+            (converted to float64): they cover the points' spheres and get no label. The
+            labels of ``points`` are those of the union ``points + walls`` restricted to
+            ``points``.
+        wall_radii: optional ``(m,)`` radius factors of the walls (``r * wall_radii[j]``);
+            without them a wall has the factor 1 (radius ``r``). Only with ``walls``.
+        solids: closed axis-aligned solid half-spaces: one string or a sequence of strings
+            ``"AXIS<VALUE"`` / ``"AXIS>VALUE"`` (``"y<0"``: the solid ``{y <= 0}``, a floor).
+            What lies in a solid counts as covered: a particle resting on a floor is boundary
+            by its upper half, one whose sphere is inside the solid is interior. Only methods
+            with a rule for solids accept them (``exact``); the others raise ``ValueError``
+            saying so (use ``walls`` with them).
+        periodic: periodic axes: one string or a sequence of strings ``"AXIS:MIN:MAX"``
+            (``"x:0:1"``): the images of every particle (and wall) shifted by
+            ``±(MAX - MIN)`` cover. Every particle must lie in ``[MIN, MAX]`` and the period
+            must be at least the method's reach (``2r`` for most); an axis cannot be both
+            periodic and bounded by a solid.
+        phases: optional ``(n,)`` integer phase numbers (``0 .. 2**32 - 1``), one per
+            particle. The labels stay those of the free surface (all phases cover); the
+            interface labels are returned besides them (see Returns).
         **params: the method's parameters (``depth=4``, ``gamma=1.3``, ...).
 
     Returns:
         A ``bool`` array of length ``n``; with ``margin=True`` the pair ``(labels, margin)``.
+        With ``phases``, the ``bool`` interface labels of length ``n`` come last:
+        ``(labels, interface)``, or ``(labels, margin, interface)`` with ``margin=True``.
+        ``interface[i]`` is ``True`` for a particle on an interface between phases: not on
+        the free surface, but uncovered once only its own phase (its images, the walls and
+        the solids) may cover.
 
     Raises:
         ValueError: bad shape, a non-finite coordinate, ``r <= 0``, a radius that is not
             positive and finite (``radii: particle 3: radius must be positive and finite, got
             -1``), ``radii`` of the wrong length or not one-dimensional, a method without
-            per-particle radii, an unknown method or parameter.
-        TypeError: ``r`` missing without ``radii``.
+            per-particle radii, an unknown method or parameter; a bad domain: ``walls`` not of
+            shape ``(m, d)``, a malformed solid or periodic text (quoted in the message), a
+            solid or periodic axis the points lack, a particle outside a periodic range, a
+            period shorter than the reach, ``phases`` of the wrong length or not integers in
+            range, a method that cannot honour solids.
+        TypeError: ``r`` missing without ``radii``; ``solids`` or ``periodic`` not strings.
         KeyboardInterrupt: Ctrl-C during the detection.
     """
 

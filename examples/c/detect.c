@@ -14,6 +14,10 @@
  * back), R is the scale and particle i gets r_i = R * radius_i, through
  * `boundary_detect_radii` and `boundary_detector_detect_radii` (whose NULL radii mean one
  * radius R for all).
+ *
+ * Walls: a solver's fixed boundary particles cover its fluid but get no label. Set once on
+ * a handle (`boundary_detector_set_walls`), they count in every detection by it: with the
+ * file's second half as walls, the first half gets the labels of the whole file.
  * `cargo xtask test` builds and runs it on the public data. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -120,6 +124,22 @@ int main(int argc, char **argv) {
         }
         for (size_t i = 0; i < n; ++i) mismatches += step_labels[i] != expected[i];
     }
+
+    /* The second half of the particles as walls, set once: the first half's labels are those
+     * of the whole set. */
+    const size_t half = n / 2;
+    if (boundary_detector_set_walls(detector, xyz + half * dim, n - half, dim,
+                                    particle_radii ? radii + half : NULL, err,
+                                    sizeof err) != BOUNDARY_OK) {
+        fprintf(stderr, "boundary_detector_set_walls: %s\n", err);
+        return 1;
+    }
+    if (boundary_detector_detect_radii(detector, xyz, half, dim, particle_radii, r, step_labels,
+                                       NULL, err, sizeof err) != BOUNDARY_OK) {
+        fprintf(stderr, "boundary_detector_detect (walls): %s\n", err);
+        return 1;
+    }
+    for (size_t i = 0; i < half; ++i) mismatches += step_labels[i] != expected[i];
     boundary_detector_free(detector);
 
     for (size_t i = 0; i < n; ++i) {

@@ -66,6 +66,13 @@
 #define BOUNDARY_ERR_INTERNAL 10
 
 /**
+ * The domain is invalid: a malformed solid or periodic text, walls of another dimension than
+ * the particles, a particle outside a periodic range, a period shorter than the method's
+ * reach, a solid on a periodic axis (the message names the option or the particle).
+ */
+#define BOUNDARY_ERR_DOMAIN 11
+
+/**
  * A detector created once (method and parameters parsed once) and used every time step.
  * Opaque: create with `boundary_detector_new`, release with `boundary_detector_free`.
  */
@@ -139,9 +146,10 @@ struct boundary_detector *boundary_detector_new(const char *method,
                                                 size_t err_len);
 
 /**
- * Labels the `n` particles at `xyz` with the detector `handle` (as `boundary_detect`); when
- * `out_margin` is not NULL, also writes the method's per-particle margin there (`n` doubles;
- * positive leans boundary; `BOUNDARY_ERR_NO_MARGIN` if the method has none).
+ * Labels the `n` particles at `xyz` with the detector `handle` (as `boundary_detect`, in the
+ * handle's domain when it has walls, solids or periodic axes); when `out_margin` is not NULL,
+ * also writes the method's per-particle margin there (`n` doubles; positive leans boundary;
+ * `BOUNDARY_ERR_NO_MARGIN` if the method has none).
  *
  * # Safety
  * `handle` comes from `boundary_detector_new` and is not freed nor used by another thread
@@ -176,6 +184,97 @@ int boundary_detector_detect_radii(const struct boundary_detector *handle,
                                    double *out_margin,
                                    char *err,
                                    size_t err_len);
+
+/**
+ * `boundary_detector_detect_radii` with a phase number per particle: `phases` holds `n`
+ * values (or is NULL: one phase, as `boundary_detector_detect_radii`). With phases,
+ * `out_labels[i]` is 1 for a particle on the free surface (uncovered by the particles of
+ * every phase, the walls and the solids) and `out_interface[i]` (`n` bytes, required with
+ * phases) is 1 for a particle on an interface between phases: not on the free surface, but
+ * uncovered once only its own phase, the walls and the solids may cover. Nothing is written
+ * on error; `out_interface` without `phases` is `BOUNDARY_ERR_NULL`.
+ *
+ * # Safety
+ * As `boundary_detector_detect_radii`; `phases` NULL or valid for reads of `n` `uint32_t`;
+ * `out_interface` NULL or valid for writes of `n` bytes.
+ */
+int boundary_detector_detect_phases(const struct boundary_detector *handle,
+                                    const double *xyz,
+                                    size_t n,
+                                    int dim,
+                                    const double *radii,
+                                    double r,
+                                    const uint32_t *phases,
+                                    uint8_t *out_labels,
+                                    uint8_t *out_interface,
+                                    double *out_margin,
+                                    char *err,
+                                    size_t err_len);
+
+/**
+ * Sets the walls of `handle`: `m` covering-only particles at `xyz` (`m * dim` doubles, `dim`
+ * 2 or 3, that of the particles to come), which cover the particles every detection by this
+ * handle labels but get no label themselves; set them once, as a solver's fixed boundary
+ * particles. `radii` is NULL or holds `m` radius factors (`r_i = r * s_i`, as the particles'
+ * own; walls without radii have the factor 1 beside particles with radii). Replaces earlier
+ * walls; `m == 0` removes them. A non-finite coordinate or a bad radius is
+ * `BOUNDARY_ERR_INPUT` naming the wall particle, and leaves the walls unchanged.
+ *
+ * # Safety
+ * `handle` is NULL or comes from `boundary_detector_new`, not freed nor used by another
+ * thread during the call; `xyz` valid for reads of `m * dim` doubles (may be NULL when
+ * `m == 0`); `radii` NULL or valid for reads of `m` doubles; `err` NULL or valid for writes
+ * of `err_len` bytes. The library copies the walls: the buffers may be freed afterwards.
+ */
+int boundary_detector_set_walls(struct boundary_detector *handle,
+                                const double *xyz,
+                                size_t m,
+                                int dim,
+                                const double *radii,
+                                char *err,
+                                size_t err_len);
+
+/**
+ * Adds a closed solid half-space to the domain of `handle`: `text` is an axis `x|y|z`, `<`
+ * or `>` and a number (`"y<0"`: the solid `{y <= 0}` below a floor; spaces allowed). The
+ * solid covers what lies in it (a sphere wholly inside is interior). A malformed text is
+ * `BOUNDARY_ERR_DOMAIN` quoting it; a method that cannot honour solids returns
+ * `BOUNDARY_ERR_DETECT` at detection, saying so.
+ *
+ * # Safety
+ * `handle` is NULL or comes from `boundary_detector_new`, not freed nor used by another
+ * thread during the call; `text` a NUL-terminated string (or NULL); `err` NULL or valid for
+ * writes of `err_len` bytes.
+ */
+int boundary_detector_add_solid(struct boundary_detector *handle,
+                                const char *text,
+                                char *err,
+                                size_t err_len);
+
+/**
+ * Adds a periodic axis to the domain of `handle`: `text` is `AXIS:MIN:MAX` (`"x:0:1.5"`):
+ * particles (and walls) leaving `MAX` re-enter at `MIN`, and their images cover. Every
+ * particle must then lie in `[MIN, MAX]`, and the period must be at least the method's
+ * reach (both checked at detection, `BOUNDARY_ERR_DOMAIN`). A malformed text is
+ * `BOUNDARY_ERR_DOMAIN` quoting it.
+ *
+ * # Safety
+ * As `boundary_detector_add_solid`.
+ */
+int boundary_detector_add_periodic(struct boundary_detector *handle,
+                                   const char *text,
+                                   char *err,
+                                   size_t err_len);
+
+/**
+ * Removes the walls, solids and periodic axes of `handle`: its detections are those of the
+ * bare particle cloud again.
+ *
+ * # Safety
+ * `handle` is NULL or comes from `boundary_detector_new`, not freed nor used by another
+ * thread during the call; `err` NULL or valid for writes of `err_len` bytes.
+ */
+int boundary_detector_clear_domain(struct boundary_detector *handle, char *err, size_t err_len);
 
 /**
  * Sets the number of worker threads of `handle` (0: back to the default of

@@ -24,6 +24,15 @@
 //! scaled) is `BOUNDARY_ERR_INPUT` naming the particle; a method without per-particle support
 //! returns `BOUNDARY_ERR_DETECT` saying so.
 //!
+//! A simulation's domain (see the library's `boundary::domain`) belongs to the handle, set
+//! once since it usually does not move: `boundary_detector_set_walls` (covering-only wall
+//! particles), `boundary_detector_add_solid` (a closed solid half-space, `"y<0"`),
+//! `boundary_detector_add_periodic` (`"x:0:1"`), `boundary_detector_clear_domain`. Every
+//! detection by that handle then honours it; `boundary_detector_detect_phases` also takes a
+//! phase number per particle and writes the interface labels. A method that cannot honour a
+//! solid returns `BOUNDARY_ERR_DETECT` saying so; a malformed or mismatched domain is
+//! `BOUNDARY_ERR_DOMAIN`.
+//!
 //! # Contract
 //! - `xyz` holds `n * dim` doubles, particle after particle (`x0 y0 [z0] x1 y1 ...`), `dim` 2
 //!   or 3; it may be NULL only when `n == 0`. Labels are written to `out_labels[0..n]` (1
@@ -49,8 +58,8 @@
 #![allow(unsafe_code)]
 
 use boundary::{
-    detector_with_params, parse_param_list, AnyParticleSet, BoundaryDetector, Detection,
-    ParticleSet, Point, Radius,
+    detector_with_params, parse_param_list, AnyParticleSet, BoundaryDetector, DetectError,
+    Detection, Domain, HalfSpace, Labels, ParticleSet, Periodic, Point, Radius,
 };
 use std::ffi::{c_char, c_int, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -80,6 +89,10 @@ pub const BOUNDARY_ERR_NO_MARGIN: c_int = 8;
 pub const BOUNDARY_ERR_THREADS: c_int = 9;
 /// A bug in the library was caught (a panic); please report the message.
 pub const BOUNDARY_ERR_INTERNAL: c_int = 10;
+/// The domain is invalid: a malformed solid or periodic text, walls of another dimension than
+/// the particles, a particle outside a periodic range, a period shorter than the method's
+/// reach, a solid on a periodic axis (the message names the option or the particle).
+pub const BOUNDARY_ERR_DOMAIN: c_int = 11;
 
 /// A detector created once (method and parameters parsed once) and used every time step.
 /// Opaque: create with `boundary_detector_new`, release with `boundary_detector_free`.
@@ -88,6 +101,8 @@ pub const BOUNDARY_ERR_INTERNAL: c_int = 10;
 pub struct boundary_detector {
     detector: Box<dyn BoundaryDetector>,
     pool: Option<Arc<rayon::ThreadPool>>,
+    /// Walls, solids and periodic axes (never phases: those come with each call).
+    domain: Domain,
 }
 
 /// An error code with its message.
@@ -321,32 +336,88 @@ unsafe fn out_slice<'a, T>(out: *mut T, n: usize, what: &str) -> Result<&'a mut 
     Ok(unsafe { std::slice::from_raw_parts_mut(out, n) })
 }
 
-/// Runs `detector` on `set` in `pool` (rayon's global pool when `None`).
+/// Runs `detector` on `set` in `domain` (with `phases` when given) in `pool` (rayon's global
+/// pool when `None`): the free-surface detection and, with phases, the interface labels.
 fn run(
     detector: &dyn BoundaryDetector,
     set: &AnyParticleSet,
+    domain: &Domain,
+    phases: Option<Vec<u32>>,
     r: f64,
     pool: Option<&rayon::ThreadPool>,
-) -> Result<Detection, Failure> {
+) -> Result<(Detection, Option<Labels>), Failure> {
     let r = Radius::new(r).map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, e.to_string()))?;
     // Scaled radii out of range name the particle (an input error, like the unscaled ones).
-    match set {
+    let resolved = |set: &AnyParticleSet| match set {
         AnyParticleSet::D2(s) => s.resolved_radii(r).map(drop),
         AnyParticleSet::D3(s) => s.resolved_radii(r).map(drop),
+    };
+    resolved(set).map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, e.to_string()))?;
+    if let Some(walls) = domain.walls() {
+        resolved(walls).map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, format!("walls: {e}")))?;
     }
-    .map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, e.to_string()))?;
-    let detect = || detector.detect(set, r);
+    let detect = || -> Result<(Detection, Option<Labels>), DetectError> {
+        let split = |d: boundary::DomainDetection| (d.detection, d.interface);
+        match phases {
+            None if domain.is_bare() => detector.detect(set, r).map(|d| (d, None)),
+            None => detector.detect_in(set, domain, r).map(split),
+            Some(phases) => detector
+                .detect_in(set, &domain.clone().with_phases(phases), r)
+                .map(split),
+        }
+    };
     match pool {
         Some(pool) => pool.install(detect),
         None => detect(),
     }
-    .map_err(|e| Failure::new(BOUNDARY_ERR_DETECT, e.to_string()))
+    .map_err(|e| {
+        let code = match e {
+            DetectError::Domain(_) => BOUNDARY_ERR_DOMAIN,
+            _ => BOUNDARY_ERR_DETECT,
+        };
+        Failure::new(code, e.to_string())
+    })
 }
 
-/// Detects and writes the labels (and the margin when asked); nothing is written on error.
+/// The phase numbers `phases[0..n]`, or `None` when `phases` is NULL.
 ///
 /// # Safety
-/// As [`boundary_detector_detect_radii`].
+/// `phases` is NULL or valid for reads of `n` `uint32_t`, and `n` doubles fit in memory.
+unsafe fn read_phases(phases: *const u32, n: usize) -> Result<Option<Vec<u32>>, Failure> {
+    if phases.is_null() {
+        return Ok(None);
+    }
+    if n == 0 {
+        return Ok(Some(Vec::new()));
+    }
+    if phases.align_offset(align_of::<u32>()) != 0 {
+        return Err(Failure::new(
+            BOUNDARY_ERR_SIZE,
+            "phases is not aligned for uint32_t",
+        ));
+    }
+    // SAFETY: non-NULL, aligned, `n` values fit in memory (the caller checked `n` doubles do)
+    // and are valid for reads by the caller's contract; copied while this call runs.
+    Ok(Some(
+        unsafe { std::slice::from_raw_parts(phases, n) }.to_vec(),
+    ))
+}
+
+/// Where a detection goes and what it reads besides the particles.
+struct Request<'a> {
+    domain: &'a Domain,
+    phases: *const u32,
+    out_labels: *mut u8,
+    out_interface: *mut u8,
+    out_margin: *mut f64,
+}
+
+/// Detects and writes the labels (and the margin and the interface labels when asked);
+/// nothing is written on error.
+///
+/// # Safety
+/// As [`boundary_detector_detect_phases`]: `xyz` and `radii` as there, the pointers of
+/// `request` as its `phases`, `out_labels`, `out_interface` and `out_margin`.
 #[allow(clippy::too_many_arguments)]
 unsafe fn detect_into(
     detector: &dyn BoundaryDetector,
@@ -356,31 +427,55 @@ unsafe fn detect_into(
     dim: c_int,
     radii: *const f64,
     r: f64,
-    out_labels: *mut u8,
-    out_margin: *mut f64,
+    request: &Request<'_>,
 ) -> Result<(), Failure> {
     // SAFETY: forwarded from the caller's contract.
     let set = unsafe { particle_set(xyz, n, dim, radii) }?;
+    // SAFETY: forwarded from the caller's contract; `n` doubles fit (checked by particle_set).
+    let phases = unsafe { read_phases(request.phases, n) }?;
     // SAFETY: forwarded from the caller's contract.
-    let labels = unsafe { out_slice(out_labels, n, "out_labels") }?;
-    let margin = if out_margin.is_null() {
+    let labels = unsafe { out_slice(request.out_labels, n, "out_labels") }?;
+    let margin = if request.out_margin.is_null() {
         None
     } else {
         // SAFETY: non-NULL, forwarded from the caller's contract.
-        Some(unsafe { out_slice(out_margin, n, "out_margin") }?)
+        Some(unsafe { out_slice(request.out_margin, n, "out_margin") }?)
     };
-    let detection = run(detector, &set, r, pool)?;
-    if let Some(out) = margin {
-        let values = detection.margin.as_ref().ok_or_else(|| {
-            Failure::new(
-                BOUNDARY_ERR_NO_MARGIN,
-                format!(
-                    "method '{}' reports no margin (pass NULL as out_margin)",
-                    detector.name()
-                ),
-            )
-        })?;
+    let interface = match (&phases, request.out_interface.is_null()) {
+        (None, true) => None,
+        (None, false) => {
+            return Err(Failure::new(
+                BOUNDARY_ERR_NULL,
+                "out_interface is given but phases is NULL (interfaces need phases)",
+            ))
+        }
+        // SAFETY: forwarded from the caller's contract.
+        (Some(_), _) => Some(unsafe { out_slice(request.out_interface, n, "out_interface") }?),
+    };
+    let (detection, found) = run(detector, &set, request.domain, phases, r, pool)?;
+    // Every check before the first write.
+    if margin.is_some() && detection.margin.is_none() {
+        return Err(Failure::new(
+            BOUNDARY_ERR_NO_MARGIN,
+            format!(
+                "method '{}' reports no margin (pass NULL as out_margin)",
+                detector.name()
+            ),
+        ));
+    }
+    if interface.is_some() && found.is_none() {
+        return Err(Failure::new(
+            BOUNDARY_ERR_INTERNAL,
+            "internal error (please report it): no interface labels with phases",
+        ));
+    }
+    if let (Some(out), Some(values)) = (margin, &detection.margin) {
         out.copy_from_slice(values);
+    }
+    if let (Some(out), Some(found)) = (interface, &found) {
+        for (out, &b) in out.iter_mut().zip(found.as_slice()) {
+            *out = u8::from(b);
+        }
     }
     for (out, &b) in labels.iter_mut().zip(detection.labels.as_slice()) {
         *out = u8::from(b);
@@ -466,6 +561,13 @@ pub unsafe extern "C" fn boundary_detect_radii(
         // SAFETY: forwarded from this function's contract.
         let detector = unsafe { make_detector(method, params) }?;
         let pool = default_pool();
+        let request = Request {
+            domain: &Domain::new(),
+            phases: std::ptr::null(),
+            out_labels,
+            out_interface: std::ptr::null_mut(),
+            out_margin: std::ptr::null_mut(),
+        };
         // SAFETY: forwarded from this function's contract.
         unsafe {
             detect_into(
@@ -476,8 +578,7 @@ pub unsafe extern "C" fn boundary_detect_radii(
                 dim,
                 radii,
                 r,
-                out_labels,
-                std::ptr::null_mut(),
+                &request,
             )
         }
     };
@@ -506,6 +607,7 @@ pub unsafe extern "C" fn boundary_detector_new(
         handle = Box::into_raw(Box::new(boundary_detector {
             detector,
             pool: None,
+            domain: Domain::new(),
         }));
         Ok(())
     };
@@ -514,9 +616,10 @@ pub unsafe extern "C" fn boundary_detector_new(
     handle
 }
 
-/// Labels the `n` particles at `xyz` with the detector `handle` (as `boundary_detect`); when
-/// `out_margin` is not NULL, also writes the method's per-particle margin there (`n` doubles;
-/// positive leans boundary; `BOUNDARY_ERR_NO_MARGIN` if the method has none).
+/// Labels the `n` particles at `xyz` with the detector `handle` (as `boundary_detect`, in the
+/// handle's domain when it has walls, solids or periodic axes); when `out_margin` is not NULL,
+/// also writes the method's per-particle margin there (`n` doubles; positive leans boundary;
+/// `BOUNDARY_ERR_NO_MARGIN` if the method has none).
 ///
 /// # Safety
 /// `handle` comes from `boundary_detector_new` and is not freed nor used by another thread
@@ -572,11 +675,64 @@ pub unsafe extern "C" fn boundary_detector_detect_radii(
     err: *mut c_char,
     err_len: usize,
 ) -> c_int {
+    // SAFETY: this function's contract, with no phases (NULL) and so no interface labels.
+    unsafe {
+        boundary_detector_detect_phases(
+            handle,
+            xyz,
+            n,
+            dim,
+            radii,
+            r,
+            std::ptr::null(),
+            out_labels,
+            std::ptr::null_mut(),
+            out_margin,
+            err,
+            err_len,
+        )
+    }
+}
+
+/// `boundary_detector_detect_radii` with a phase number per particle: `phases` holds `n`
+/// values (or is NULL: one phase, as `boundary_detector_detect_radii`). With phases,
+/// `out_labels[i]` is 1 for a particle on the free surface (uncovered by the particles of
+/// every phase, the walls and the solids) and `out_interface[i]` (`n` bytes, required with
+/// phases) is 1 for a particle on an interface between phases: not on the free surface, but
+/// uncovered once only its own phase, the walls and the solids may cover. Nothing is written
+/// on error; `out_interface` without `phases` is `BOUNDARY_ERR_NULL`.
+///
+/// # Safety
+/// As `boundary_detector_detect_radii`; `phases` NULL or valid for reads of `n` `uint32_t`;
+/// `out_interface` NULL or valid for writes of `n` bytes.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)] // the C signature
+pub unsafe extern "C" fn boundary_detector_detect_phases(
+    handle: *const boundary_detector,
+    xyz: *const f64,
+    n: usize,
+    dim: c_int,
+    radii: *const f64,
+    r: f64,
+    phases: *const u32,
+    out_labels: *mut u8,
+    out_interface: *mut u8,
+    out_margin: *mut f64,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
     let body = || {
         // SAFETY: NULL or a live handle from `boundary_detector_new` (this function's contract).
         let handle = unsafe { handle.as_ref() }
             .ok_or_else(|| Failure::new(BOUNDARY_ERR_NULL, "handle is NULL"))?;
         let pool = handle.pool.clone().or_else(default_pool);
+        let request = Request {
+            domain: &handle.domain,
+            phases,
+            out_labels,
+            out_interface,
+            out_margin,
+        };
         // SAFETY: forwarded from this function's contract.
         unsafe {
             detect_into(
@@ -587,13 +743,156 @@ pub unsafe extern "C" fn boundary_detector_detect_radii(
                 dim,
                 radii,
                 r,
-                out_labels,
-                out_margin,
+                &request,
             )
         }
     };
     // SAFETY: forwarded from this function's contract.
     unsafe { guarded(err, err_len, body) }
+}
+
+/// Runs `change` on the domain of `handle`, reporting through `err`.
+///
+/// # Safety
+/// `handle` is NULL or comes from `boundary_detector_new`, not freed nor used by another
+/// thread during the call; `err` NULL or valid for writes of `err_len` bytes.
+unsafe fn change_domain(
+    handle: *mut boundary_detector,
+    err: *mut c_char,
+    err_len: usize,
+    change: impl FnOnce(Domain) -> Result<Domain, Failure>,
+) -> c_int {
+    let body = || {
+        // SAFETY: NULL or a live, unaliased handle (the caller's contract).
+        let handle = unsafe { handle.as_mut() }
+            .ok_or_else(|| Failure::new(BOUNDARY_ERR_NULL, "handle is NULL"))?;
+        // On error the domain stays as it was.
+        handle.domain = change(handle.domain.clone())?;
+        Ok(())
+    };
+    // SAFETY: forwarded from the caller's contract.
+    unsafe { guarded(err, err_len, body) }
+}
+
+/// The solids and periodic axes of `domain`, without its walls.
+fn without_walls(domain: &Domain) -> Domain {
+    let mut out = Domain::new();
+    for &h in domain.solids().half_spaces() {
+        out = out.with_solid(h);
+    }
+    for &p in domain.periodic() {
+        out = out.with_periodic(p);
+    }
+    out
+}
+
+/// Sets the walls of `handle`: `m` covering-only particles at `xyz` (`m * dim` doubles, `dim`
+/// 2 or 3, that of the particles to come), which cover the particles every detection by this
+/// handle labels but get no label themselves; set them once, as a solver's fixed boundary
+/// particles. `radii` is NULL or holds `m` radius factors (`r_i = r * s_i`, as the particles'
+/// own; walls without radii have the factor 1 beside particles with radii). Replaces earlier
+/// walls; `m == 0` removes them. A non-finite coordinate or a bad radius is
+/// `BOUNDARY_ERR_INPUT` naming the wall particle, and leaves the walls unchanged.
+///
+/// # Safety
+/// `handle` is NULL or comes from `boundary_detector_new`, not freed nor used by another
+/// thread during the call; `xyz` valid for reads of `m * dim` doubles (may be NULL when
+/// `m == 0`); `radii` NULL or valid for reads of `m` doubles; `err` NULL or valid for writes
+/// of `err_len` bytes. The library copies the walls: the buffers may be freed afterwards.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)] // the C signature
+pub unsafe extern "C" fn boundary_detector_set_walls(
+    handle: *mut boundary_detector,
+    xyz: *const f64,
+    m: usize,
+    dim: c_int,
+    radii: *const f64,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    let change = |domain: Domain| {
+        if m == 0 {
+            return Ok(without_walls(&domain));
+        }
+        // SAFETY: forwarded from this function's contract.
+        let walls = unsafe { particle_set(xyz, m, dim, radii) }.map_err(|f| Failure {
+            code: f.code,
+            message: format!("walls: {}", f.message),
+        })?;
+        Ok(domain.with_walls(walls))
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { change_domain(handle, err, err_len, change) }
+}
+
+/// Adds a closed solid half-space to the domain of `handle`: `text` is an axis `x|y|z`, `<`
+/// or `>` and a number (`"y<0"`: the solid `{y <= 0}` below a floor; spaces allowed). The
+/// solid covers what lies in it (a sphere wholly inside is interior). A malformed text is
+/// `BOUNDARY_ERR_DOMAIN` quoting it; a method that cannot honour solids returns
+/// `BOUNDARY_ERR_DETECT` at detection, saying so.
+///
+/// # Safety
+/// `handle` is NULL or comes from `boundary_detector_new`, not freed nor used by another
+/// thread during the call; `text` a NUL-terminated string (or NULL); `err` NULL or valid for
+/// writes of `err_len` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn boundary_detector_add_solid(
+    handle: *mut boundary_detector,
+    text: *const c_char,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    let change = |domain: Domain| {
+        // SAFETY: forwarded from this function's contract.
+        let text = unsafe { c_str(text, "solid") }?;
+        let solid =
+            HalfSpace::parse(text).map_err(|e| Failure::new(BOUNDARY_ERR_DOMAIN, e.to_string()))?;
+        Ok(domain.with_solid(solid))
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { change_domain(handle, err, err_len, change) }
+}
+
+/// Adds a periodic axis to the domain of `handle`: `text` is `AXIS:MIN:MAX` (`"x:0:1.5"`):
+/// particles (and walls) leaving `MAX` re-enter at `MIN`, and their images cover. Every
+/// particle must then lie in `[MIN, MAX]`, and the period must be at least the method's
+/// reach (both checked at detection, `BOUNDARY_ERR_DOMAIN`). A malformed text is
+/// `BOUNDARY_ERR_DOMAIN` quoting it.
+///
+/// # Safety
+/// As `boundary_detector_add_solid`.
+#[no_mangle]
+pub unsafe extern "C" fn boundary_detector_add_periodic(
+    handle: *mut boundary_detector,
+    text: *const c_char,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    let change = |domain: Domain| {
+        // SAFETY: forwarded from this function's contract.
+        let text = unsafe { c_str(text, "periodic") }?;
+        let axis =
+            Periodic::parse(text).map_err(|e| Failure::new(BOUNDARY_ERR_DOMAIN, e.to_string()))?;
+        Ok(domain.with_periodic(axis))
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { change_domain(handle, err, err_len, change) }
+}
+
+/// Removes the walls, solids and periodic axes of `handle`: its detections are those of the
+/// bare particle cloud again.
+///
+/// # Safety
+/// `handle` is NULL or comes from `boundary_detector_new`, not freed nor used by another
+/// thread during the call; `err` NULL or valid for writes of `err_len` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn boundary_detector_clear_domain(
+    handle: *mut boundary_detector,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    // SAFETY: forwarded from this function's contract.
+    unsafe { change_domain(handle, err, err_len, |_| Ok(Domain::new())) }
 }
 
 /// Sets the number of worker threads of `handle` (0: back to the default of

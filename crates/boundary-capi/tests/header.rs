@@ -59,6 +59,13 @@ fn committed_header_is_what_cbindgen_generates() {
         "const double *radii",
         "void boundary_detector_free(",
         "int boundary_set_threads(",
+        "int boundary_detector_set_walls(",
+        "int boundary_detector_add_solid(",
+        "int boundary_detector_add_periodic(",
+        "int boundary_detector_clear_domain(",
+        "int boundary_detector_detect_phases(",
+        "const uint32_t *phases",
+        "#define BOUNDARY_ERR_DOMAIN 11",
         "#define BOUNDARY_OK 0",
         "size_t n",
     ] {

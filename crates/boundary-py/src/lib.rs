@@ -22,6 +22,10 @@
 //! - `radii`: an optional `(n,)` array-like, a radius factor `s_i` per particle (adaptive
 //!   resolution; converted like `points`); particle `i` then has radius `r_i = r * s_i`, and
 //!   `r` defaults to 1 (the radii as given). Without `radii`, `r` is required.
+//! - A domain (`walls`, `wall_radii`, `solids`, `periodic`, `phases` of `detect`) becomes the
+//!   library's `Domain`, solids and periodic axes as the texts `HalfSpace::parse` and
+//!   `Periodic::parse` read (`"y<0"`, `"x:0:1"`); with `phases`, `detect` also returns the
+//!   interface labels.
 //! - Errors: `ValueError` for bad input (shape, NaN, `r <= 0`, a bad radius naming the
 //!   particle, unknown method or parameter, malformed file), `OSError` when a file cannot be
 //!   opened or written. No input panics: a panic inside the library would surface as
@@ -31,7 +35,8 @@
 
 use boundary::{
     detector_with_params, methods as method_names, summary, AnyParticleSet, BoundaryDetector,
-    Confusion, Detection, ParticleSet, Point, Radius,
+    Confusion, Detection, Domain, DomainDetection, HalfSpace, Labels, ParticleSet, Periodic, Point,
+    Radius,
 };
 use boundary_io::{AttributeValues, Column, Format, IoError, ReadOptions};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
@@ -39,7 +44,7 @@ use pyo3::exceptions::{
     PyFileNotFoundError, PyOSError, PyRuntimeError, PyTypeError, PyUserWarning, PyValueError,
 };
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyList, PyString};
+use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
 use std::ffi::CString;
 use std::path::PathBuf;
 use std::sync::mpsc::{self, RecvTimeoutError};
@@ -199,6 +204,176 @@ fn with_radii(
     Ok((set, r))
 }
 
+/// An array-like argument `what` as a C-contiguous `float64` array (the object itself when it
+/// already is one, else NumPy's converted copy).
+fn float_array<'py>(
+    value: &Bound<'py, PyAny>,
+    what: &str,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let py = value.py();
+    let numpy = py.import("numpy")?;
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("dtype", numpy.getattr("float64")?)?;
+    numpy
+        .call_method("ascontiguousarray", (value,), Some(&kwargs))
+        .map_err(|e| value_error(format!("{what} must be an array of reals: {}", e.value(py))))?
+        .cast_into::<PyArrayDyn<f64>>()
+        .map_err(|_| {
+            value_error(format!(
+                "{what}: numpy.ascontiguousarray did not give a float64 array"
+            ))
+        })
+}
+
+/// The texts of a `solids` or `periodic` argument: one string, or a sequence of strings.
+fn texts(value: &Bound<'_, PyAny>, what: &str, example: &str) -> PyResult<Vec<String>> {
+    if let Ok(text) = value.cast::<PyString>() {
+        return Ok(vec![text.to_string()]);
+    }
+    let bad = || {
+        PyTypeError::new_err(format!(
+            "{what} must be a string or a sequence of strings such as '{example}'"
+        ))
+    };
+    let mut out = Vec::new();
+    for item in value.try_iter().map_err(|_| bad())? {
+        let item = item?;
+        let text = item.cast::<PyString>().map_err(|_| bad())?;
+        out.push(text.to_string());
+    }
+    Ok(out)
+}
+
+/// The phase numbers of a `phases` argument: a one-dimensional array-like of integers in
+/// 0..=2^32-1, one per particle (the library checks the count).
+fn phase_numbers(phases: &Bound<'_, PyAny>) -> PyResult<Vec<u32>> {
+    let py = phases.py();
+    let numpy = py.import("numpy")?;
+    let array = numpy.call_method1("asarray", (phases,)).map_err(|e| {
+        value_error(format!(
+            "phases must be an array of integers: {}",
+            e.value(py)
+        ))
+    })?;
+    let shape: Vec<usize> = array.getattr("shape")?.extract()?;
+    if shape.len() != 1 {
+        return Err(value_error(format!(
+            "phases must be a one-dimensional array (one phase number per particle), got shape {}",
+            shape_text(&shape)
+        )));
+    }
+    let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
+    if shape[0] > 0 && !matches!(kind.as_str(), "i" | "u") {
+        return Err(value_error(format!(
+            "phases must be integers, got an array of dtype {}",
+            array.getattr("dtype")?.str()?
+        )));
+    }
+    if shape[0] == 0 {
+        return Ok(Vec::new());
+    }
+    let out_of_range = |i: usize, v: &dyn std::fmt::Display| {
+        value_error(format!(
+            "phases: particle {i}: phase {v} is outside 0..={}",
+            u32::MAX
+        ))
+    };
+    // Every integer dtype fits in uint64 or int64 without wrapping; the values are then checked.
+    if kind == "u" {
+        let values: Vec<u64> = array
+            .call_method1("astype", (numpy.getattr("uint64")?,))?
+            .extract()?;
+        values
+            .into_iter()
+            .enumerate()
+            .map(|(i, v)| u32::try_from(v).map_err(|_| out_of_range(i, &v)))
+            .collect()
+    } else {
+        let values: Vec<i64> = array
+            .call_method1("astype", (numpy.getattr("int64")?,))?
+            .extract()?;
+        values
+            .into_iter()
+            .enumerate()
+            .map(|(i, v)| u32::try_from(v).map_err(|_| out_of_range(i, &v)))
+            .collect()
+    }
+}
+
+/// The domain of `detect`'s keyword arguments, for particles of dimension `dim` and scale
+/// `r`: walls (an `(m, dim)` array) with their optional radius factors, solid half-spaces and
+/// periodic axes as texts (`"y<0"`, `"x:0:1"`), phase numbers.
+fn domain(
+    dim: usize,
+    r: Radius,
+    walls: Option<&Bound<'_, PyAny>>,
+    wall_radii: Option<&Bound<'_, PyAny>>,
+    solids: Option<&Bound<'_, PyAny>>,
+    periodic: Option<&Bound<'_, PyAny>>,
+    phases: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Domain> {
+    let mut domain = Domain::new();
+    match (walls, wall_radii) {
+        (None, Some(_)) => return Err(value_error("wall_radii given without walls")),
+        (None, None) => {}
+        (Some(walls), wall_radii) => {
+            let array = float_array(walls, "walls")?;
+            let readonly = array.readonly();
+            let shape = readonly.shape();
+            if shape.len() != 2 || shape[1] != dim {
+                return Err(value_error(format!(
+                    "walls must be an (m, {dim}) array like the points, got shape {}",
+                    shape_text(shape)
+                )));
+            }
+            let flat = readonly
+                .as_slice()
+                .map_err(|e| value_error(format!("walls: {e}")))?;
+            let mut set = particle_set(dim, flat)
+                .map_err(|e| value_error(format!("walls: {}", e.value(walls.py()))))?;
+            if let Some(radii) = wall_radii {
+                let array = float_array(radii, "wall_radii")?;
+                let readonly = array.readonly();
+                let shape = readonly.shape();
+                if shape.len() != 1 {
+                    return Err(value_error(format!(
+                        "wall_radii must be a one-dimensional array (one radius per wall \
+                         particle), got shape {}",
+                        shape_text(shape)
+                    )));
+                }
+                let values = readonly
+                    .as_slice()
+                    .map_err(|e| value_error(format!("wall_radii: {e}")))?
+                    .to_vec();
+                set = set
+                    .with_radii(values)
+                    .map_err(|e| value_error(format!("wall_radii: {e}")))?;
+                match &set {
+                    AnyParticleSet::D2(s) => s.resolved_radii(r).map(drop),
+                    AnyParticleSet::D3(s) => s.resolved_radii(r).map(drop),
+                }
+                .map_err(|e| value_error(format!("wall_radii scaled by r = {}: {e}", r.get())))?;
+            }
+            domain = domain.with_walls(set);
+        }
+    }
+    if let Some(solids) = solids {
+        for text in texts(solids, "solids", "y<0")? {
+            domain = domain.with_solid(HalfSpace::parse(&text).map_err(value_error)?);
+        }
+    }
+    if let Some(periodic) = periodic {
+        for text in texts(periodic, "periodic", "x:0:1")? {
+            domain = domain.with_periodic(Periodic::parse(&text).map_err(value_error)?);
+        }
+    }
+    if let Some(phases) = phases {
+        domain = domain.with_phases(phase_numbers(phases)?);
+    }
+    Ok(domain)
+}
+
 /// A keyword argument's value as the text `--set KEY=VALUE` would carry: `True`/`False` as
 /// `true`/`false`, anything else by `str()`.
 fn param_text(value: &Bound<'_, PyAny>) -> PyResult<String> {
@@ -287,22 +462,30 @@ where
     }
 }
 
-/// Detection of `set` by `detector` in `pool`, interruptible; also its wall time in seconds
-/// (the Rust call alone, for the overhead measurement).
+/// Detection of `set` by `detector` in `domain` (the bare cloud: `Domain::new()`) in `pool`,
+/// interruptible; also its wall time in seconds (the Rust call alone, for the overhead
+/// measurement).
 fn detect_set(
     py: Python<'_>,
     detector: Box<dyn BoundaryDetector>,
     set: AnyParticleSet,
+    domain: Domain,
     r: Radius,
     threads: Option<usize>,
-) -> PyResult<(Detection, f64)> {
+) -> PyResult<(DomainDetection, f64)> {
     let pool = pool(threads)?;
     let outcome = run_interruptible(py, move || {
         let run = || {
             let start = Instant::now();
-            detector
-                .detect(&set, r)
-                .map(|d| (d, start.elapsed().as_secs_f64()))
+            let detection = if domain.is_bare() {
+                detector.detect(&set, r).map(|detection| DomainDetection {
+                    detection,
+                    interface: None,
+                })
+            } else {
+                detector.detect_in(&set, &domain, r)
+            };
+            detection.map(|d| (d, start.elapsed().as_secs_f64()))
         };
         match &pool {
             Some(pool) => pool.install(run),
@@ -337,14 +520,21 @@ fn points_array<'py>(py: Python<'py>, set: &AnyParticleSet) -> PyResult<Bound<'p
 ///     "exact", the reference labels); threads: worker threads (default: all cores);
 ///     margin: also return the method's per-particle margin (None if it has none);
 ///     radii: optional (n,) radius factors s_i, one per particle: r_i = r * s_i, r then
-///     defaulting to 1; **params: the method's parameters, as `--set KEY=VALUE`
-///     (depth=4, gamma=1.3, ...).
+///     defaulting to 1; walls: optional (m, dim) covering-only particles, with optional
+///     wall_radii (m,); solids: "y<0" or a list of such closed solid half-spaces; periodic:
+///     "x:0:1" or a list of such periodic axes; phases: optional (n,) integer phase numbers;
+///     **params: the method's parameters, as `--set KEY=VALUE` (depth=4, gamma=1.3, ...).
 ///
-/// Returns a bool array of length n, or (labels, margin) with margin=True. Raises ValueError
-/// on bad input (shape, NaN, r <= 0, a bad radius, unknown method or parameter); Ctrl-C
-/// raises KeyboardInterrupt (the detection finishes in the background and is discarded).
+/// Returns a bool array of length n, or (labels, margin) with margin=True; with phases, the
+/// interface labels are appended: (labels, interface) or (labels, margin, interface). Raises
+/// ValueError on bad input (shape, NaN, r <= 0, a bad radius, a bad domain, a method that
+/// cannot honour a solid, unknown method or parameter); Ctrl-C raises KeyboardInterrupt (the
+/// detection finishes in the background and is discarded).
 #[pyfunction]
-#[pyo3(signature = (points, r = None, method = "exact", threads = None, margin = false, radii = None, **params))]
+#[pyo3(signature = (
+    points, r = None, method = "exact", threads = None, margin = false, radii = None,
+    walls = None, wall_radii = None, solids = None, periodic = None, phases = None, **params
+))]
 #[allow(clippy::too_many_arguments)] // the Python signature: keyword arguments with defaults
 fn detect<'py>(
     py: Python<'py>,
@@ -354,21 +544,39 @@ fn detect<'py>(
     threads: Option<usize>,
     margin: bool,
     radii: Option<&Bound<'py, PyAny>>,
+    walls: Option<&Bound<'py, PyAny>>,
+    wall_radii: Option<&Bound<'py, PyAny>>,
+    solids: Option<&Bound<'py, PyAny>>,
+    periodic: Option<&Bound<'py, PyAny>>,
+    phases: Option<&Bound<'py, PyAny>>,
     params: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let detector = detector(method, params)?;
     let set = read_points(points)?;
     let (set, r) = with_radii("detect", set, r, radii)?;
-    let (detection, _) = detect_set(py, detector, set, r, threads)?;
-    let labels = bool_array(py, detection.labels.into_vec()).into_any();
-    if !margin {
-        return Ok(labels);
+    let domain = domain(set.dim(), r, walls, wall_radii, solids, periodic, phases)?;
+    let with_phases = domain.phases().is_some();
+    let (found, _) = detect_set(py, detector, set, domain, r, threads)?;
+    let labels = bool_array(py, found.detection.labels.into_vec()).into_any();
+    let mut out = vec![labels];
+    if margin {
+        out.push(match found.detection.margin {
+            Some(m) => PyArray1::from_vec(py, m).into_any(),
+            None => py.None().into_bound(py),
+        });
     }
-    let margin = match detection.margin {
-        Some(m) => PyArray1::from_vec(py, m).into_any(),
-        None => py.None().into_bound(py),
-    };
-    Ok((labels, margin).into_pyobject(py)?.into_any())
+    if with_phases {
+        let interface = found.interface.map(Labels::into_vec).ok_or_else(|| {
+            PyRuntimeError::new_err(
+                "internal error (please report it): no interface labels with phases",
+            )
+        })?;
+        out.push(bool_array(py, interface).into_any());
+    }
+    match out.len() {
+        1 => Ok(out.remove(0)),
+        _ => Ok(PyTuple::new(py, out)?.into_any()),
+    }
 }
 
 /// `detect` that also returns the seconds the Rust detection took (overhead measurement).
@@ -385,8 +593,8 @@ fn _detect_timed<'py>(
     let detector = detector(method, params)?;
     let r = radius(r)?;
     let set = read_points(points)?;
-    let (detection, seconds) = detect_set(py, detector, set, r, threads)?;
-    Ok((bool_array(py, detection.labels.into_vec()), seconds))
+    let (found, seconds) = detect_set(py, detector, set, Domain::new(), r, threads)?;
+    Ok((bool_array(py, found.detection.labels.into_vec()), seconds))
 }
 
 /// The address of the buffer `detect` reads `points` from (the zero-copy test compares it with
@@ -474,7 +682,12 @@ fn score<'py>(
         None => None,
     };
     let (predicted, truth) = match truth {
-        Some(truth) => (detect_set(py, detector, set, r, threads)?.0, truth),
+        Some(truth) => (
+            detect_set(py, detector, set, Domain::new(), r, threads)?
+                .0
+                .detection,
+            truth,
+        ),
         None => {
             let exact = self::detector("exact", None)?;
             let shared = std::sync::Arc::new(set);
