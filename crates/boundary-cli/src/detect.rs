@@ -713,6 +713,7 @@ fn domain_json(setup: Option<&DomainSetup>) -> serde_json::Value {
         Some(d) => json!({
             "wall_attribute": d.wall_attribute(),
             "solids": d.solids(),
+            "solid_meshes": d.solid_meshes(),
             "periodic": d.periodic(),
             "phases": d.has_phases(),
         }),

@@ -92,6 +92,14 @@ pub enum CliError {
         /// What is wrong with it.
         problem: String,
     },
+    /// A `--solid-mesh` file that is no closed triangle mesh.
+    #[error("{}: --solid-mesh: {problem}", .path.display())]
+    SolidMesh {
+        /// The mesh file.
+        path: PathBuf,
+        /// What is wrong with it.
+        problem: String,
+    },
     /// Walls of another dimension than the input.
     #[error(
         "{}: --walls: {wall_dim}D particles beside the {dim}D particles of {} (--dim 2 reads a \

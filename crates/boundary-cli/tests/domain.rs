@@ -243,7 +243,9 @@ fn the_splashsurf_frame_in_its_tank_of_half_spaces() {
         labels.push(column(&out, "boundary"));
     }
     let y = column(&dir.path().join("exact.csv"), "y");
-    let floor: Vec<usize> = (0..y.len()).filter(|&i| y[i] < 0.031_408_95 + 0.02).collect();
+    let floor: Vec<usize> = (0..y.len())
+        .filter(|&i| y[i] < 0.031_408_95 + 0.02)
+        .collect();
     assert_eq!(floor.len(), 1710);
     assert_eq!(floor.iter().filter(|&&i| labels[0][i] == 1.0).count(), 15);
     for (k, method) in ["ia", "ge"].iter().enumerate() {
@@ -919,4 +921,146 @@ fn solid_half_spaces_cover_like_walls_with_exact() {
     for (row, label) in rows.iter().zip(labels) {
         assert_eq!(label, f64::from(u8::from(row[1] == 3.0)), "{row:?}");
     }
+}
+
+/// An axis-aligned box `[lo, hi]` as a closed OBJ mesh, outward faces.
+fn box_obj(dir: &Path, name: &str, lo: [f64; 3], hi: [f64; 3]) -> PathBuf {
+    let mut text = String::new();
+    for k in 0..8 {
+        let c = |axis: usize| {
+            if k >> axis & 1 == 1 {
+                hi[axis]
+            } else {
+                lo[axis]
+            }
+        };
+        text += &format!("v {} {} {}\n", c(0), c(1), c(2));
+    }
+    // Corner k has bit a set when at the upper end of axis a; faces counter-clockwise seen
+    // from outside.
+    for face in [
+        [1, 3, 7, 5], // x = hi
+        [0, 4, 6, 2], // x = lo
+        [2, 6, 7, 3], // y = hi
+        [0, 1, 5, 4], // y = lo
+        [4, 5, 7, 6], // z = hi
+        [0, 2, 3, 1], // z = lo
+    ] {
+        text += &format!("f {} {} {}\n", face[0] + 1, face[1] + 1, face[2] + 1);
+        text += &format!("f {} {} {}\n", face[0] + 1, face[2] + 1, face[3] + 1);
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// A solid slab given as a mesh labels a block resting on it as the half-space of its top face
+/// does, and the methods that cannot honour a mesh, a 2D input and an open mesh are refused by
+/// name.
+#[test]
+fn a_solid_mesh_covers_like_the_half_space_of_its_face() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut jitter = Jitter(17);
+    let mut rows = Vec::new();
+    for x in 0..6 {
+        for y in 0..4 {
+            for z in 0..6 {
+                rows.push(vec![
+                    f64::from(x) + jitter.next(0.15),
+                    f64::from(y) + 0.5 + jitter.next(0.15),
+                    f64::from(z) + jitter.next(0.15),
+                ]);
+            }
+        }
+    }
+    let block = write_csv(dir.path(), "block.csv", "x,y,z", &rows);
+    let slab = box_obj(
+        dir.path(),
+        "slab.obj",
+        [-20.0, -20.0, -20.0],
+        [20.0, 0.0, 20.0],
+    );
+    let with_mesh = dir.path().join("mesh.csv");
+    let with_plane = dir.path().join("plane.csv");
+    let bare = json(&["detect", s(&block), "--radius", "1.0"]);
+    let v = json(&[
+        "detect",
+        s(&block),
+        "--radius",
+        "1.0",
+        "--solid-mesh",
+        s(&slab),
+        "-o",
+        s(&with_mesh),
+    ]);
+    assert_eq!(v["domain"]["solid_meshes"][0].as_str(), Some(s(&slab)));
+    json(&[
+        "detect",
+        s(&block),
+        "--radius",
+        "1.0",
+        "--solid",
+        "y<0",
+        "-o",
+        s(&with_plane),
+    ]);
+    let (a, b) = (
+        column(&with_mesh, "boundary"),
+        column(&with_plane, "boundary"),
+    );
+    assert_eq!(a, b);
+    assert!(
+        v["boundary"].as_u64().unwrap() < bare["boundary"].as_u64().unwrap(),
+        "the slab covers the block's floor layer"
+    );
+
+    let err = failure(
+        &[
+            "detect",
+            s(&block),
+            "--radius",
+            "1.0",
+            "--method",
+            "ge",
+            "--solid-mesh",
+            s(&slab),
+        ],
+        1,
+    );
+    assert!(err.contains("ge") && err.contains("--solid-mesh"), "{err}");
+    let flat = write_csv(
+        dir.path(),
+        "flat.csv",
+        "x,y",
+        &[vec![0.0, 0.0], vec![1.0, 0.0]],
+    );
+    let err = failure(
+        &[
+            "detect",
+            s(&flat),
+            "--radius",
+            "1.0",
+            "--solid-mesh",
+            s(&slab),
+        ],
+        1,
+    );
+    assert!(err.contains("2D"), "{err}");
+    let open = dir.path().join("open.obj");
+    std::fs::write(&open, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let err = failure(
+        &[
+            "detect",
+            s(&block),
+            "--radius",
+            "1.0",
+            "--solid-mesh",
+            s(&open),
+        ],
+        1,
+    );
+    assert!(
+        err.contains("open.obj: --solid-mesh:") && err.contains("edge"),
+        "{err}"
+    );
 }

@@ -7,53 +7,10 @@
 //! (skipped with a note when the data folder is missing). Each variant runs twice,
 //! alternating, and its faster run is reported.
 #![allow(clippy::unwrap_used)] // a measuring tool: failing loudly is fine
-use boundary_core::{
-    AnyParticleSet, BoundaryDetector, Domain, HalfSpace, ParticleSet, Point, Radius,
-};
+use boundary_core::{AnyParticleSet, BoundaryDetector, Domain, ParticleSet, Radius};
 use boundary_exact::ExactDetector;
-use boundary_scenes::shared_set;
+use boundary_scenes::{block_in_tank, shared_set};
 use std::time::Instant;
-
-/// A deterministic jitter in `[-0.5, 0.5)`.
-fn jitter(state: &mut u64) -> f64 {
-    *state = state
-        .wrapping_mul(6_364_136_223_846_793_005)
-        .wrapping_add(1_442_695_040_888_963_407);
-    (*state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-}
-
-/// The block (side `side`, `height` layers, lowest at y = 0) and its tank: three layers of
-/// wall particles under the floor and outside the four sides, up to two layers above the
-/// fluid.
-fn block_in_tank(side: usize, height: usize) -> (ParticleSet<3>, ParticleSet<3>) {
-    let mut state = 7;
-    let mut fluid = Vec::new();
-    for x in 0..side {
-        for y in 0..height {
-            for z in 0..side {
-                let p = [x as f64, y as f64, z as f64].map(|c| c + 0.3 * jitter(&mut state));
-                fluid.push(Point::<3>::from(p));
-            }
-        }
-    }
-    let mut walls = Vec::new();
-    let (lo, hi) = (-3i64, side as i64 + 2);
-    for x in lo..=hi {
-        for y in lo..(height as i64 + 2) {
-            for z in lo..=hi {
-                let inside =
-                    (0..side as i64).contains(&x) && (0..side as i64).contains(&z) && y >= 0;
-                if !inside {
-                    walls.push(Point::<3>::new(x as f64, y as f64, z as f64));
-                }
-            }
-        }
-    }
-    (
-        ParticleSet::new(fluid).unwrap(),
-        ParticleSet::new(walls).unwrap(),
-    )
-}
 
 fn union(a: &ParticleSet<3>, b: &ParticleSet<3>) -> AnyParticleSet {
     let mut all = a.positions().to_vec();
@@ -93,31 +50,18 @@ fn main() {
         .num_threads(threads)
         .build()
         .unwrap();
-    let side = ((n as f64 / 2.0).cbrt().round() as usize).max(2);
-    let (fluid, walls) = block_in_tank(side, 2 * side);
+    let (fluid, walls, tank) = block_in_tank(n, 7);
     let r = Radius::new(1.2).unwrap();
     let fluid_any = AnyParticleSet::from(fluid.clone());
     let all = union(&fluid, &walls);
     let with_walls = Domain::new().with_walls(walls.clone().into());
-    let edge = side as f64 - 0.5;
-    let tank = ["y<-0.5", "x<-0.5", "z<-0.5"]
-        .iter()
-        .map(|s| HalfSpace::parse(s).unwrap())
-        .chain([
-            HalfSpace::new(0, false, edge).unwrap(),
-            HalfSpace::new(2, false, edge).unwrap(),
-        ])
-        .fold(Domain::new(), |d, h| d.with_solid(h));
     println!(
         "block of {} particles in a tank of {} wall particles, r = 1.2, {threads} thread(s):",
         fluid.len(),
         walls.len()
     );
     let count = |d: &boundary_core::Detection, n: usize| {
-        d.labels.as_slice()[..n]
-            .iter()
-            .filter(|&&b| b)
-            .count()
+        d.labels.as_slice()[..n].iter().filter(|&&b| b).count()
     };
     compare(
         &pool,

@@ -441,6 +441,41 @@ fn tank_walls<const D: usize>(inner: [i64; D], layers: i64, h: f64) -> AnyPartic
     }))
 }
 
+/// A jittered block of about `n` particles (spacing 1, jitter ±0.15, `s × s × 2s` cells, z up)
+/// resting in an open-topped tank of three layers of unjittered wall particles, up to the
+/// block's top, seeded: the scale tier's measure of what walls cost. Returns the fluid, the
+/// walls and the tank's inner faces as solid half-spaces (on the cell faces: `x<-0.5`,
+/// `x>s-0.5`, `y<-0.5`, `y>s-0.5`, `z<-0.5`).
+pub fn block_in_tank(n: usize, seed: u64) -> (ParticleSet<3>, ParticleSet<3>, Domain) {
+    let side = ((n as f64 / 2.0).cbrt().round() as i64).max(1);
+    let inner = [side, side, 2 * side];
+    let mut rng = StdRng::seed_from_u64(seed);
+    let fluid = cell_centres([0; 3], inner, 1.0, 0.15, &mut rng, |_| true);
+    // Cell centres sit at half-integers: shift the whole scene by −0.5 so that the fluid's
+    // lattice is the integer one and the inner faces are at −0.5 and s − 0.5.
+    let shift = |p: &Point<3>| Point::<3>::from_fn(|a, _| p[a] - 0.5);
+    let fluid = ParticleSet::new(fluid.iter().map(shift).collect())
+        .expect("generated coordinates are finite");
+    let walls = match tank_walls(inner, 3, 1.0) {
+        AnyParticleSet::D3(w) => ParticleSet::new(w.positions().iter().map(shift).collect())
+            .expect("generated coordinates are finite"),
+        AnyParticleSet::D2(_) => unreachable!("a 3D tank"),
+    };
+    let edge = side as f64 - 0.5;
+    let faces = [
+        HalfSpace::new(0, true, -0.5),
+        HalfSpace::new(0, false, edge),
+        HalfSpace::new(1, true, -0.5),
+        HalfSpace::new(1, false, edge),
+        HalfSpace::new(2, true, -0.5),
+    ];
+    let solids = faces
+        .into_iter()
+        .map(|h| h.expect("finite faces"))
+        .fold(Domain::new(), Domain::with_solid);
+    (fluid, walls, solids)
+}
+
 /// Spacing of the 2D domain scenes.
 const H_DOMAIN2: f64 = 0.01;
 /// Spacing of the 3D domain scenes.
