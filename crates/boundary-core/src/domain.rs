@@ -431,6 +431,13 @@ pub fn detect_in<T: BoundaryDetector + ?Sized>(
     domain: &Domain,
     r: Radius,
 ) -> Result<DomainDetection, DetectError> {
+    if domain.is_bare() {
+        // The bare cloud: the detection itself, without a copy of the set.
+        return Ok(DomainDetection {
+            detection: detector.detect(set, r)?,
+            interface: None,
+        });
+    }
     let err = |message: String| DetectError::Domain(DomainError::new(message));
     if let Some(w) = &domain.walls {
         if w.dim() != set.dim() {

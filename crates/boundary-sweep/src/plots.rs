@@ -199,7 +199,7 @@ where
             r.median().filter(|&t| t > 0.0).map(|t| {
                 (
                     r.method.as_str(),
-                    r.scene.starts_with("scale_enright"),
+                    !(r.scene.starts_with("scale_ball") || r.scene.starts_with("scale_disc")),
                     r.n,
                     t,
                 )

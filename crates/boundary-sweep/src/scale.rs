@@ -28,7 +28,7 @@
 //! is also timed on 1, 2, 4, … threads below the all-thread count (one run each), for the
 //! parallel-speedup table.
 
-use boundary::{AnyParticleSet, Confusion, Labels, Radius};
+use boundary::{AnyParticleSet, Confusion, Domain, Labels, ParticleSet, Radius};
 use std::time::Instant;
 
 /// Sizes of the 3D ball series.
@@ -43,6 +43,8 @@ pub const ENRIGHT_SIZE: usize = 1_900_000;
 pub const DEFAULT_BUDGET: f64 = 60.0;
 /// Default number of timed runs (the median is reported).
 pub const DEFAULT_RUNS: usize = 3;
+/// Size of the block in a tank (its fluid particles).
+pub const TANK_SIZE: usize = 1_000_000;
 /// The scene of the thread scan by default.
 pub const THREAD_SCAN_SCENE: &str = "scale_ball3d_1M";
 
@@ -55,6 +57,12 @@ pub enum Family {
     Disc,
     /// The Enright-deformed sphere.
     Enright,
+    /// A jittered block resting in a tank of wall particles (`detect_in` with the walls):
+    /// what walls cost.
+    Tank,
+    /// The same block and tank as one bare set (every particle classified): what the walls
+    /// must not exceed.
+    TankUnion,
 }
 
 /// A generated scene of the scale tier.
@@ -90,6 +98,8 @@ impl ScaleScene {
             Family::Ball => ("ball3d", 3),
             Family::Disc => ("disc2d", 2),
             Family::Enright => ("enright3d", 3),
+            Family::Tank => ("tank3d", 3),
+            Family::TankUnion => ("tankunion3d", 3),
         };
         ScaleScene {
             name: format!("scale_{stem}_{}", short_count(target)),
@@ -101,11 +111,40 @@ impl ScaleScene {
 
     /// Generates the particles; returns them with the resolution r and a description.
     pub fn generate(&self) -> (AnyParticleSet, f64, String) {
-        match self.family {
+        let (set, _, r, about) = self.generate_in_domain();
+        (set, r, about)
+    }
+
+    /// Generates the particles and their domain (bare but for [`Family::Tank`]); returns them
+    /// with the resolution r and a description.
+    pub fn generate_in_domain(&self) -> (AnyParticleSet, Domain, f64, String) {
+        let tank = "jittered block (a = 1, jitter ±0.15a, s x s x 2s cells, z up) in an \
+                    open tank of 3 layers of wall particles, r = 1.2a, seed 7";
+        let (set, r, about) = match self.family {
+            Family::Tank => {
+                let (fluid, walls, _) = boundary_scenes::block_in_tank(self.target, 7);
+                let domain = Domain::new().with_walls(walls.into());
+                return (
+                    fluid.into(),
+                    domain,
+                    1.2,
+                    format!("{tank}: the fluid classified, the walls covering"),
+                );
+            }
+            Family::TankUnion => {
+                let (fluid, walls, _) = boundary_scenes::block_in_tank(self.target, 7);
+                let mut all = fluid.positions().to_vec();
+                all.extend(walls.positions());
+                let set = ParticleSet::new(all).expect("generated coordinates are finite");
+                (
+                    set.into(),
+                    1.2,
+                    format!("{tank}: fluid and walls as one set, every particle classified"),
+                )
+            }
             Family::Ball => {
                 let (set, _) = boundary_scenes::jittered_lattice_ball(self.target, 0.15, 7);
                 (
-                    set.into(),
                     1.2,
                     "jittered cubic lattice ball: a = 1, jitter ±0.15a, r = 1.2a, seed 7".into(),
                 )
@@ -131,7 +170,8 @@ impl ScaleScene {
                     ),
                 )
             }
-        }
+        };
+        (set, Domain::new(), r, about)
     }
 }
 
@@ -141,7 +181,11 @@ pub fn default_scenes(max_n: usize) -> Vec<ScaleScene> {
     let mut three: Vec<ScaleScene> = BALL_SIZES
         .iter()
         .map(|&n| ScaleScene::new(Family::Ball, n))
-        .chain([ScaleScene::new(Family::Enright, ENRIGHT_SIZE)])
+        .chain([
+            ScaleScene::new(Family::Enright, ENRIGHT_SIZE),
+            ScaleScene::new(Family::Tank, TANK_SIZE),
+            ScaleScene::new(Family::TankUnion, TANK_SIZE),
+        ])
         .filter(|s| s.target <= max_n)
         .collect();
     three.sort_by_key(|s| s.target);
@@ -291,10 +335,10 @@ impl Projections {
             .map(|(_, v)| *v)
     }
 
-    /// Records a measurement; the Enright set (another shape than the lattice series) is
-    /// projected from them but does not update them.
+    /// Records a measurement; the Enright set and the tank (other shapes than the lattice
+    /// series) are projected from them but do not update them.
     fn record(&mut self, scene: &ScaleScene, method: &str, n: usize, seconds: f64) {
-        if scene.family == Family::Enright {
+        if !matches!(scene.family, Family::Ball | Family::Disc) {
             return;
         }
         match self
@@ -323,9 +367,11 @@ fn pool(threads: usize) -> Result<rayon::ThreadPool, String> {
 
 /// Runs `method` on `set`: the first run measured by `probe`, then up to `runs - 1` more unless
 /// the first exceeded `budget`. Returns the first run's labels, the seconds and the peak.
+#[allow(clippy::too_many_arguments)] // one call site; the arguments are the run's inputs
 fn time_runs(
     method: &str,
     set: &AnyParticleSet,
+    domain: &Domain,
     r: Radius,
     pool: &rayon::ThreadPool,
     runs: usize,
@@ -337,14 +383,15 @@ fn time_runs(
     probe.reset();
     let start = Instant::now();
     let labels = pool
-        .install(|| detector.detect(set, r))
+        .install(|| detector.detect_in(set, domain, r))
         .map_err(|e| e.to_string())?
+        .detection
         .labels;
     seconds.push(start.elapsed().as_secs_f64());
     let peak = probe.peak_bytes();
     while seconds.len() < runs.max(1) && seconds[0] <= budget {
         let start = Instant::now();
-        let again = pool.install(|| detector.detect(set, r));
+        let again = pool.install(|| detector.detect_in(set, domain, r));
         seconds.push(start.elapsed().as_secs_f64());
         again.map_err(|e| e.to_string())?;
     }
@@ -369,7 +416,7 @@ pub fn run_scale(
     let mut last = Projections::default();
     for scene in &opts.scenes {
         let start = Instant::now();
-        let (set, radius, about) = scene.generate();
+        let (set, domain, radius, about) = scene.generate_in_domain();
         out.scenes
             .push((scene.name.clone(), about, start.elapsed().as_secs_f64()));
         let n = set.len();
@@ -401,7 +448,7 @@ pub fn run_scale(
                 row.skipped = Some("no reference: exact did not run".into());
             } else {
                 progress(&format!("{} ({n} particles) {method}", scene.name));
-                match time_runs(method, &set, r, &all, out.runs, opts.budget, probe) {
+                match time_runs(method, &set, &domain, r, &all, out.runs, opts.budget, probe) {
                     Ok((labels, seconds, peak)) => {
                         if method == "exact" {
                             truth = Some(labels.clone());
@@ -504,16 +551,40 @@ mod tests {
     }
 
     #[test]
+    fn the_tank_scenes_are_one_block_with_its_walls_as_ghosts_or_as_particles() {
+        let tank = ScaleScene::new(Family::Tank, 2_000);
+        let union = ScaleScene::new(Family::TankUnion, 2_000);
+        assert_eq!(tank.name, "scale_tank3d_2k");
+        let (fluid, domain, r, _) = tank.generate_in_domain();
+        let (all, bare, r2, _) = union.generate_in_domain();
+        assert!(bare.is_bare() && r == r2);
+        let walls = domain.walls().unwrap().len();
+        assert!(walls > 0 && all.len() == fluid.len() + walls);
+        let r = Radius::new(r).unwrap();
+        let exact = boundary::detector_by_name("exact").unwrap();
+        let with_walls = exact
+            .detect_in(&fluid, &domain, r)
+            .unwrap()
+            .detection
+            .labels;
+        let whole = exact.detect(&all, r).unwrap().labels;
+        assert_eq!(with_walls.as_slice(), &whole.as_slice()[..fluid.len()]);
+        assert!(
+            with_walls.boundary_count() < exact.detect(&fluid, r).unwrap().labels.boundary_count()
+        );
+    }
+
+    #[test]
     fn default_scenes_are_capped_and_in_increasing_size_per_dimension() {
         let all = default_scenes(usize::MAX);
-        assert_eq!(all.len(), BALL_SIZES.len() + 1 + DISC_SIZES.len());
+        assert_eq!(all.len(), BALL_SIZES.len() + 3 + DISC_SIZES.len());
         for dim in [2, 3] {
             let sizes: Vec<usize> = all
                 .iter()
                 .filter(|s| s.dim == dim)
                 .map(|s| s.target)
                 .collect();
-            assert!(sizes.windows(2).all(|w| w[0] < w[1]), "{sizes:?}");
+            assert!(sizes.windows(2).all(|w| w[0] <= w[1]), "{sizes:?}");
         }
         assert_eq!(
             all.iter()
