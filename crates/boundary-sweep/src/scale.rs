@@ -145,6 +145,7 @@ impl ScaleScene {
             Family::Ball => {
                 let (set, _) = boundary_scenes::jittered_lattice_ball(self.target, 0.15, 7);
                 (
+                    set.into(),
                     1.2,
                     "jittered cubic lattice ball: a = 1, jitter ±0.15a, r = 1.2a, seed 7".into(),
                 )
@@ -597,7 +598,7 @@ mod tests {
         let capped = default_scenes(1_000_000);
         assert!(capped.iter().all(|s| s.target <= 1_000_000));
         assert!(capped.iter().all(|s| s.family != Family::Enright));
-        assert_eq!(capped.len(), 5 + 5);
+        assert_eq!(capped.len(), 5 + 2 + 5, "the tank and its union are 10^6 scenes");
     }
 
     #[test]
