@@ -598,7 +598,11 @@ mod tests {
         let capped = default_scenes(1_000_000);
         assert!(capped.iter().all(|s| s.target <= 1_000_000));
         assert!(capped.iter().all(|s| s.family != Family::Enright));
-        assert_eq!(capped.len(), 5 + 2 + 5, "the tank and its union are 10^6 scenes");
+        assert_eq!(
+            capped.len(),
+            5 + 2 + 5,
+            "the tank and its union are 10^6 scenes"
+        );
     }
 
     #[test]
