@@ -25,7 +25,7 @@ fn compare(pool: &rayon::ThreadPool, variants: &[(&str, &(dyn Fn() -> usize + Sy
     for _ in 0..2 {
         for (k, (_, run)) in variants.iter().enumerate() {
             let t = Instant::now();
-            counts[k] = pool.install(|| run());
+            counts[k] = pool.install(run);
             best[k] = best[k].min(t.elapsed().as_secs_f64());
         }
     }

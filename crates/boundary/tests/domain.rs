@@ -38,9 +38,9 @@ fn tank<const D: usize>(counts: [usize; D], seed: u64) -> (ParticleSet<D>, Parti
     let mut walls = Vec::new();
     let mut floor = counts;
     floor[1] = 2;
-    for axis in 0..D {
+    for (axis, count) in floor.iter_mut().enumerate() {
         if axis != 1 {
-            floor[axis] += 4;
+            *count += 4;
         }
     }
     let cells: usize = floor.iter().product();
