@@ -499,9 +499,16 @@ fn natural_cmp(a: &str, b: &str) -> std::cmp::Ordering {
 /// by a run that was killed: never a frame.
 fn is_temp_file(path: &Path) -> bool {
     let name = path.file_name().unwrap_or_default().to_string_lossy();
-    name.rfind(boundary_io::TEMP_MARKER)
-        .filter(|&end| end > 1)
-        .is_some_and(|end| boundary_io::is_temp_name_for(&name, &name[1..end]))
+    temp_destination(&name).is_some()
+}
+
+/// The destination's name of a temporary file of an atomic write (`frame_1.csv` for
+/// `.frame_1.csv.tmp-<pid>-<n>`), or `None` for any other name.
+fn temp_destination(name: &str) -> Option<&str> {
+    let rest = name.strip_prefix('.')?;
+    let destination = &rest[..rest.rfind(boundary_io::TEMP_MARKER)?];
+    (!destination.is_empty() && boundary_io::is_temp_name_for(name, destination))
+        .then_some(destination)
 }
 
 /// The frames `pattern` matches (files only), in natural order of their paths.
@@ -903,11 +910,7 @@ fn remove_stale_temporaries<'a>(files: impl Iterator<Item = &'a Path>) {
         };
         for entry in entries.flatten() {
             let name = entry.file_name().to_string_lossy().into_owned();
-            let Some(end) = name.rfind(boundary_io::TEMP_MARKER).filter(|&e| e > 1) else {
-                continue;
-            };
-            let destination = &name[1..end];
-            if names.contains(destination) && boundary_io::is_temp_name_for(&name, destination) {
+            if temp_destination(&name).is_some_and(|d| names.contains(d)) {
                 let _ = std::fs::remove_file(entry.path());
             }
         }
@@ -1087,7 +1090,37 @@ fn summary_row(
 
 #[cfg(test)]
 mod tests {
-    use super::natural_cmp;
+    use super::{natural_cmp, split_csv_line, temp_destination};
+
+    #[test]
+    fn temporary_files_are_told_from_frames() {
+        assert_eq!(temp_destination(".f_1.csv.tmp-12-0"), Some("f_1.csv"));
+        assert_eq!(
+            temp_destination(".a.tmp-b.csv.tmp-1-2"),
+            Some("a.tmp-b.csv")
+        );
+        assert_eq!(temp_destination("f_1.csv"), None);
+        assert_eq!(temp_destination(".hidden.csv"), None);
+        assert_eq!(temp_destination(".tmp-1-2"), None);
+        assert_eq!(temp_destination("é.tmp-1-2"), None);
+        assert_eq!(temp_destination(".f.csv.tmp-1-2x"), None);
+    }
+
+    #[test]
+    fn summary_lines_split_as_they_were_quoted() {
+        assert_eq!(
+            split_csv_line(r#"0,"a,b.csv",out/"x".csv,,"say ""hi""""#),
+            Some(vec![
+                "0".to_owned(),
+                "a,b.csv".to_owned(),
+                "out/\"x\".csv".to_owned(),
+                String::new(),
+                "say \"hi\"".to_owned()
+            ])
+        );
+        assert_eq!(split_csv_line(r#"0,"open"#), None);
+        assert_eq!(split_csv_line(""), Some(vec![String::new()]));
+    }
     use std::cmp::Ordering::{Equal, Greater, Less};
 
     #[test]
