@@ -300,7 +300,9 @@ def write(
 ) -> None:
     """Writes ``points`` with an optional ``boundary`` column (0/1) and one column per
     keyword attribute (integers stay integers, anything else is written as reals), in the
-    format of the extension or ``format``; VTK XML joins ``name:k`` into one vector array."""
+    format of the extension or ``format``; VTK XML joins ``name:k`` into one vector array.
+    Atomic: the file appears whole or not at all (a failed write leaves no file, and a file
+    already at ``path`` stays as it was)."""
 
 def resample(
     points: ArrayLike,

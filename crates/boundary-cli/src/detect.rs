@@ -7,6 +7,7 @@ use crate::common::{
 };
 use crate::domain::{DomainArgs, DomainSetup};
 use crate::error::CliError;
+use crate::interrupt::Interrupt;
 use crate::output::{errln, outln};
 use boundary::{detector_with_params, AnyParticleSet, BoundaryDetector};
 use boundary_io::{read_particle_file, write_particles, Column, Format, ReadOptions};
@@ -47,6 +48,25 @@ pub(crate) struct DetectArgs {
     /// error) to this file.
     #[arg(long, value_name = "FILE.csv")]
     summary: Option<PathBuf>,
+    /// With several frames: go on with a run that was stopped (Ctrl-C, a crash). The frames
+    /// already done are skipped and their rows of --summary kept: a frame is done when its
+    /// output in --output-dir exists and, with --summary, the summary holds its row. The
+    /// result is that of a run never stopped.
+    #[arg(long)]
+    resume: bool,
+}
+
+/// What became of one frame of a run.
+#[derive(Debug)]
+enum FrameResult {
+    /// Detected (and written) by this run.
+    Done(FrameOutcome),
+    /// Done by the run that `--resume` goes on with: its output and summary row are kept.
+    Kept,
+    /// Failed, and skipped.
+    Failed(CliError),
+    /// Not started: the run was stopped first (a signal, or a summary that cannot be written).
+    NotRun,
 }
 
 /// What one frame gave.
@@ -475,6 +495,22 @@ fn natural_cmp(a: &str, b: &str) -> std::cmp::Ordering {
     (a.len() - i).cmp(&(b.len() - j))
 }
 
+/// Whether `path` is a temporary file of an atomic write (`.frame_1.csv.tmp-<pid>-<n>`), left
+/// by a run that was killed: never a frame.
+fn is_temp_file(path: &Path) -> bool {
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    temp_destination(&name).is_some()
+}
+
+/// The destination's name of a temporary file of an atomic write (`frame_1.csv` for
+/// `.frame_1.csv.tmp-<pid>-<n>`), or `None` for any other name.
+fn temp_destination(name: &str) -> Option<&str> {
+    let rest = name.strip_prefix('.')?;
+    let destination = &rest[..rest.rfind(boundary_io::TEMP_MARKER)?];
+    (!destination.is_empty() && boundary_io::is_temp_name_for(name, destination))
+        .then_some(destination)
+}
+
 /// The frames `pattern` matches (files only), in natural order of their paths.
 fn frames(pattern: &str) -> Result<Vec<PathBuf>, CliError> {
     let paths = glob::glob(pattern).map_err(|e| CliError::Pattern {
@@ -483,7 +519,7 @@ fn frames(pattern: &str) -> Result<Vec<PathBuf>, CliError> {
     })?;
     let mut files: Vec<PathBuf> = paths
         .filter_map(Result::ok)
-        .filter(|p| p.is_file())
+        .filter(|p| p.is_file() && !is_temp_file(p))
         .collect();
     if files.is_empty() {
         return Err(CliError::NoMatch(pattern.to_owned()));
@@ -592,13 +628,49 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     let total = paths.len();
-    let results: Vec<Result<FrameOutcome, CliError>> = pool.install(|| {
+    let per_particle = matches!(radius_mode, RadiusMode::PerParticle { .. });
+    let header = summary_header(per_particle, setup.is_some());
+    // `--resume`: the frames done before, each with its summary row (when there is a summary).
+    let kept: Vec<Option<Option<String>>> = if args.resume {
+        resumable(args, &paths, &outputs, &header)?
+    } else {
+        vec![None; total]
+    };
+    let summary = args.summary.as_ref().map(|path| {
+        std::sync::Mutex::new(Summary {
+            path: path.clone(),
+            header: header.clone(),
+            rows: kept.iter().map(|row| row.clone().flatten()).collect(),
+        })
+    });
+    // Set when the summary cannot be written: no frame starts after that, as its row could
+    // not be kept.
+    let summary_error: std::sync::Mutex<Option<CliError>> = std::sync::Mutex::new(None);
+    let interrupt = Interrupt::install()?;
+    let results: Vec<FrameResult> = pool.install(|| {
         use rayon::prelude::*;
         paths
             .par_iter()
             .zip(&outputs)
             .enumerate()
             .map(|(k, (path, output))| {
+                if kept[k].is_some() {
+                    if !args.input.json {
+                        bar.suspend(|| {
+                            errln!(
+                                "frame {}/{total} {}: done before, kept",
+                                k + 1,
+                                path.display()
+                            );
+                        });
+                    }
+                    bar.inc(1);
+                    return FrameResult::Kept;
+                }
+                let stopped = summary_error.lock().map_or(true, |e| e.is_some());
+                if stopped || interrupt.received().is_some() {
+                    return FrameResult::NotRun;
+                }
                 let result = match output {
                     Ok(out) => job.run(
                         path,
@@ -607,6 +679,20 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
                     ),
                     Err(frame) => Err(CliError::UnknownFrameFormat(frame.clone())),
                 };
+                // The frame's row is on the disk before its line is printed.
+                if let Some(summary) = &summary {
+                    let row = summary_row(path, output, &result, per_particle, setup.is_some());
+                    let saved = match summary.lock() {
+                        Ok(mut summary) => {
+                            summary.rows[k] = Some(row);
+                            summary.save()
+                        }
+                        Err(_) => Ok(()),
+                    };
+                    if let (Err(e), Ok(mut first)) = (saved, summary_error.lock()) {
+                        first.get_or_insert(e);
+                    }
+                }
                 if !args.input.json {
                     let line = match &result {
                         Ok(o) => format!(
@@ -624,22 +710,43 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
                     bar.suspend(|| errln!("{line}"));
                 }
                 bar.inc(1);
-                result
+                match result {
+                    Ok(o) => FrameResult::Done(o),
+                    Err(e) => FrameResult::Failed(e),
+                }
             })
             .collect()
     });
     bar.finish_and_clear();
-    let failed = results.iter().filter(|r| r.is_err()).count();
-    if let Some(summary) = &args.summary {
-        let per_particle = matches!(radius_mode, RadiusMode::PerParticle { .. });
-        write_summary(
-            summary,
-            &paths,
-            &outputs,
-            &results,
-            per_particle,
-            setup.is_some(),
-        )?;
+    let done = results
+        .iter()
+        .filter(|r| matches!(r, FrameResult::Done(_) | FrameResult::Kept))
+        .count();
+    let kept_count = results
+        .iter()
+        .filter(|r| matches!(r, FrameResult::Kept))
+        .count();
+    let failed = results
+        .iter()
+        .filter(|r| matches!(r, FrameResult::Failed(_)))
+        .count();
+    if let Some(e) = summary_error.into_inner().ok().flatten() {
+        errln!("{done} of {total} frames done; rerun with --resume to finish");
+        return Err(e);
+    }
+    if let Some(summary) = summary {
+        // In frame order, every row there is (all of them unless the run was stopped).
+        summary
+            .into_inner()
+            .map_err(|_| CliError::Usage("the summary was lost to a failed worker"))?
+            .save()?;
+    }
+    if let Some(signal) = interrupt.received() {
+        return Err(CliError::Interrupted {
+            signal,
+            done,
+            total,
+        });
     }
     if args.input.json {
         let frames: Vec<_> = paths
@@ -653,15 +760,22 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
                     .and_then(|o| o.as_ref())
                     .map(|(p, _)| p.display().to_string());
                 match result {
-                    Ok(o) => json!({
+                    FrameResult::Done(o) => json!({
                         "input": path.display().to_string(), "output": output, "n": o.n,
                         "dim": o.dim, "radius": o.radius,
                         "radii": RadiiUsed::json(o.radii.as_ref()), "boundary": o.boundary,
                         "seconds": o.seconds, "walls": o.walls, "interface": o.interface,
                     }),
-                    Err(e) => json!({
+                    FrameResult::Kept => json!({
+                        "input": path.display().to_string(), "output": output, "kept": true,
+                    }),
+                    FrameResult::Failed(e) => json!({
                         "input": path.display().to_string(), "output": output,
                         "error": e.to_string(),
+                    }),
+                    FrameResult::NotRun => json!({
+                        "input": path.display().to_string(), "output": output,
+                        "error": "not run",
                     }),
                 }
             })
@@ -683,17 +797,22 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
             "domain": domain_json(setup.as_ref()),
             "frames": frames,
             "failed": failed,
+            "kept": kept_count,
             "threads": pool.current_num_threads(),
         });
         outln!("{object}")?;
     } else {
         errln!(
-            "{} of {total} frames done with {}{}",
-            total - failed,
+            "{done} of {total} frames done with {}{}{}",
             method_label(detector),
             match &args.output_dir {
                 Some(dir) => format!(", written to {}", dir.display()),
                 None => String::new(),
+            },
+            if kept_count > 0 {
+                format!(" ({kept_count} kept from the run resumed)")
+            } else {
+                String::new()
             }
         );
     }
@@ -704,6 +823,168 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
         errln!("warning: {failed} of {total} frames failed and were skipped");
     }
     Ok(())
+}
+
+/// `--resume`: for each frame, `Some(row)` when the run resumed did it (`row` its summary row
+/// after the frame number, `None` without `--summary`), `None` when it is still to do. A frame
+/// is done when its output exists (written atomically, so complete) and, with `--summary`, the
+/// summary holds a row of it without an error. Removes the temporary files a killed run left
+/// beside the outputs and the summary.
+fn resumable(
+    args: &DetectArgs,
+    paths: &[PathBuf],
+    outputs: &[Result<Option<(PathBuf, Format)>, PathBuf>],
+    header: &str,
+) -> Result<Vec<Option<Option<String>>>, CliError> {
+    if args.output_dir.is_none() && args.summary.is_none() {
+        return Err(CliError::Usage(
+            "--resume needs --output-dir or --summary (where the done frames are found)",
+        ));
+    }
+    let output_of = |k: usize| match &outputs[k] {
+        Ok(Some((p, _))) => Some(p.as_path()),
+        _ => None,
+    };
+    remove_stale_temporaries(
+        (0..paths.len())
+            .filter_map(output_of)
+            .chain(args.summary.as_deref()),
+    );
+    let previous = match &args.summary {
+        Some(path) => Some(previous_rows(path, header)?),
+        None => None,
+    };
+    let mut kept = Vec::with_capacity(paths.len());
+    for (k, input) in paths.iter().enumerate() {
+        let output = output_of(k);
+        let output_text = output.map(|p| p.display().to_string()).unwrap_or_default();
+        // An output that is the input itself says nothing about the frame being done.
+        let output_done = match output {
+            None => args.output_dir.is_none(),
+            Some(out) => {
+                std::fs::metadata(out).is_ok_and(|m| m.is_file()) && !same_file(out, input)
+                    || previous.is_some() && same_file(out, input)
+            }
+        };
+        let row = match &previous {
+            None => Some(None),
+            Some(rows) => rows
+                .get(&input.display().to_string())
+                .filter(|(output, _)| *output == output_text)
+                .map(|(_, row)| Some(row.clone())),
+        };
+        kept.push(row.filter(|_| output_done));
+    }
+    Ok(kept)
+}
+
+/// Whether `a` and `b` name the same existing file.
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
+}
+
+/// Removes, beside each of `files`, the temporary files of its atomic writes (left by a run
+/// that was killed); what cannot be removed stays, as it is never taken for an output.
+fn remove_stale_temporaries<'a>(files: impl Iterator<Item = &'a Path>) {
+    let mut by_dir: std::collections::HashMap<PathBuf, Vec<String>> =
+        std::collections::HashMap::new();
+    for file in files {
+        let dir = match file.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        if let Some(name) = file.file_name() {
+            by_dir
+                .entry(dir)
+                .or_default()
+                .push(name.to_string_lossy().into_owned());
+        }
+    }
+    for (dir, names) in by_dir {
+        let names: std::collections::HashSet<String> = names.into_iter().collect();
+        let Ok(entries) = std::fs::read_dir(&dir) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if temp_destination(&name).is_some_and(|d| names.contains(d)) {
+                let _ = std::fs::remove_file(entry.path());
+            }
+        }
+    }
+}
+
+/// The rows of the summary a stopped run wrote, by input: its output and the row after the
+/// frame number. Rows with an error are left out (their frames are done again). No summary
+/// yet: no rows.
+fn previous_rows(
+    path: &Path,
+    header: &str,
+) -> Result<std::collections::HashMap<String, (String, String)>, CliError> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Default::default()),
+        Err(e) => {
+            return Err(CliError::Resume {
+                path: path.to_path_buf(),
+                problem: format!("cannot read it: {e}"),
+            })
+        }
+    };
+    let mut lines = text.lines();
+    if lines.next().is_some_and(|first| first != header) {
+        return Err(CliError::Resume {
+            path: path.to_path_buf(),
+            problem: format!(
+                "its columns are not those this run writes ({header}): resume with the options \
+                 of the run that wrote it, or remove it to start over"
+            ),
+        });
+    }
+    let columns = header.split(',').count();
+    let mut rows = std::collections::HashMap::new();
+    for line in lines {
+        let Some(fields) = split_csv_line(line).filter(|f| f.len() == columns) else {
+            continue;
+        };
+        // Column 3 is `n`, empty on a row with an error.
+        if fields[3].is_empty() {
+            continue;
+        }
+        if let Some((_, row)) = line.split_once(',') {
+            rows.insert(fields[1].clone(), (fields[2].clone(), row.to_owned()));
+        }
+    }
+    Ok(rows)
+}
+
+/// The fields of one CSV line as [`csv_field`] writes them; `None` when the quotes do not
+/// close.
+fn split_csv_line(line: &str) -> Option<Vec<String>> {
+    let mut fields = Vec::new();
+    let mut field = String::new();
+    let mut chars = line.chars().peekable();
+    let mut quoted = false;
+    while let Some(c) = chars.next() {
+        match (quoted, c) {
+            (false, ',') => fields.push(std::mem::take(&mut field)),
+            (false, '"') if field.is_empty() => quoted = true,
+            (true, '"') if chars.peek() == Some(&'"') => {
+                chars.next();
+                field.push('"');
+            }
+            (true, '"') => quoted = false,
+            (_, c) => field.push(c),
+        }
+    }
+    if quoted {
+        return None;
+    }
+    fields.push(field);
+    Some(fields)
 }
 
 /// The JSON record of the domain options (`null` for a bare cloud).
@@ -729,16 +1010,32 @@ fn csv_field(text: &str) -> String {
     }
 }
 
-/// One CSV row per frame: the boundary count per frame, for plotting.
-fn write_summary(
-    path: &Path,
-    inputs: &[PathBuf],
-    outputs: &[Result<Option<(PathBuf, Format)>, PathBuf>],
-    results: &[Result<FrameOutcome, CliError>],
-    per_particle: bool,
-    domain: bool,
-) -> Result<(), CliError> {
-    use std::fmt::Write as _;
+/// The `--summary` file of a run: its header, and each frame's row once the frame is done.
+struct Summary {
+    path: PathBuf,
+    header: String,
+    /// Per frame, its row after the frame number.
+    rows: Vec<Option<String>>,
+}
+
+impl Summary {
+    /// Writes the header and the rows there are, in frame order, atomically.
+    fn save(&self) -> Result<(), CliError> {
+        boundary_io::write_atomic(&self.path, |out| {
+            writeln!(out, "{}", self.header)?;
+            for (k, row) in self.rows.iter().enumerate() {
+                if let Some(row) = row {
+                    writeln!(out, "{k},{row}")?;
+                }
+            }
+            Ok(())
+        })?;
+        Ok(())
+    }
+}
+
+/// The summary's header (without its newline).
+fn summary_header(per_particle: bool, domain: bool) -> String {
     let mut text = String::from("frame,input,output,n,dim,radius,boundary,seconds,");
     if per_particle {
         text += "radius_min,radius_max,";
@@ -746,50 +1043,84 @@ fn write_summary(
     if domain {
         text += "walls,interface,";
     }
-    text += "error\n";
-    for (k, ((input, output), result)) in inputs.iter().zip(outputs).zip(results).enumerate() {
-        let output = match output {
-            Ok(Some((p, _))) => p.display().to_string(),
-            _ => String::new(),
-        };
-        let input = csv_field(&input.display().to_string());
-        let output = csv_field(&output);
-        let _ = match result {
-            Ok(o) => {
-                let radii = match (&o.radii, per_particle) {
-                    (Some(r), true) => format!("{},{},", r.min, r.max),
-                    _ => String::new(),
-                };
-                let facts = if domain {
-                    let count = |c: Option<usize>| c.map(|c| c.to_string()).unwrap_or_default();
-                    format!("{},{},", count(o.walls), count(o.interface))
-                } else {
-                    String::new()
-                };
-                writeln!(
-                    text,
-                    "{k},{input},{output},{},{},{},{},{:.6},{radii}{facts}",
-                    o.n, o.dim, o.radius, o.boundary, o.seconds
-                )
-            }
-            Err(e) => writeln!(
-                text,
-                "{k},{input},{output},,,,,,{}{}{}",
-                if per_particle { ",," } else { "" },
-                if domain { ",," } else { "" },
-                csv_field(&e.to_string())
-            ),
-        };
+    text += "error";
+    text
+}
+
+/// One frame's summary row after its frame number (without a newline): the boundary count
+/// per frame, for plotting.
+fn summary_row(
+    input: &Path,
+    output: &Result<Option<(PathBuf, Format)>, PathBuf>,
+    result: &Result<FrameOutcome, CliError>,
+    per_particle: bool,
+    domain: bool,
+) -> String {
+    let output = match output {
+        Ok(Some((p, _))) => p.display().to_string(),
+        _ => String::new(),
+    };
+    let input = csv_field(&input.display().to_string());
+    let output = csv_field(&output);
+    match result {
+        Ok(o) => {
+            let radii = match (&o.radii, per_particle) {
+                (Some(r), true) => format!("{},{},", r.min, r.max),
+                _ => String::new(),
+            };
+            let facts = if domain {
+                let count = |c: Option<usize>| c.map(|c| c.to_string()).unwrap_or_default();
+                format!("{},{},", count(o.walls), count(o.interface))
+            } else {
+                String::new()
+            };
+            format!(
+                "{input},{output},{},{},{},{},{:.6},{radii}{facts}",
+                o.n, o.dim, o.radius, o.boundary, o.seconds
+            )
+        }
+        Err(e) => format!(
+            "{input},{output},,,,,,{}{}{}",
+            if per_particle { ",," } else { "" },
+            if domain { ",," } else { "" },
+            csv_field(&e.to_string())
+        ),
     }
-    std::fs::write(path, text).map_err(|source| CliError::Write {
-        path: path.to_path_buf(),
-        source,
-    })
 }
 
 #[cfg(test)]
 mod tests {
-    use super::natural_cmp;
+    use super::{natural_cmp, split_csv_line, temp_destination};
+
+    #[test]
+    fn temporary_files_are_told_from_frames() {
+        assert_eq!(temp_destination(".f_1.csv.tmp-12-0"), Some("f_1.csv"));
+        assert_eq!(
+            temp_destination(".a.tmp-b.csv.tmp-1-2"),
+            Some("a.tmp-b.csv")
+        );
+        assert_eq!(temp_destination("f_1.csv"), None);
+        assert_eq!(temp_destination(".hidden.csv"), None);
+        assert_eq!(temp_destination(".tmp-1-2"), None);
+        assert_eq!(temp_destination("é.tmp-1-2"), None);
+        assert_eq!(temp_destination(".f.csv.tmp-1-2x"), None);
+    }
+
+    #[test]
+    fn summary_lines_split_as_they_were_quoted() {
+        assert_eq!(
+            split_csv_line(r#"0,"a,b.csv",out/"x".csv,,"say ""hi""""#),
+            Some(vec![
+                "0".to_owned(),
+                "a,b.csv".to_owned(),
+                "out/\"x\".csv".to_owned(),
+                String::new(),
+                "say \"hi\"".to_owned()
+            ])
+        );
+        assert_eq!(split_csv_line(r#"0,"open"#), None);
+        assert_eq!(split_csv_line(""), Some(vec![String::new()]));
+    }
     use std::cmp::Ordering::{Equal, Greater, Less};
 
     #[test]

@@ -176,14 +176,6 @@ pub enum CliError {
         /// Why.
         source: std::io::Error,
     },
-    /// A file (other than a particle file) that cannot be written.
-    #[error("cannot write {}: {source}", .path.display())]
-    Write {
-        /// The file.
-        path: PathBuf,
-        /// Why.
-        source: std::io::Error,
-    },
     /// `--radius auto` over frames none of which could be read.
     #[error("--radius auto: no frame could be read to estimate r")]
     NoFrameForAutoRadius,
@@ -209,6 +201,28 @@ pub enum CliError {
         index: usize,
         /// Its value.
         value: f64,
+    },
+    /// A run over frames stopped by SIGINT or SIGTERM: the frames done are kept. `main` prints
+    /// this line as it is (no `error: `) and exits with 128 + the signal's number.
+    #[error("interrupted: {done} of {total} frames done; rerun with --resume to finish")]
+    Interrupted {
+        /// The signal (2 for SIGINT, 15 for SIGTERM).
+        signal: i32,
+        /// Frames done (this run's and those kept from the previous run).
+        done: usize,
+        /// Frames in all.
+        total: usize,
+    },
+    /// The handlers of SIGINT and SIGTERM could not be installed.
+    #[error("cannot catch Ctrl-C (SIGINT, SIGTERM): {0}")]
+    Signals(std::io::Error),
+    /// `--resume` with a summary it cannot use.
+    #[error("{}: --resume: {problem}", .path.display())]
+    Resume {
+        /// The summary file.
+        path: PathBuf,
+        /// Why it cannot be used.
+        problem: String,
     },
     /// Standard output was closed by its reader (`boundary methods | head`): not a failure,
     /// `main` exits quietly.

@@ -18,8 +18,9 @@
 //! ```
 //!
 //! Errors print one line `error: …` on stderr and exit with status 1 (2 for malformed
-//! arguments); nothing else is printed on failure. A closed stdout (`boundary methods | head`)
-//! ends the command quietly with status 0.
+//! arguments); nothing else is printed on failure. A run over frames stopped by Ctrl-C or
+//! SIGTERM keeps the frames done, says how to resume, and exits with 130 or 143. A closed
+//! stdout (`boundary methods | head`) ends the command quietly with status 0.
 //!
 //! One module per subcommand (`detect`, `score`, `resample`, `methods`), what they share in
 //! `common`, the error type in `error` ([`CliError`]), and stdout/stderr writes that never
@@ -29,6 +30,7 @@ mod common;
 mod detect;
 mod domain;
 mod error;
+mod interrupt;
 mod methods;
 mod output;
 mod resample;
@@ -88,6 +90,11 @@ fn main() -> ExitCode {
     match result {
         // The reader of stdout went away (`| head`): it asked for no more.
         Ok(()) | Err(CliError::BrokenPipe) => ExitCode::SUCCESS,
+        // Ctrl-C (130) or SIGTERM (143): the shell's convention for a run a signal ended.
+        Err(error @ CliError::Interrupted { signal, .. }) => {
+            errln!("{error}");
+            ExitCode::from(u8::try_from(128 + signal).unwrap_or(1))
+        }
         Err(error) => {
             errln!("error: {error}");
             ExitCode::FAILURE

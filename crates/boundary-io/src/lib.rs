@@ -122,6 +122,10 @@
 //! ([`MAX_PREALLOCATE`] values; for PLY, `ply-rs-bw`'s own cap of 65536 elements) before the
 //! data backing it has been read: a binary VTK block is checked against the bytes present.
 //!
+//! Writes are atomic ([`write_atomic`]): the file is written beside its destination under a
+//! hidden temporary name, synced, and renamed into place, so a reader (or a run resumed after a
+//! crash) never finds a partial file, and a failed write (a full disk) leaves no file behind.
+//!
 //! # Example
 //!
 //! ```
@@ -140,6 +144,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod atomic;
 mod bgeo;
 mod csv;
 mod error;
@@ -150,6 +155,7 @@ mod vtk;
 mod vtk_xml;
 mod xyz;
 
+pub use atomic::{is_temp_name_for, write_atomic, TEMP_MARKER};
 pub use error::{IoError, Location};
 
 use boundary_core::{AnyParticleSet, CoreError, ParticleSet, Point};
@@ -673,12 +679,25 @@ pub fn read_csv_column(path: &Path, column: &str) -> Result<Vec<f64>, IoError> {
 
 /// Writes the positions of `set` and the extra `columns` to `path`; the format is `format` or
 /// the one the extension of `path` names. The columns are checked (length, names) before the
-/// file is created.
+/// file is created. The write is atomic ([`write_atomic`]): a reader sees the old file or the
+/// whole new one, a failure leaves no file behind, and `path` may name the file the set was
+/// read from.
 pub fn write_particles(
     path: &Path,
     format: Option<Format>,
     set: &AnyParticleSet,
     columns: &[(&str, Column<'_>)],
+) -> Result<(), IoError> {
+    write_particles_through(path, format, set, columns, |file| Box::new(file))
+}
+
+/// [`write_particles`] through `sink` (see [`atomic::write_atomic_through`]).
+pub(crate) fn write_particles_through(
+    path: &Path,
+    format: Option<Format>,
+    set: &AnyParticleSet,
+    columns: &[(&str, Column<'_>)],
+    sink: fn(&mut std::fs::File) -> Box<dyn Write + '_>,
 ) -> Result<(), IoError> {
     let name = path.display().to_string();
     let format = match format {
@@ -688,21 +707,20 @@ pub fn write_particles(
         }
     };
     check_columns(&name, format, set, columns)?;
-    let file = std::fs::File::create(path).map_err(|e| IoError::write(&name, e))?;
     let gzip = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
-    if gzip {
-        // `.bgeo.gz` (and any other name ending in .gz): gzip-compressed.
-        let mut out =
-            flate2::write::GzEncoder::new(BufWriter::new(file), flate2::Compression::default());
-        write_body(&mut out, format, set, columns).map_err(|e| IoError::write(&name, e))?;
-        let mut inner = out.finish().map_err(|e| IoError::write(&name, e))?;
-        return inner.flush().map_err(|e| IoError::write(&name, e));
-    }
-    let mut out = BufWriter::new(file);
-    write_body(&mut out, format, set, columns).map_err(|e| IoError::write(&name, e))?;
-    out.flush().map_err(|e| IoError::write(&name, e))
+    atomic::write_atomic_through(path, sink, |out| {
+        if gzip {
+            // `.bgeo.gz` (and any other name ending in .gz): gzip-compressed.
+            let mut gz = flate2::write::GzEncoder::new(out, flate2::Compression::default());
+            write_body(&mut gz, format, set, columns)?;
+            gz.finish()?;
+            Ok(())
+        } else {
+            write_body(out, format, set, columns)
+        }
+    })
 }
 
 /// Writes particles in `format` to `writer`; errors call the destination `<output>`.

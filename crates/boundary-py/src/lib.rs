@@ -844,7 +844,8 @@ fn owned_column(name: &str, values: &Bound<'_, PyAny>) -> PyResult<OwnedColumn> 
 
 /// Writes points with an optional `boundary` column (0/1) and one column per keyword
 /// attribute (integer arrays stay integers, others are written as reals), in the format of
-/// the extension or `format`.
+/// the extension or `format`. Atomic: the file appears whole or not at all (a failed write
+/// leaves no file, and a file already at `path` stays as it was).
 #[pyfunction]
 #[pyo3(signature = (path, points, boundary = None, format = None, **attributes))]
 fn write(

@@ -279,6 +279,26 @@ def test_write_then_read_keeps_points_labels_and_attributes(suffix, tmp_path):
     assert np.array_equal(attributes["ids"], ids)
 
 
+def test_write_is_atomic_a_failed_write_leaves_no_file(tmp_path):
+    points = jittered_ball(5, 3)
+    # A folder where the file should go: the rename into place fails, naming the file, and
+    # the temporary file written beside it is removed.
+    taken = tmp_path / "taken.csv"
+    taken.mkdir()
+    with pytest.raises(OSError, match="taken.csv"):
+        boundary.write(taken, points)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["taken.csv"]
+    with pytest.raises(FileNotFoundError, match="missing"):
+        boundary.write(tmp_path / "missing" / "out.csv", points)
+    # Writing over the file the points were read from replaces it whole.
+    path = tmp_path / "frame.csv"
+    boundary.write(path, points)
+    back, _ = boundary.read(path)
+    boundary.write(path, back, boundary=np.ones(len(back), dtype=bool))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["frame.csv", "taken.csv"]
+    assert np.all(boundary.read(path)[1]["boundary"] == 1)
+
+
 def test_read_gives_the_positions_of_the_file():
     for relative, _ in SCENES:
         points, attributes = boundary.read(DATA / relative)

@@ -195,7 +195,9 @@ fn real_main() -> Result<(), String> {
         .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
     let write = |name: &str, text: String| -> Result<PathBuf, String> {
         let path = args.out.join(name);
-        std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        // Atomic: a reader (or a killed sweep) never leaves a partial results file.
+        boundary_io::write_atomic(&path, |out| out.write_all(text.as_bytes()))
+            .map_err(|e| e.to_string())?;
         Ok(path)
     };
     let mut written = vec![write("results.csv", report::results_csv(&outcome.rows))?];
