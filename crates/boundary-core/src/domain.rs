@@ -654,10 +654,18 @@ fn extend<const D: usize>(
     }
     let with_radii = set.radii().is_some() || walls.is_some_and(|w| w.radii().is_some());
     let factor = |s: &ParticleSet<D>, i: usize| s.radii().map_or(1.0, |f| f[i]);
-    let mut positions: Vec<Point<D>> = members.iter().map(|&i| set.positions()[i]).collect();
-    let mut radii: Vec<f64> = members.iter().map(|&i| factor(set, i)).collect();
     if members.is_empty() {
         return ParticleSet::new(Vec::new()).map_err(DetectError::Core);
+    }
+    // Room for every wall without a reallocation (the set is the largest allocation of a
+    // detection in a tank); radii only when some kind has them.
+    let room = members.len() + walls.map_or(0, ParticleSet::len);
+    let mut positions: Vec<Point<D>> = Vec::with_capacity(room);
+    positions.extend(members.iter().map(|&i| set.positions()[i]));
+    let mut radii: Vec<f64> = Vec::new();
+    if with_radii {
+        radii.reserve(room);
+        radii.extend(members.iter().map(|&i| factor(set, i)));
     }
     // The bounding box of the classified particles, widened by the reach.
     let mut lo = positions[0];
@@ -669,20 +677,31 @@ fn extend<const D: usize>(
         }
     }
     let near = |x: &Point<D>| (0..D).all(|k| x[k] >= lo[k] - reach && x[k] <= hi[k] + reach);
-    // Every covering candidate: the members, then the walls.
-    let mut sources: Vec<(Point<D>, f64)> = positions
-        .iter()
-        .copied()
-        .zip(radii.iter().copied())
-        .collect();
     if let Some(w) = walls {
         for (i, x) in w.positions().iter().enumerate() {
-            sources.push((*x, factor(w, i)));
             if near(x) {
                 positions.push(*x);
-                radii.push(factor(w, i));
+                if with_radii {
+                    radii.push(factor(w, i));
+                }
             }
         }
+    }
+    if periodic.is_empty() {
+        return finish(positions, radii, with_radii);
+    }
+    // Every covering candidate of the images: the members, then all the walls.
+    let mut sources: Vec<(Point<D>, f64)> = members
+        .iter()
+        .map(|&i| (set.positions()[i], factor(set, i)))
+        .collect();
+    if let Some(w) = walls {
+        sources.extend(
+            w.positions()
+                .iter()
+                .enumerate()
+                .map(|(i, x)| (*x, factor(w, i))),
+        );
     }
     // Images: every combination of shifts in {−L, 0, +L} over the periodic axes but none.
     let combos = 3usize.pow(periodic.len() as u32);
@@ -701,10 +720,21 @@ fn extend<const D: usize>(
             let image: Point<D> = Point::<D>::from_fn(|k, _| x[k] + shift[k]);
             if near(&image) {
                 positions.push(image);
-                radii.push(*s);
+                if with_radii {
+                    radii.push(*s);
+                }
             }
         }
     }
+    finish(positions, radii, with_radii)
+}
+
+/// The validated set of `positions`, with `radii` when `with_radii`.
+fn finish<const D: usize>(
+    positions: Vec<Point<D>>,
+    radii: Vec<f64>,
+    with_radii: bool,
+) -> Result<ParticleSet<D>, DetectError> {
     let out = ParticleSet::new(positions).map_err(DetectError::Core)?;
     if with_radii {
         out.with_radii(radii).map_err(DetectError::Core)
