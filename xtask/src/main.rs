@@ -1,6 +1,6 @@
 //! Project tasks, run as `cargo xtask <task>` (alias in `.cargo/config.toml`).
 //!
-//! - `cargo xtask test`: `cargo fmt --check`,
+//! - `cargo xtask test`: `cargo fmt --check`, `cargo xtask package`,
 //!   `cargo clippy --workspace --all-targets -D warnings` and `cargo test --workspace`. The
 //!   workspace includes the MPI driver `crates/boundary-mpi` (outside `default-members`), whose
 //!   tests compare `mpirun -np 2` and `-np 4` with the single-process labels; without Open MPI
@@ -18,6 +18,9 @@
 //!   (every detector on every scene) in release mode; ARGS go to the sweep (`--help` lists them).
 //! - `cargo xtask fixtures`: regenerate the scenes in `fixtures/`.
 //! - `cargo xtask prereqs`: only check (and where possible install) the MPI prerequisites.
+//! - `cargo xtask package`: `cargo package --no-verify` of every published crate (all but
+//!   those with `publish = false`): metadata and contents fit for crates.io. Reads the crates.io
+//!   index (network), builds nothing.
 //! - `cargo xtask check-deps`: the dependency rules of `docs/ARCHITECTURE.md`, from the
 //!   dependency graph (`cargo tree`): boundary-core has no file-format or CLI dependency, and
 //!   no method crate has an IO dependency (direct or not). Also the first step of `test`.
@@ -51,6 +54,7 @@ fn main() -> ExitCode {
         "sweep" => sweep(rest),
         "fixtures" => fixtures(rest),
         "check-deps" => check_deps(),
+        "package" => package(),
         "train-svm" => train_svm(rest),
         "prereqs" => {
             if let Err(why) = mpi_prereqs() {
@@ -85,7 +89,8 @@ fn usage() -> &'static str {
      train-svm  retrain the shipped svm models (seeded) and score them on held-out scenes:\n             \
 crates/boundary-svm/models/, target/svm/training.md\n  \
      prereqs    check the MPI prerequisites (install them when root with apt-get)\n  \
-     check-deps boundary-core has no format/CLI dependency, method crates no IO dependency"
+     check-deps boundary-core has no format/CLI dependency, method crates no IO dependency\n  \
+     package    `cargo package --no-verify` of every published crate (metadata, contents)"
 }
 
 /// The workspace root (the parent of this crate's directory).
@@ -133,6 +138,7 @@ fn test_workspace(mpi: bool, python: bool, rest: &[String]) -> Result<(), String
     let exclude = workspace_exclusions(mpi, python);
     check_deps()?;
     cargo(&["fmt", "--all", "--", "--check"])?;
+    package()?;
     let mut args = vec!["clippy", "--workspace"];
     args.extend(&exclude);
     args.extend(["--all-targets", "--", "-D", "warnings"]);
@@ -438,6 +444,63 @@ fn check_deps() -> Result<(), String> {
             problems.join("\n  ")
         ))
     }
+}
+
+/// The name of the package whose manifest is `manifest` when it says `publish = false`.
+fn unpublished_name(manifest: &str) -> Option<String> {
+    let mut name = None;
+    let mut unpublished = false;
+    let mut in_package = false;
+    for line in manifest.lines().map(str::trim) {
+        if line.starts_with('[') {
+            in_package = line == "[package]";
+        } else if in_package {
+            let Some((key, value)) = line.split_once('=') else {
+                continue;
+            };
+            match key.trim() {
+                "name" => name = Some(value.trim().trim_matches('"').to_owned()),
+                "publish" => unpublished = value.trim() == "false",
+                _ => {}
+            }
+        }
+    }
+    name.filter(|_| unpublished)
+}
+
+/// The workspace's packages with `publish = false` (`crates/*` and xtask).
+fn unpublished_packages() -> Result<Vec<String>, String> {
+    let root = root();
+    let crates = root.join("crates");
+    let mut manifests = vec![root.join("xtask/Cargo.toml")];
+    for entry in std::fs::read_dir(&crates)
+        .map_err(|e| format!("cannot list {}: {e}", crates.display()))?
+        .flatten()
+    {
+        manifests.push(entry.path().join("Cargo.toml"));
+    }
+    let mut names = Vec::new();
+    for manifest in manifests.iter().filter(|m| m.is_file()) {
+        let text = std::fs::read_to_string(manifest)
+            .map_err(|e| format!("cannot read {}: {e}", manifest.display()))?;
+        names.extend(unpublished_name(&text));
+    }
+    names.sort();
+    Ok(names)
+}
+
+/// `cargo package --no-verify` of every crate we publish (those without `publish = false`):
+/// their metadata, contents and dependencies are fit for crates.io (a published crate may not
+/// depend on an unpublished one; its dev-dependencies on the unpublished test scenes are path
+/// only, which cargo drops from the package). Reads the crates.io index; builds nothing.
+/// `--allow-dirty`: a work in progress packages too.
+fn package() -> Result<(), String> {
+    let unpublished = unpublished_packages()?;
+    let mut args = vec!["package", "--workspace", "--no-verify", "--allow-dirty"];
+    for name in &unpublished {
+        args.extend(["--exclude", name.as_str()]);
+    }
+    cargo(&args)
 }
 
 /// The Python package's crate: a workspace member outside `default-members`.
@@ -837,6 +900,22 @@ rayon v1.12.0 (*)
         );
         assert_eq!(forbidden_dependencies("x", tree, &["flate2"]).len(), 1);
         assert!(tree_packages("").is_empty());
+    }
+
+    #[test]
+    fn publish_false_is_read_from_the_package_section_only() {
+        let manifest = "[package]\nname = \"boundary-scenes\"\nversion.workspace = true\n\
+                        publish = false\n\n[dependencies]\npublish = true\n";
+        assert_eq!(
+            unpublished_name(manifest).as_deref(),
+            Some("boundary-scenes")
+        );
+        let published = "[package]\nname = \"boundary-core\"\n[features]\npublish = false\n";
+        assert_eq!(unpublished_name(published), None);
+        assert_eq!(
+            unpublished_name("[package]\nname = \"x\"\npublish = true\n"),
+            None
+        );
     }
 
     #[test]
