@@ -1,7 +1,8 @@
 //! Project tasks, run as `cargo xtask <task>` (alias in `.cargo/config.toml`).
 //!
 //! - `cargo xtask test`: `cargo fmt --check`, `cargo xtask package`,
-//!   `cargo clippy --workspace --all-targets -D warnings` and `cargo test --workspace`. The
+//!   `cargo clippy --workspace --all-targets -D warnings`, `cargo xtask doc` and
+//!   `cargo test --workspace`. The
 //!   workspace includes the MPI driver `crates/boundary-mpi` (outside `default-members`), whose
 //!   tests compare `mpirun -np 2` and `-np 4` with the single-process labels; without Open MPI
 //!   it is excluded, with a note saying so. What CI runs (`.ci/run`).
@@ -21,6 +22,8 @@
 //! - `cargo xtask package`: `cargo package --no-verify` of every published crate (all but
 //!   those with `publish = false`): metadata and contents fit for crates.io. Reads the crates.io
 //!   index (network), builds nothing.
+//! - `cargo xtask doc`: `cargo doc --workspace --no-deps` with `RUSTDOCFLAGS=-D warnings`
+//!   (a broken intra-doc link fails it), the same packages as clippy.
 //! - `cargo xtask check-deps`: the dependency rules of `docs/ARCHITECTURE.md`, from the
 //!   dependency graph (`cargo tree`): boundary-core has no file-format or CLI dependency, and
 //!   no method crate has an IO dependency (direct or not). Also the first step of `test`.
@@ -55,6 +58,14 @@ fn main() -> ExitCode {
         "fixtures" => fixtures(rest),
         "check-deps" => check_deps(),
         "package" => package(),
+        "doc" => {
+            python_extension_env();
+            // The MPI driver when Open MPI is already there (this task installs nothing).
+            let mpi = !env::var("BOUNDARY_MPI").is_ok_and(|v| v == "skip")
+                && has_program("mpicc")
+                && libclang_found();
+            doc(&workspace_exclusions(mpi, python_usable().is_some()))
+        }
         "train-svm" => train_svm(rest),
         "prereqs" => {
             if let Err(why) = mpi_prereqs() {
@@ -90,7 +101,8 @@ fn usage() -> &'static str {
 crates/boundary-svm/models/, target/svm/training.md\n  \
      prereqs    check the MPI prerequisites (install them when root with apt-get)\n  \
      check-deps boundary-core has no format/CLI dependency, method crates no IO dependency\n  \
-     package    `cargo package --no-verify` of every published crate (metadata, contents)"
+     package    `cargo package --no-verify` of every published crate (metadata, contents)\n  \
+     doc        the API documentation, every rustdoc warning an error"
 }
 
 /// The workspace root (the parent of this crate's directory).
@@ -101,10 +113,17 @@ fn root() -> PathBuf {
 
 /// Runs `cargo ARGS` in the workspace root, echoing the command; an error if it fails.
 fn cargo(args: &[&str]) -> Result<(), String> {
+    cargo_with_env(args, &[])
+}
+
+/// [`cargo`] with extra environment variables for that command only.
+fn cargo_with_env(args: &[&str], envs: &[(&str, String)]) -> Result<(), String> {
     let cargo = env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
-    eprintln!("xtask: cargo {}", args.join(" "));
+    let shown: Vec<String> = envs.iter().map(|(k, v)| format!("{k}={v:?} ")).collect();
+    eprintln!("xtask: {}cargo {}", shown.concat(), args.join(" "));
     let status = Command::new(&cargo)
         .args(args)
+        .envs(envs.iter().map(|(k, v)| (k, v)))
         .current_dir(root())
         .status()
         .map_err(|e| format!("cannot run {cargo}: {e}"))?;
@@ -143,6 +162,7 @@ fn test_workspace(mpi: bool, python: bool, rest: &[String]) -> Result<(), String
     args.extend(&exclude);
     args.extend(["--all-targets", "--", "-D", "warnings"]);
     cargo(&args)?;
+    doc(&exclude)?;
     let mut args = vec!["test", "--workspace"];
     args.extend(&exclude);
     args.extend(rest.iter().map(String::as_str));
@@ -501,6 +521,19 @@ fn package() -> Result<(), String> {
         args.extend(["--exclude", name.as_str()]);
     }
     cargo(&args)
+}
+
+/// The API documentation of the workspace (without the exclusions `exclude`, as for clippy)
+/// with every rustdoc warning an error: a broken or private intra-doc link, an unclosed HTML
+/// tag, a bare URL. `RUSTDOCFLAGS` of the environment is kept, `-D warnings` added to it.
+fn doc(exclude: &[&str]) -> Result<(), String> {
+    let flags = match env::var("RUSTDOCFLAGS") {
+        Ok(flags) if !flags.trim().is_empty() => format!("{flags} -D warnings"),
+        _ => "-D warnings".to_owned(),
+    };
+    let mut args = vec!["doc", "--workspace", "--no-deps"];
+    args.extend(exclude);
+    cargo_with_env(&args, &[("RUSTDOCFLAGS", flags)])
 }
 
 /// The Python package's crate: a workspace member outside `default-members`.
