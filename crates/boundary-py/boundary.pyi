@@ -38,8 +38,11 @@ Conventions shared by every function:
   ``periodic`` periodic axes such as ``"x:0:1"`` (images of every particle cover across the
   period), ``phases`` a phase number per particle (interface labels besides the free
   surface).
-- Errors raise ``ValueError`` (bad shape, non-finite coordinate, ``r <= 0``, a bad radius,
-  naming the particle, unknown method or parameter, malformed file) or ``OSError`` (a file
+- A flat ``(n, 3)`` set (every particle with the same z, or y, or x; or all at one place) raises
+  ``ValueError``: read as 3D, every particle of it would be boundary. The message names the
+  2D slice to pass instead (``points[:, :2]`` when z is constant). Walls may be flat.
+- Errors raise ``ValueError`` (bad shape, non-finite coordinate, a flat 3D set, ``r <= 0``, a
+  bad radius, naming the particle, unknown method or parameter, malformed file) or ``OSError`` (a file
   that cannot be opened or written), with the message the ``boundary`` command prints.
 """
 
@@ -221,7 +224,8 @@ def detect(
         the solids) may cover.
 
     Raises:
-        ValueError: bad shape, a non-finite coordinate, ``r <= 0``, a radius that is not
+        ValueError: bad shape, a non-finite coordinate, a flat ``(n, 3)`` set (the message
+            names the 2D slice to pass, e.g. ``points[:, :2]``), ``r <= 0``, a radius that is not
             positive and finite (``radii: particle 3: radius must be positive and finite, got
             -1``), ``radii`` of the wrong length or not one-dimensional, a method without
             per-particle radii, an unknown method or parameter; a bad domain: ``walls`` not of

@@ -1,7 +1,8 @@
 //! Project tasks, run as `cargo xtask <task>` (alias in `.cargo/config.toml`).
 //!
-//! - `cargo xtask test`: `cargo fmt --check`,
-//!   `cargo clippy --workspace --all-targets -D warnings` and `cargo test --workspace`. The
+//! - `cargo xtask test`: `cargo fmt --check`, `cargo xtask package`,
+//!   `cargo clippy --workspace --all-targets -D warnings`, `cargo xtask doc` and
+//!   `cargo test --workspace`. The
 //!   workspace includes the MPI driver `crates/boundary-mpi` (outside `default-members`), whose
 //!   tests compare `mpirun -np 2` and `-np 4` with the single-process labels; without Open MPI
 //!   it is excluded, with a note saying so. What CI runs (`.ci/run`).
@@ -18,6 +19,11 @@
 //!   (every detector on every scene) in release mode; ARGS go to the sweep (`--help` lists them).
 //! - `cargo xtask fixtures`: regenerate the scenes in `fixtures/`.
 //! - `cargo xtask prereqs`: only check (and where possible install) the MPI prerequisites.
+//! - `cargo xtask package`: `cargo package --no-verify` of every published crate (all but
+//!   those with `publish = false`): metadata and contents fit for crates.io. Reads the crates.io
+//!   index (network), builds nothing.
+//! - `cargo xtask doc`: `cargo doc --workspace --no-deps` with `RUSTDOCFLAGS=-D warnings`
+//!   (a broken intra-doc link fails it), the same packages as clippy.
 //! - `cargo xtask check-deps`: the dependency rules of `docs/ARCHITECTURE.md`, from the
 //!   dependency graph (`cargo tree`): boundary-core has no file-format or CLI dependency, and
 //!   no method crate has an IO dependency (direct or not). Also the first step of `test`.
@@ -51,6 +57,15 @@ fn main() -> ExitCode {
         "sweep" => sweep(rest),
         "fixtures" => fixtures(rest),
         "check-deps" => check_deps(),
+        "package" => package(),
+        "doc" => {
+            python_extension_env();
+            // The MPI driver when Open MPI is already there (this task installs nothing).
+            let mpi = !env::var("BOUNDARY_MPI").is_ok_and(|v| v == "skip")
+                && has_program("mpicc")
+                && libclang_found();
+            doc(&workspace_exclusions(mpi, python_usable().is_some()))
+        }
         "train-svm" => train_svm(rest),
         "prereqs" => {
             if let Err(why) = mpi_prereqs() {
@@ -85,7 +100,9 @@ fn usage() -> &'static str {
      train-svm  retrain the shipped svm models (seeded) and score them on held-out scenes:\n             \
 crates/boundary-svm/models/, target/svm/training.md\n  \
      prereqs    check the MPI prerequisites (install them when root with apt-get)\n  \
-     check-deps boundary-core has no format/CLI dependency, method crates no IO dependency"
+     check-deps boundary-core has no format/CLI dependency, method crates no IO dependency\n  \
+     package    `cargo package --no-verify` of every published crate (metadata, contents)\n  \
+     doc        the API documentation, every rustdoc warning an error"
 }
 
 /// The workspace root (the parent of this crate's directory).
@@ -96,10 +113,17 @@ fn root() -> PathBuf {
 
 /// Runs `cargo ARGS` in the workspace root, echoing the command; an error if it fails.
 fn cargo(args: &[&str]) -> Result<(), String> {
+    cargo_with_env(args, &[])
+}
+
+/// [`cargo`] with extra environment variables for that command only.
+fn cargo_with_env(args: &[&str], envs: &[(&str, String)]) -> Result<(), String> {
     let cargo = env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
-    eprintln!("xtask: cargo {}", args.join(" "));
+    let shown: Vec<String> = envs.iter().map(|(k, v)| format!("{k}={v:?} ")).collect();
+    eprintln!("xtask: {}cargo {}", shown.concat(), args.join(" "));
     let status = Command::new(&cargo)
         .args(args)
+        .envs(envs.iter().map(|(k, v)| (k, v)))
         .current_dir(root())
         .status()
         .map_err(|e| format!("cannot run {cargo}: {e}"))?;
@@ -133,10 +157,12 @@ fn test_workspace(mpi: bool, python: bool, rest: &[String]) -> Result<(), String
     let exclude = workspace_exclusions(mpi, python);
     check_deps()?;
     cargo(&["fmt", "--all", "--", "--check"])?;
+    package()?;
     let mut args = vec!["clippy", "--workspace"];
     args.extend(&exclude);
     args.extend(["--all-targets", "--", "-D", "warnings"]);
     cargo(&args)?;
+    doc(&exclude)?;
     let mut args = vec!["test", "--workspace"];
     args.extend(&exclude);
     args.extend(rest.iter().map(String::as_str));
@@ -438,6 +464,76 @@ fn check_deps() -> Result<(), String> {
             problems.join("\n  ")
         ))
     }
+}
+
+/// The name of the package whose manifest is `manifest` when it says `publish = false`.
+fn unpublished_name(manifest: &str) -> Option<String> {
+    let mut name = None;
+    let mut unpublished = false;
+    let mut in_package = false;
+    for line in manifest.lines().map(str::trim) {
+        if line.starts_with('[') {
+            in_package = line == "[package]";
+        } else if in_package {
+            let Some((key, value)) = line.split_once('=') else {
+                continue;
+            };
+            match key.trim() {
+                "name" => name = Some(value.trim().trim_matches('"').to_owned()),
+                "publish" => unpublished = value.trim() == "false",
+                _ => {}
+            }
+        }
+    }
+    name.filter(|_| unpublished)
+}
+
+/// The workspace's packages with `publish = false` (`crates/*` and xtask).
+fn unpublished_packages() -> Result<Vec<String>, String> {
+    let root = root();
+    let crates = root.join("crates");
+    let mut manifests = vec![root.join("xtask/Cargo.toml")];
+    for entry in std::fs::read_dir(&crates)
+        .map_err(|e| format!("cannot list {}: {e}", crates.display()))?
+        .flatten()
+    {
+        manifests.push(entry.path().join("Cargo.toml"));
+    }
+    let mut names = Vec::new();
+    for manifest in manifests.iter().filter(|m| m.is_file()) {
+        let text = std::fs::read_to_string(manifest)
+            .map_err(|e| format!("cannot read {}: {e}", manifest.display()))?;
+        names.extend(unpublished_name(&text));
+    }
+    names.sort();
+    Ok(names)
+}
+
+/// `cargo package --no-verify` of every crate we publish (those without `publish = false`):
+/// their metadata, contents and dependencies are fit for crates.io (a published crate may not
+/// depend on an unpublished one; its dev-dependencies on the unpublished test scenes are path
+/// only, which cargo drops from the package). Reads the crates.io index; builds nothing.
+/// `--allow-dirty`: a work in progress packages too.
+fn package() -> Result<(), String> {
+    let unpublished = unpublished_packages()?;
+    let mut args = vec!["package", "--workspace", "--no-verify", "--allow-dirty"];
+    for name in &unpublished {
+        args.extend(["--exclude", name.as_str()]);
+    }
+    cargo(&args)
+}
+
+/// The API documentation of the workspace (without the exclusions `exclude`, as for clippy)
+/// with every rustdoc warning an error: a broken or private intra-doc link, an unclosed HTML
+/// tag, a bare URL. `RUSTDOCFLAGS` of the environment is kept, `-D warnings` added to it.
+fn doc(exclude: &[&str]) -> Result<(), String> {
+    let flags = match env::var("RUSTDOCFLAGS") {
+        Ok(flags) if !flags.trim().is_empty() => format!("{flags} -D warnings"),
+        _ => "-D warnings".to_owned(),
+    };
+    let mut args = vec!["doc", "--workspace", "--no-deps"];
+    args.extend(exclude);
+    cargo_with_env(&args, &[("RUSTDOCFLAGS", flags)])
 }
 
 /// The Python package's crate: a workspace member outside `default-members`.
@@ -837,6 +933,22 @@ rayon v1.12.0 (*)
         );
         assert_eq!(forbidden_dependencies("x", tree, &["flate2"]).len(), 1);
         assert!(tree_packages("").is_empty());
+    }
+
+    #[test]
+    fn publish_false_is_read_from_the_package_section_only() {
+        let manifest = "[package]\nname = \"boundary-scenes\"\nversion.workspace = true\n\
+                        publish = false\n\n[dependencies]\npublish = true\n";
+        assert_eq!(
+            unpublished_name(manifest).as_deref(),
+            Some("boundary-scenes")
+        );
+        let published = "[package]\nname = \"boundary-core\"\n[features]\npublish = false\n";
+        assert_eq!(unpublished_name(published), None);
+        assert_eq!(
+            unpublished_name("[package]\nname = \"x\"\npublish = true\n"),
+            None
+        );
     }
 
     #[test]

@@ -25,7 +25,9 @@
 
 /**
  * The input is invalid: a non-finite coordinate or a bad per-particle radius (the message
- * names the particle), `r` not positive and finite, more than 2^32 - 1 particles.
+ * names the particle), `r` not positive and finite, more than 2^32 - 1 particles, a flat 3D
+ * set (every particle with the same z, or y, or x, or all at one place: every particle would
+ * be boundary; the message names the coordinates to pass with `dim` 2).
  */
 #define BOUNDARY_ERR_INPUT 3
 

@@ -59,7 +59,7 @@
 
 use boundary::{
     detector_with_params, parse_param_list, AnyParticleSet, BoundaryDetector, DetectError,
-    Detection, Domain, HalfSpace, Labels, ParticleSet, Periodic, Point, Radius,
+    Detection, Domain, Flatness, HalfSpace, Labels, ParticleSet, Periodic, Point, Radius,
 };
 use std::ffi::{c_char, c_int, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -72,7 +72,9 @@ pub const BOUNDARY_ERR_NULL: c_int = 1;
 /// A size or layout is invalid: `dim` not 2 or 3, `n * dim` too large, a misaligned buffer.
 pub const BOUNDARY_ERR_SIZE: c_int = 2;
 /// The input is invalid: a non-finite coordinate or a bad per-particle radius (the message
-/// names the particle), `r` not positive and finite, more than 2^32 - 1 particles.
+/// names the particle), `r` not positive and finite, more than 2^32 - 1 particles, a flat 3D
+/// set (every particle with the same z, or y, or x, or all at one place: every particle would
+/// be boundary; the message names the coordinates to pass with `dim` 2).
 pub const BOUNDARY_ERR_INPUT: c_int = 3;
 /// No method of that name (the message lists the available ones).
 pub const BOUNDARY_ERR_METHOD: c_int = 4;
@@ -314,6 +316,29 @@ unsafe fn particle_set(
         .map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, e.to_string()))
 }
 
+/// Refuses a flat 3D set (`BOUNDARY_ERR_INPUT`): with `dim` 3, every particle of it would be
+/// boundary. Wall particles are not checked (a wall is often one plane of particles).
+fn refuse_flat(set: &AnyParticleSet) -> Result<(), Failure> {
+    let message = match set.flatness() {
+        None => return Ok(()),
+        Some(flatness @ Flatness::Plane { axis, .. }) => {
+            let kept = match axis {
+                2 => "x and y",
+                1 => "x and z",
+                _ => "y and z",
+            };
+            format!(
+                "{flatness}: a flat set is 2D, and with dim = 3 every particle would be \
+                 boundary; pass dim = 2 with the {kept} coordinates"
+            )
+        }
+        Some(flatness) => {
+            format!("{flatness}: the set has no extent, and every particle would be boundary")
+        }
+    };
+    Err(Failure::new(BOUNDARY_ERR_INPUT, message))
+}
+
 /// A mutable output buffer of `n` elements; NULL is allowed only when `n == 0`.
 ///
 /// # Safety
@@ -452,6 +477,7 @@ unsafe fn detect_into(
         // SAFETY: forwarded from the caller's contract.
         (Some(_), _) => Some(unsafe { out_slice(request.out_interface, n, "out_interface") }?),
     };
+    refuse_flat(&set)?;
     let (detection, found) = run(detector, &set, request.domain, phases, r, pool)?;
     // Every check before the first write.
     if margin.is_some() && detection.margin.is_none() {

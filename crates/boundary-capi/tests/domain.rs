@@ -357,7 +357,7 @@ fn bad_domains_give_their_code_and_the_library_message() {
     assert!(err.starts_with("walls: particle 0: radius"), "{err}");
     let (code, err) = handle.set_walls(&[0.0; 4], 4, None);
     assert_eq!(code, BOUNDARY_ERR_SIZE, "{err}");
-    let xyz3 = [0.0, 0.0, 0.0, 5.0, 0.0, 0.0];
+    let xyz3 = [0.0, 0.0, 0.0, 5.0, 1.0, 2.0];
     assert_eq!(handle.labels(&xyz3, 3, 1.0), [1, 1], "no walls set so far");
     // Walls of another dimension than the particles: at detection.
     handle.set_walls(&[0.0, -1.0], 2, None);

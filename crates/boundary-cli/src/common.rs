@@ -394,6 +394,7 @@ pub(crate) fn read_input(
     match args.radius_mode()? {
         RadiusMode::Uniform(arg) => {
             let set = boundary_io::read_particles(&args.input, &options)?;
+            refuse_flat(&set, &args.input, &options)?;
             let (r, estimated) = resolve_radius(arg, &set, &args.input)?;
             if estimated {
                 errln!("{}", auto_warning(r, &args.input));
@@ -402,9 +403,27 @@ pub(crate) fn read_input(
         }
         RadiusMode::PerParticle { attribute, scale } => {
             let file = boundary_io::read_particle_file(&args.input, &options)?;
+            refuse_flat(&file.set, &args.input, &options)?;
             let (file, used) = attach_radii(file, &attribute, scale, &args.input, &options)?;
             Ok((file.set, scale, Some(used)))
         }
+    }
+}
+
+/// Refuses a flat 3D set read without `--dim` (see [`CliError::Flat`]): read as 3D, every
+/// particle of a flat set is boundary, which is never what a 2D scene stored as x,y,z means.
+/// `--dim 3` keeps it 3D.
+pub(crate) fn refuse_flat(
+    set: &AnyParticleSet,
+    input: &Path,
+    options: &ReadOptions,
+) -> Result<(), CliError> {
+    match (options.dim, set.flatness()) {
+        (None, Some(flatness)) => Err(CliError::Flat {
+            path: input.to_path_buf(),
+            flatness,
+        }),
+        _ => Ok(()),
     }
 }
 

@@ -2,8 +2,8 @@
 
 use crate::common::{
     attach_radii, auto_warning, method_label, output_format, parse_format, percent, pool, radius,
-    read_options, resolve_radius, run_timed, run_timed_in, InputArgs, MethodArgs, RadiiUsed,
-    RadiusArg, RadiusMode,
+    read_options, refuse_flat, resolve_radius, run_timed, run_timed_in, InputArgs, MethodArgs,
+    RadiiUsed, RadiusArg, RadiusMode,
 };
 use crate::domain::{DomainArgs, DomainSetup};
 use crate::error::CliError;
@@ -143,6 +143,7 @@ impl FrameJob<'_> {
                 skipped: Vec::new(),
             }
         };
+        refuse_flat(&file.set, input, &self.options)?;
         let (file, r_value, estimated, radii) = match radius_mode {
             RadiusMode::Uniform(arg) => {
                 let (r, estimated) = resolve_radius(*arg, &file.set, input)?;

@@ -28,6 +28,14 @@ pub enum CliError {
     /// Options that do not go together, or a value they need is missing.
     #[error("{0}")]
     Usage(&'static str),
+    /// A 3D input that is flat (every particle boundary in 3D) read without `--dim`.
+    #[error("{}: {}", .path.display(), flat_advice(.flatness))]
+    Flat {
+        /// The input.
+        path: PathBuf,
+        /// How it is flat.
+        flatness: boundary::Flatness,
+    },
     /// `--radius auto` on a set with fewer than two distinct positions.
     #[error("{}: --radius auto needs at least two distinct particle positions", .0.display())]
     AutoRadiusTooFew(PathBuf),
@@ -231,4 +239,29 @@ pub enum CliError {
     /// Writing to standard output failed otherwise.
     #[error("cannot write to standard output: {0}")]
     Stdout(std::io::Error),
+}
+
+/// The message of [`CliError::Flat`]: what is flat and what to pass instead.
+fn flat_advice(flatness: &boundary::Flatness) -> String {
+    let fix = match flatness {
+        boundary::Flatness::Plane { axis: 2, .. } => "pass --dim 2 to drop z".to_owned(),
+        boundary::Flatness::Plane { axis, .. } => {
+            let name = boundary::Flatness::axis_name(*axis);
+            let kept = match axis {
+                1 => "x and z",
+                _ => "y and z",
+            };
+            format!("pass --dim 2 to drop {name} (it keeps {kept})")
+        }
+        boundary::Flatness::Point { .. } => {
+            return format!(
+                "{flatness}: the set has no extent, and every particle would be boundary \
+                 (--dim 3 detects anyway)"
+            )
+        }
+    };
+    format!(
+        "{flatness}: a flat set is 2D, and read as 3D every particle would be boundary; {fix} \
+         (--dim 3 detects in 3D anyway)"
+    )
 }

@@ -234,3 +234,98 @@ fn every_subcommand_exits_quietly_when_its_reader_closes_the_pipe() {
         assert_eq!(result.status.code(), Some(0), "{args:?} with stderr closed");
     }
 }
+
+/// A 10 x 10 square lattice of spacing 1 stored as x,y,z with the coordinate `flat` (0 x,
+/// 1 y, 2 z) equal to `value` for every particle.
+fn flat_lattice(dir: &Path, name: &str, flat: usize, value: f64) -> PathBuf {
+    let mut text = String::from("x,y,z\n");
+    for k in 0..100 {
+        let (a, b) = (k % 10, k / 10);
+        let row = match flat {
+            0 => format!("{value},{a},{b}"),
+            1 => format!("{a},{value},{b}"),
+            _ => format!("{a},{b},{value}"),
+        };
+        text.push_str(&row);
+        text.push('\n');
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn a_flat_3d_set_is_refused_with_the_axis_and_the_fix() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let flat_z = flat_lattice(d, "z.csv", 2, 0.0);
+    let err = failure(&["detect", s(&flat_z), "-r", "1"]);
+    assert_eq!(
+        err,
+        format!(
+            "error: {}: all 100 particles have z = 0: a flat set is 2D, and read as 3D every \
+             particle would be boundary; pass --dim 2 to drop z (--dim 3 detects in 3D \
+             anyway)\n",
+            s(&flat_z)
+        )
+    );
+    // The fix it names gives the 2D labels: the 8 x 8 inner particles are interior at r = 1.
+    let summary = |args: &[&str]| {
+        let out = boundary(args);
+        assert!(out.status.success(), "{args:?}");
+        String::from_utf8(out.stderr).unwrap()
+    };
+    let text = summary(&["detect", s(&flat_z), "-r", "1", "--dim", "2"]);
+    assert!(text.contains("36 of 100 particles boundary"), "{text}");
+    // --dim 3 asks for the 3D reading: every particle is boundary there.
+    let text = summary(&["detect", s(&flat_z), "-r", "1", "--dim", "3"]);
+    assert!(text.contains("100 of 100 particles boundary"), "{text}");
+
+    // Another flat axis is named, with the axes --dim 2 keeps.
+    let flat_y = flat_lattice(d, "y.csv", 1, -2.5);
+    let err = failure(&["detect", s(&flat_y), "-r", "1"]);
+    assert!(
+        err.contains("y.csv: all 100 particles have y = -2.5: a flat set is 2D")
+            && err.contains("pass --dim 2 to drop y (it keeps x and z)"),
+        "{err}"
+    );
+    let text = summary(&["detect", s(&flat_y), "-r", "1", "--dim", "2"]);
+    assert!(text.contains("36 of 100 particles boundary"), "{text}");
+    let flat_x = flat_lattice(d, "x.csv", 0, 3.0);
+    let err = failure(&["score", s(&flat_x), "-r", "1", "-m", "ia"]);
+    assert!(
+        err.contains("all 100 particles have x = 3")
+            && err.contains("pass --dim 2 to drop x (it keeps y and z)"),
+        "{err}"
+    );
+    let out = d.join("o.csv");
+    let err = failure(&["resample", s(&flat_x), "-r", "1", "-o", s(&out)]);
+    assert!(err.contains("all 100 particles have x = 3"), "{err}");
+
+    // Every particle at one place; a single particle is no flat set.
+    let same = d.join("same.csv");
+    std::fs::write(&same, "x,y,z\n1,2,3\n1,2,3\n1,2,3\n").unwrap();
+    let err = failure(&["detect", s(&same), "-r", "1"]);
+    assert!(
+        err.contains("same.csv: all 3 particles are at (1, 2, 3): the set has no extent"),
+        "{err}"
+    );
+    let one = d.join("one.csv");
+    std::fs::write(&one, "x,y,z\n1,2,3\n").unwrap();
+    let text = summary(&["detect", s(&one), "-r", "1"]);
+    assert!(text.contains("1 of 1 particles boundary"), "{text}");
+
+    // In a frame sequence, the flat frame is reported and skipped like any bad frame.
+    let frames = d.join("frames");
+    std::fs::create_dir(&frames).unwrap();
+    std::fs::copy(&flat_z, frames.join("f_1.csv")).unwrap();
+    let mut text = String::from("x,y,z\n");
+    for k in 0..27 {
+        text.push_str(&format!("{},{},{}\n", k % 3, (k / 3) % 3, k / 9));
+    }
+    std::fs::write(frames.join("f_2.csv"), text).unwrap();
+    let pattern = format!("{}/f_*.csv", frames.display());
+    let out = boundary(&["detect", &pattern, "-r", "1"]);
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(stderr.contains("all 100 particles have z = 0"), "{stderr}");
+}

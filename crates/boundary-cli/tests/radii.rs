@@ -151,7 +151,7 @@ fn radius_property_of_a_hand_written_ply_and_legacy_vtk_is_read() {
     std::fs::write(
         &vtk,
         "# vtk DataFile Version 3.0\ntwo\nASCII\nDATASET POLYDATA\nPOINTS 2 double\n\
-         0 0 0\n1 0 0\nPOINT_DATA 2\nSCALARS h double 1\nLOOKUP_TABLE default\n3\n4\n",
+         0 0 0\n1 1 1\nPOINT_DATA 2\nSCALARS h double 1\nLOOKUP_TABLE default\n3\n4\n",
     )
     .unwrap();
     let v = json(&[
@@ -205,7 +205,7 @@ fn frames_read_their_own_radii_and_the_summary_records_them() {
     lattice_csv(&frames.join("f_1.csv"), |_| 1.0);
     lattice_csv(&frames.join("f_2.csv"), |k| if k == 0 { 0.5 } else { 1.0 });
     // A frame without the attribute is reported and skipped.
-    std::fs::write(frames.join("f_3.csv"), "x,y,z\n0,0,0\n1,0,0\n").unwrap();
+    std::fs::write(frames.join("f_3.csv"), "x,y,z\n0,0,0\n1,1,1\n").unwrap();
     let summary = dir.path().join("counts.csv");
     let pattern = frames.join("f_*.csv");
     let v = json(&[

@@ -215,6 +215,95 @@ impl<const D: usize> ParticleSet<D> {
     }
 }
 
+impl ParticleSet<3> {
+    /// Whether the set is flat: `None` when its particles span all three dimensions (or
+    /// when it has fewer than two particles), else how they fail to.
+    ///
+    /// A flat 3D set is a 2D scene stored with a constant third coordinate: read as 3D,
+    /// every particle is boundary (the sphere of each sticks out of the plane), so the
+    /// command line and the bindings refuse it and ask for the 2D set. The axis reported is
+    /// the one a 2D reading drops (`boundary_io::ReadOptions::dim`): z, else y, else x.
+    ///
+    /// ```
+    /// use boundary_core::{Flatness, ParticleSet};
+    ///
+    /// let flat = ParticleSet::<3>::from_rows(&[[0.0, 1.0, 0.0], [1.0, 1.0, 2.0]]).unwrap();
+    /// assert_eq!(flat.flatness(), Some(Flatness::Plane { axis: 1, value: 1.0, n: 2 }));
+    /// assert_eq!(
+    ///     flat.flatness().unwrap().to_string(),
+    ///     "all 2 particles have y = 1"
+    /// );
+    /// let solid = ParticleSet::<3>::from_rows(&[[0.0; 3], [1.0, 1.0, 1.0]]).unwrap();
+    /// assert_eq!(solid.flatness(), None);
+    /// ```
+    pub fn flatness(&self) -> Option<Flatness> {
+        let (first, rest) = self.positions.split_first()?;
+        if rest.is_empty() {
+            return None;
+        }
+        let constant: [bool; 3] =
+            std::array::from_fn(|axis| rest.iter().all(|p| p[axis] == first[axis]));
+        let n = self.positions.len();
+        if constant.iter().all(|&c| c) {
+            return Some(Flatness::Point { point: *first, n });
+        }
+        let axis = [2, 1, 0].into_iter().find(|&axis| constant[axis])?;
+        Some(Flatness::Plane {
+            axis,
+            value: first[axis],
+            n,
+        })
+    }
+}
+
+/// How a 3D set fails to span three dimensions ([`ParticleSet::flatness`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Flatness {
+    /// All `n` particles have the coordinate `value` along `axis` (0 x, 1 y, 2 z).
+    Plane {
+        /// The constant axis: z if it is, else y, else x.
+        axis: usize,
+        /// The coordinate every particle has along it.
+        value: f64,
+        /// The number of particles (at least 2).
+        n: usize,
+    },
+    /// All `n` particles are at one position.
+    Point {
+        /// The position.
+        point: Point<3>,
+        /// The number of particles (at least 2).
+        n: usize,
+    },
+}
+
+impl Flatness {
+    /// The name of axis `axis`: `"x"`, `"y"` or `"z"`.
+    pub fn axis_name(axis: usize) -> &'static str {
+        ["x", "y", "z"].get(axis).copied().unwrap_or("?")
+    }
+}
+
+impl std::fmt::Display for Flatness {
+    /// `all 100 particles have z = 0` or `all 5 particles are at (1, 2, 3)`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Flatness::Plane { axis, value, n } => {
+                write!(
+                    f,
+                    "all {n} particles have {} = {value}",
+                    Self::axis_name(*axis)
+                )
+            }
+            Flatness::Point { point, n } => write!(
+                f,
+                "all {n} particles are at ({}, {}, {})",
+                point.x, point.y, point.z
+            ),
+        }
+    }
+}
+
 /// A particle's radius must be finite, positive and within the range of [`Radius`].
 fn check_particle_radius(index: usize, value: f64) -> Result<(), CoreError> {
     if !(value.is_finite() && value > 0.0) {
@@ -271,6 +360,14 @@ impl AnyParticleSet {
             AnyParticleSet::D2(s) => AnyParticleSet::D2(s.with_radii(radii)?),
             AnyParticleSet::D3(s) => AnyParticleSet::D3(s.with_radii(radii)?),
         })
+    }
+
+    /// [`ParticleSet::flatness`] of a 3D set; `None` for a 2D set.
+    pub fn flatness(&self) -> Option<Flatness> {
+        match self {
+            AnyParticleSet::D2(_) => None,
+            AnyParticleSet::D3(s) => s.flatness(),
+        }
     }
 
     /// Coordinates of particle `i` as a slice of length `dim()`.
@@ -362,6 +459,44 @@ mod tests {
         assert_eq!(a.coords(1), &[3.0, 4.0]);
         let s3 = ParticleSet::<3>::from_rows(&[[1.0, 2.0, 3.0]]).unwrap();
         assert_eq!(s3.to_any().coords(0), &[1.0, 2.0, 3.0]);
+    }
+
+    #[test]
+    fn flatness_names_the_axis_a_2d_reading_drops() {
+        let rows = |f: fn(f64, f64) -> [f64; 3]| {
+            let rows: Vec<[f64; 3]> = (0..9)
+                .map(|k| f(f64::from(k / 3), f64::from(k % 3)))
+                .collect();
+            ParticleSet::<3>::from_rows(&rows).unwrap()
+        };
+        let plane = |axis, value| Some(Flatness::Plane { axis, value, n: 9 });
+        assert_eq!(rows(|a, b| [a, b, 0.0]).flatness(), plane(2, 0.0));
+        assert_eq!(rows(|a, b| [a, -2.5, b]).flatness(), plane(1, -2.5));
+        assert_eq!(rows(|a, b| [7.0, a, b]).flatness(), plane(0, 7.0));
+        // A line: z is dropped first, as `--dim 2` would.
+        assert_eq!(rows(|a, _| [a, 1.0, 1.0]).flatness(), plane(2, 1.0));
+        assert_eq!(rows(|a, b| [a, b, a + b]).flatness(), None);
+        assert_eq!(
+            rows(|_, _| [1.0, 2.0, 3.0]).flatness(),
+            Some(Flatness::Point {
+                point: Point::<3>::new(1.0, 2.0, 3.0),
+                n: 9
+            })
+        );
+        assert_eq!(
+            rows(|_, _| [1.0, 2.0, 3.0]).flatness().unwrap().to_string(),
+            "all 9 particles are at (1, 2, 3)"
+        );
+        assert_eq!(
+            rows(|a, b| [a, -2.5, b]).flatness().unwrap().to_string(),
+            "all 9 particles have y = -2.5"
+        );
+        // One particle, or none, is not flat.
+        assert_eq!(
+            ParticleSet::<3>::from_rows(&[[0.0; 3]]).unwrap().flatness(),
+            None
+        );
+        assert_eq!(ParticleSet::<3>::new(Vec::new()).unwrap().flatness(), None);
     }
 
     #[test]

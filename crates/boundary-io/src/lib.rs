@@ -88,7 +88,8 @@
 //! is, it is an error. A 3D file whose z is all zero is still read as 3D without `dim` (it is the
 //! user's file), with one exception: VTK files written by this crate from a 2D set carry
 //! `dim=2` in their title line (VTK XML: the comment `boundary-io dim=2`) and read back as 2D
-//! when their z is all zero.
+//! when their z is all zero. Such a flat 3D set is all boundary; the `boundary` command and the
+//! bindings refuse it unless asked for 3D (`boundary_core::ParticleSet::flatness`).
 //!
 //! # Writing
 //!

@@ -26,17 +26,20 @@
 //!   library's `Domain`, solids and periodic axes as the texts `HalfSpace::parse` and
 //!   `Periodic::parse` read (`"y<0"`, `"x:0:1"`); with `phases`, `detect` also returns the
 //!   interface labels.
-//! - Errors: `ValueError` for bad input (shape, NaN, `r <= 0`, a bad radius naming the
-//!   particle, unknown method or parameter, malformed file), `OSError` when a file cannot be
-//!   opened or written. No input panics: a panic inside the library would surface as
+//! - A flat `(n, 3)` set (one coordinate equal for every particle, or every particle at one
+//!   place; `Flatness`) is a `ValueError` naming the 2D slice to pass: read as 3D, every
+//!   particle of it would be boundary. Walls may be flat.
+//! - Errors: `ValueError` for bad input (shape, NaN, a flat 3D set, `r <= 0`, a bad radius
+//!   naming the particle, unknown method or parameter, malformed file), `OSError` when a file
+//!   cannot be opened or written. No input panics: a panic inside the library would surface as
 //!   `RuntimeError`, never abort the interpreter.
 //!
 //! The typed signatures and the docstrings users see are in `boundary.pyi`.
 
 use boundary::{
     detector_with_params, methods as method_names, summary, AnyParticleSet, BoundaryDetector,
-    Confusion, Detection, Domain, DomainDetection, HalfSpace, Labels, ParticleSet, Periodic, Point,
-    Radius,
+    Confusion, Detection, Domain, DomainDetection, Flatness, HalfSpace, Labels, ParticleSet,
+    Periodic, Point, Radius,
 };
 use boundary_io::{AttributeValues, Column, Format, IoError, ReadOptions};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
@@ -140,12 +143,30 @@ fn particle_set(dim: usize, flat: &[f64]) -> PyResult<AnyParticleSet> {
     set.map_err(value_error)
 }
 
-/// The particle set of a Python `points` argument.
+/// The particle set of a Python `points` argument; a flat `(n, 3)` set is a ValueError
+/// (read as 3D, every particle of it would be boundary) that names the 2D slice to pass.
 fn read_points(points: &Bound<'_, PyAny>) -> PyResult<AnyParticleSet> {
     let array = as_f64_array(points)?;
     let readonly = array.readonly();
     let (dim, flat) = coordinates(&readonly)?;
-    particle_set(dim, flat)
+    let set = particle_set(dim, flat)?;
+    match set.flatness() {
+        None => Ok(set),
+        Some(flatness @ Flatness::Plane { axis, .. }) => {
+            let slice = match axis {
+                2 => "points[:, :2] (x and y)",
+                1 => "points[:, [0, 2]] (x and z)",
+                _ => "points[:, 1:] (y and z)",
+            };
+            Err(value_error(format!(
+                "points: {flatness}: a flat set is 2D, and as an (n, 3) array every particle \
+                 would be boundary; pass {slice}"
+            )))
+        }
+        Some(flatness) => Err(value_error(format!(
+            "points: {flatness}: the set has no extent, and every particle would be boundary"
+        ))),
+    }
 }
 
 fn radius(r: f64) -> PyResult<Radius> {
@@ -527,7 +548,8 @@ fn points_array<'py>(py: Python<'py>, set: &AnyParticleSet) -> PyResult<Bound<'p
 ///
 /// Returns a bool array of length n, or (labels, margin) with margin=True; with phases, the
 /// interface labels are appended: (labels, interface) or (labels, margin, interface). Raises
-/// ValueError on bad input (shape, NaN, r <= 0, a bad radius, a bad domain, a method that
+/// ValueError on bad input (shape, NaN, a flat (n, 3) set: the message names the 2D slice to
+/// pass, r <= 0, a bad radius, a bad domain, a method that
 /// cannot honour a solid, unknown method or parameter); Ctrl-C raises KeyboardInterrupt (the
 /// detection finishes in the background and is discarded).
 #[pyfunction]

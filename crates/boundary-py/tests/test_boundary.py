@@ -240,6 +240,42 @@ def test_bad_input_raises_value_error_with_the_cli_message(points, r, method, pa
         boundary.detect(points, r, method, **params)
 
 
+def flat_grid(axis, value):
+    """A 10 x 10 square lattice of spacing 1 as an (100, 3) array, coordinate axis = value."""
+    grid = np.array([[x, y] for y in range(10) for x in range(10)], dtype=np.float64)
+    return np.insert(grid, axis, value, axis=1)
+
+
+@pytest.mark.parametrize(
+    "axis,value,message,flat_slice",
+    [
+        (2, 0.0, r"all 100 particles have z = 0: a flat set is 2D.*pass points\[:, :2\] \(x and y\)", np.s_[:, :2]),
+        (1, -2.5, r"all 100 particles have y = -2.5: .*pass points\[:, \[0, 2\]\] \(x and z\)", np.s_[:, [0, 2]]),
+        (0, 3.0, r"all 100 particles have x = 3: .*pass points\[:, 1:\] \(y and z\)", np.s_[:, 1:]),
+    ],
+)
+def test_a_flat_3d_set_raises_naming_the_axis_and_the_slice(axis, value, message, flat_slice):
+    points = flat_grid(axis, value)
+    with pytest.raises(ValueError, match=message):
+        boundary.detect(points, 1.0)
+    with pytest.raises(ValueError, match=message):
+        boundary.score(points, 1.0, "ia")
+    with pytest.raises(ValueError, match=message):
+        boundary.resample(points, 1.0)
+    # The slice it names is the 2D set: the 8 x 8 inner particles are interior at r = 1.
+    assert boundary.detect(points[flat_slice], 1.0).sum() == 36
+
+
+def test_particles_all_at_one_place_raise_but_one_particle_does_not():
+    with pytest.raises(ValueError, match=r"all 3 particles are at \(1, 2, 3\): the set has no extent"):
+        boundary.detect([[1.0, 2.0, 3.0]] * 3, 1.0)
+    assert boundary.detect([[1.0, 2.0, 3.0]], 1.0).tolist() == [True]
+    # Flat walls are fine: a wall is often one plane of particles.
+    block = np.array([[x, y, z] for z in range(1, 4) for y in range(3) for x in range(3)], float)
+    floor = flat_grid(2, 0.0)
+    assert boundary.detect(block, 1.0, walls=floor).shape == (27,)
+
+
 def test_bad_threads_truth_and_files_raise_clear_errors(tmp_path):
     points = jittered_ball(6, 2)
     with pytest.raises(ValueError, match="threads must be at least 1"):

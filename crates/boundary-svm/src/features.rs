@@ -632,7 +632,8 @@ fn extreme_eigen<const D: usize>(a: &SMatrix<f64, D, D>) -> (f64, f64, Point<D>)
     }
 }
 
-/// Steps of the cover-margin ascent ([`ascend`]).
+/// Steps of the cover margin's local ascent on the unit sphere (the margin starts from the
+/// best sampled direction and moves away from its nearest neighbour at most this many times).
 pub const ASCENT_STEPS: usize = 12;
 
 /// The largest `min_j (|d_j − n|² − 1)` found by a local ascent on the unit sphere from

@@ -83,7 +83,7 @@ macro_rules! acc {
     };
 }
 
-/// JCP Tables 1 and 2. "Sandim et al. [10]" is the visibility method (`hpr`); "Lin et al. [8]"
+/// JCP Tables 1 and 2. "Sandim et al. \[10\]" is the visibility method (`hpr`); "Lin et al. \[8\]"
 /// has no counterpart here and is listed as `lin`.
 pub const ACCURACY: &[PublishedAccuracy] = &[
     acc!("JCP Fig. 8", "marrone", 0.9767, 0.0245, 0.9523),

@@ -325,8 +325,9 @@ fn parallel_efficiency(outcome: &Outcome) -> String {
     md
 }
 
-/// Scenes below this size are left out of [`speed_spread`]: their times are mostly start-up
-/// (grid, thread pool), not the method.
+/// Scenes below this size are left out of the report's speed spread (each method's slowest
+/// scene against its median rate): their times are mostly start-up (grid, thread pool), not
+/// the method.
 pub const SPREAD_MIN_PARTICLES: usize = 1000;
 /// The spread issue 21 allows: each method's slowest scene within this factor of its median
 /// rate over the scenes.
