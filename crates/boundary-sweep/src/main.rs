@@ -39,8 +39,13 @@ struct Args {
     /// Threads for the all-thread runs (default: all cores).
     #[arg(long, default_value_t = 0)]
     threads: usize,
-    /// Skip the scale tier (generated sets of 10^4 .. 10^7 particles; `--quick` skips it too).
+    /// Add the scale tier: generated sets of 10^4 .. 10^7 particles, timed per method (about
+    /// half an hour on a 2-core machine; a `--scenes` filter naming a `scale_` scene runs
+    /// just those sets).
     #[arg(long)]
+    scale: bool,
+    /// The default: no scale tier (kept for scripts that said so).
+    #[arg(long, hide = true, conflicts_with = "scale")]
     no_scale: bool,
     /// Scale tier: seconds one run may take, projected from the method's last size, before the
     /// method's series stops.
@@ -150,7 +155,8 @@ fn real_main() -> Result<(), String> {
             args.scenes.is_empty() || args.scenes.iter().any(|f| s.name.contains(f.as_str()))
         })
         .collect();
-    if !(args.quick || args.no_scale || scale_scenes.is_empty()) {
+    let scale_asked = args.scale || args.scenes.iter().any(|f| f.starts_with("scale_"));
+    if scale_asked && !(args.quick || args.no_scale || scale_scenes.is_empty()) {
         let thread_scan = scale_scenes
             .iter()
             .any(|s| s.name == scale::THREAD_SCAN_SCENE)

@@ -3,7 +3,7 @@
 //!
 //! - `speed_vs_error_{2d,3d}`: particles/s (all threads) against 1 − M, log scales. With the
 //!   scale tier: one marker per method at default parameters, its speed from the scale tier
-//!   ([`scale_markers`]); without it (`--quick`, `--no-scale`): one marker per method and
+//!   ([`scale_markers`]); without it (the default, and `--quick`): one marker per method and
 //!   parameter value, pooled over the scenes of that dimension. 1 − M is pooled over the
 //!   fixture scenes either way.
 //! - `scale_{2d,3d}`: seconds against |P|, log-log, one line per method (the scale tier).
