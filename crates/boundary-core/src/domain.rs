@@ -231,13 +231,27 @@ impl Solids {
         }
     }
 
-    /// Whether some half-space holds all of the closed ball of radius `radius` around `x`,
-    /// decided conservatively (a `false` may be a near-tie). Meshes are not consulted (`x`
-    /// may be 2D); see [`SolidMesh::distance`].
-    pub fn holds_ball(&self, x: &[f64], radius: f64) -> bool {
+    /// Whether the closed ball of radius `radius` around `x` may reach some half-space: its
+    /// fluid depth is at most `radius·(1 + 1e-9)` (the slack covers the rounding of the
+    /// depth, so a `false` is certain). The particles for which this is `false` cannot see a
+    /// half-space, and the detectors that honour solids classify them as without any.
+    pub fn half_space_reaches(&self, x: &[f64], radius: f64) -> bool {
         self.half_spaces
             .iter()
-            .any(|h| -h.fluid_depth(x) > radius * (1.0 + 1e-12))
+            .any(|h| h.fluid_depth(x) <= radius * (1.0 + 1e-9))
+    }
+
+    /// `Ok` when every half-space has its axis in a set of dimension `dim`, else the error a
+    /// method's [`crate::BoundaryDetector::detect_owned_in`] returns, naming the solid
+    /// (`detect_in` checks the same before any method runs).
+    pub fn check_axes(&self, method: &'static str, dim: usize) -> Result<(), DetectError> {
+        match self.half_spaces.iter().find(|h| h.axis() >= dim) {
+            None => Ok(()),
+            Some(h) => Err(DetectError::Method {
+                method,
+                message: format!("solid '{h}' has no axis in a {dim}D set"),
+            }),
+        }
     }
 }
 

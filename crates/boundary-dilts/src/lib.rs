@@ -364,13 +364,12 @@ impl BoundaryDetector for DiltsDetector {
             return self.detect_owned(set, owned, r);
         }
         DetectError::check_owned("dilts", owned, set.len())?;
-        let half_spaces = solids.half_spaces();
         Ok(match set {
             AnyParticleSet::D2(s) => {
-                detect_in_solids::<2, arcs::Arcs>(s, owned, r, self.tie, half_spaces)?.0
+                detect_in_solids::<2, arcs::Arcs>(s, owned, r, self.tie, solids)?.0
             }
             AnyParticleSet::D3(s) => {
-                detect_in_solids::<3, caps::Caps>(s, owned, r, self.tie, half_spaces)?.0
+                detect_in_solids::<3, caps::Caps>(s, owned, r, self.tie, solids)?.0
             }
         })
     }
@@ -707,10 +706,6 @@ fn power_others<const D: usize>(
 /// the two roundings of `δ`) makes the particle interior at once.
 const HELD_SLACK: f64 = 1e-12;
 
-/// A particle whose fluid depth below some solid is at most `r_i` by this relative slack
-/// (wider than the rounding of the depth) may see the solid: it takes [`classify_near`].
-const REACH_SLACK: f64 = 1e-9;
-
 /// The absolute error of a solid cap's offset `δ = fl(fl(p_a − c)/r_i)` (two roundings, `2u`
 /// relative, for `|δ| <= 1 + 4u`), with room to spare.
 const SOLID_ERR: f64 = 4.0 * U;
@@ -724,22 +719,14 @@ fn detect_in_solids<const D: usize, C: SphereCover<D>>(
     count: usize,
     r: Radius,
     tie: f64,
-    solids: &[HalfSpace],
+    domain_solids: &Solids,
 ) -> Result<(Detection, usize), DetectError> {
-    if let Some(h) = solids.iter().find(|h| h.axis() >= D) {
-        return Err(DetectError::Method {
-            method: "dilts",
-            message: format!("solid '{h}' has no axis in a {D}D set"),
-        });
-    }
+    domain_solids.check_axes("dilts", D)?;
+    let solids: &[HalfSpace] = domain_solids.half_spaces();
     let radii = set.resolved_radii(r)?;
     let positions = set.positions();
     let radius = |i: usize| radii.as_ref().map_or(r.get(), |v| v[i]);
-    let reaches = |i: usize| {
-        solids
-            .iter()
-            .any(|h| h.fluid_depth(positions[i].as_slice()) <= radius(i) * (1.0 + REACH_SLACK))
-    };
+    let reaches = |i: usize| domain_solids.half_space_reaches(positions[i].as_slice(), radius(i));
     let (near, far): (Vec<usize>, Vec<usize>) = (0..count).partition(|&i| reaches(i));
     if near.is_empty() {
         return detect_with::<D, C>(set, count, r, tie);
@@ -905,13 +892,21 @@ mod tests {
         ParticleSet::from_rows(&rows).expect("finite rows")
     }
 
+    /// The solids of a list of half-spaces.
+    fn solids_of(half_spaces: &[HalfSpace]) -> Solids {
+        let mut solids = Solids::new();
+        half_spaces.iter().for_each(|&h| solids.push(h));
+        solids
+    }
+
     #[test]
     fn the_float_test_decides_the_layer_on_a_floor() {
         let set = block(20, 8);
         let r = Radius::new(0.8).expect("a radius");
         let floor = [HalfSpace::new(1, true, -0.2).expect("a floor")];
         let (with, fallbacks) =
-            detect_in_solids::<2, arcs::Arcs>(&set, set.len(), r, 0.0, &floor).expect("runs");
+            detect_in_solids::<2, arcs::Arcs>(&set, set.len(), r, 0.0, &solids_of(&floor))
+                .expect("runs");
         let (bare, _) = detect_with::<2, arcs::Arcs>(&set, set.len(), r, 0.0).expect("runs");
         // The floor covers part of the lowest row (fewer boundary particles), and the solid
         // caps are decided by the float sweep: no particle needs the exact predicate.
@@ -922,7 +917,8 @@ mod tests {
         // to `exact`'s decision, the others stay with the float test.
         let through = [HalfSpace::new(1, true, 0.5).expect("a floor")];
         let (_, fallbacks) =
-            detect_in_solids::<2, arcs::Arcs>(&set, set.len(), r, 0.0, &through).expect("runs");
+            detect_in_solids::<2, arcs::Arcs>(&set, set.len(), r, 0.0, &solids_of(&through))
+                .expect("runs");
         let general = set
             .positions()
             .iter()
@@ -961,7 +957,8 @@ mod tests {
             HalfSpace::new(2, false, 7.7).expect("a wall"),
         ];
         let (with, fallbacks) =
-            detect_in_solids::<3, caps::Caps>(&set, set.len(), r, 0.0, &tank).expect("runs");
+            detect_in_solids::<3, caps::Caps>(&set, set.len(), r, 0.0, &solids_of(&tank))
+                .expect("runs");
         let (bare, _) = detect_with::<3, caps::Caps>(&set, set.len(), r, 0.0).expect("runs");
         assert!(with.labels.boundary_count() < bare.labels.boundary_count());
         assert!(with.margin.is_none());

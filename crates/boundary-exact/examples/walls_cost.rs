@@ -37,6 +37,50 @@ fn compare(pool: &rayon::ThreadPool, variants: &[(&str, &(dyn Fn() -> usize + Sy
     }
 }
 
+/// Times `fluid` alone, with `walls` (`detect_in`), the union of both classified whole and,
+/// when given, `fluid` in the solids of `tank`.
+fn compare_walls(
+    pool: &rayon::ThreadPool,
+    fluid: &ParticleSet<3>,
+    walls: &ParticleSet<3>,
+    r: Radius,
+    tank: Option<&Domain>,
+) {
+    let fluid_any = AnyParticleSet::from(fluid.clone());
+    let all = union(fluid, walls);
+    let in_domain = |domain: &Domain| {
+        ExactDetector
+            .detect_in(&fluid_any, domain, r)
+            .unwrap()
+            .detection
+            .labels
+            .boundary_count()
+    };
+    let (bare, with_walls) = (
+        Domain::new(),
+        Domain::new().with_walls(walls.clone().into()),
+    );
+    let union_count = || {
+        let labels = ExactDetector.detect(&all, r).unwrap().labels;
+        labels.as_slice()[..fluid.len()]
+            .iter()
+            .filter(|&&b| b)
+            .count()
+    };
+    let alone = || in_domain(&bare);
+    let walled = || in_domain(&with_walls);
+    let mut variants: Vec<(&str, &(dyn Fn() -> usize + Sync))> = vec![
+        ("fluid alone", &alone),
+        ("fluid with walls (detect_in)", &walled),
+        ("union of fluid and walls (detect)", &union_count),
+    ];
+    let solid = tank.map(|t| move || in_domain(t));
+    if let Some(solid) = &solid {
+        variants.push(("fluid in five half-spaces", solid));
+    }
+    compare(pool, &variants);
+}
+
 fn main() {
     let n: usize = std::env::args()
         .nth(1)
@@ -51,48 +95,17 @@ fn main() {
         .build()
         .unwrap();
     let (fluid, walls, tank) = block_in_tank(n, 7);
-    let r = Radius::new(1.2).unwrap();
-    let fluid_any = AnyParticleSet::from(fluid.clone());
-    let all = union(&fluid, &walls);
-    let with_walls = Domain::new().with_walls(walls.clone().into());
     println!(
         "block of {} particles in a tank of {} wall particles, r = 1.2, {threads} thread(s):",
         fluid.len(),
         walls.len()
     );
-    let count = |d: &boundary_core::Detection, n: usize| {
-        d.labels.as_slice()[..n].iter().filter(|&&b| b).count()
-    };
-    compare(
+    compare_walls(
         &pool,
-        &[
-            ("fluid alone", &|| {
-                ExactDetector
-                    .detect(&fluid_any, r)
-                    .unwrap()
-                    .labels
-                    .boundary_count()
-            }),
-            ("fluid with walls (detect_in)", &|| {
-                ExactDetector
-                    .detect_in(&fluid_any, &with_walls, r)
-                    .unwrap()
-                    .detection
-                    .labels
-                    .boundary_count()
-            }),
-            ("union of fluid and walls (detect)", &|| {
-                count(&ExactDetector.detect(&all, r).unwrap(), fluid.len())
-            }),
-            ("fluid in five half-spaces", &|| {
-                ExactDetector
-                    .detect_in(&fluid_any, &tank, r)
-                    .unwrap()
-                    .detection
-                    .labels
-                    .boundary_count()
-            }),
-        ],
+        &fluid,
+        &walls,
+        Radius::new(1.2).unwrap(),
+        Some(&tank),
     );
 
     let data = (
@@ -103,36 +116,10 @@ fn main() {
         println!("shared DualSPHysics dam break: data folder missing, skipped");
         return;
     };
-    let r = Radius::new(0.03).unwrap();
-    let fluid_any = AnyParticleSet::from(fluid.clone());
-    let all = union(&fluid, &walls);
-    let with_walls = Domain::new().with_walls(walls.clone().into());
     println!(
         "DualSPHysics 3D dam break: {} fluid, {} wall particles, r = 0.03:",
         fluid.len(),
         walls.len()
     );
-    compare(
-        &pool,
-        &[
-            ("fluid alone", &|| {
-                ExactDetector
-                    .detect(&fluid_any, r)
-                    .unwrap()
-                    .labels
-                    .boundary_count()
-            }),
-            ("fluid with walls (detect_in)", &|| {
-                ExactDetector
-                    .detect_in(&fluid_any, &with_walls, r)
-                    .unwrap()
-                    .detection
-                    .labels
-                    .boundary_count()
-            }),
-            ("union of fluid and walls (detect)", &|| {
-                count(&ExactDetector.detect(&all, r).unwrap(), fluid.len())
-            }),
-        ],
-    );
+    compare_walls(&pool, &fluid, &walls, Radius::new(0.03).unwrap(), None);
 }

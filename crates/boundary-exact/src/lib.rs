@@ -503,23 +503,14 @@ fn dispatch_in<const D: usize, C>(
 where
     C: ConvexCell<D> + Default + Send + Clone,
 {
+    solids.check_axes("exact", D)?;
     let half_spaces: &[HalfSpace] = solids.half_spaces();
-    if let Some(h) = half_spaces.iter().find(|h| h.axis() >= D) {
-        return Err(DetectError::Method {
-            method: "exact",
-            message: format!("solid '{h}' has no axis in a {D}D set"),
-        });
-    }
     let radii = match set.resolved_radii(r)? {
         Some(radii) => radii,
         None => vec![r.get(); set.len()],
     };
     let positions = set.positions();
-    let touches = |i: usize| {
-        half_spaces
-            .iter()
-            .any(|h| h.fluid_depth(positions[i].as_slice()) <= radii[i] * (1.0 + 1e-9))
-    };
+    let touches = |i: usize| solids.half_space_reaches(positions[i].as_slice(), radii[i]);
     let (near, far): (Vec<usize>, Vec<usize>) = (0..count).partition(|&i| touches(i));
     if near.is_empty() {
         return dispatch::<D, C>(set, count, r, tie);

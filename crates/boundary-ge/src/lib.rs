@@ -310,12 +310,7 @@ impl BoundaryDetector for GeDetector {
         r: Radius,
     ) -> Result<Detection, DetectError> {
         DetectError::check_owned("ge", owned, set.len())?;
-        if let Some(h) = solids.half_spaces().iter().find(|h| h.axis() >= set.dim()) {
-            return Err(DetectError::Method {
-                method: "ge",
-                message: format!("solid '{h}': a {}D set has no axis {}", set.dim(), h.axis()),
-            });
-        }
+        solids.check_axes("ge", set.dim())?;
         let depth = self.depth;
         Ok(match set {
             AnyParticleSet::D2(s) => detect_with::<2, Arc>(s, owned, r, depth, solids)?,

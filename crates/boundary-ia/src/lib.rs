@@ -235,12 +235,7 @@ impl BoundaryDetector for IaDetector {
         r: Radius,
     ) -> Result<Detection, DetectError> {
         DetectError::check_owned("ia", owned, set.len())?;
-        if let Some(h) = solids.half_spaces().iter().find(|h| h.axis() >= set.dim()) {
-            return Err(DetectError::Method {
-                method: "ia",
-                message: format!("solid '{h}': a {}D set has no axis {}", set.dim(), h.axis()),
-            });
-        }
+        solids.check_axes("ia", set.dim())?;
         Ok(match set {
             AnyParticleSet::D2(s) => detect_with(s, owned, r, self.depth, solids)?,
             AnyParticleSet::D3(s) => detect_with(s, owned, r, self.depth, solids)?,
