@@ -254,8 +254,7 @@ pub fn detect_owned<M: SphMethod>(
 /// neighbours within `2h` come from their own neighbours within `2h`), plus
 /// [`SphCriterion::extra_reach_h`].
 pub fn halo_width<C: SphCriterion>(criterion: &C, r: Radius) -> f64 {
-    let s = criterion.smoothing();
-    (2.0 * SUPPORT_FACTOR + criterion.extra_reach_h()) * s.h(r)
+    (2.0 * SUPPORT_FACTOR + criterion.extra_reach_h()) * criterion.smoothing().h_over_r * r.get()
 }
 
 /// Flags every classified particle (`i < labels.len()`) within `reach` (closed) of a
