@@ -35,6 +35,8 @@ pub use boundary_core::*;
 
 #[cfg(feature = "dilts")]
 pub use boundary_dilts::DiltsDetector;
+#[cfg(feature = "divr")]
+pub use boundary_divr::DivrDetector;
 #[cfg(feature = "exact")]
 pub use boundary_exact::ExactDetector;
 #[cfg(feature = "ge")]
@@ -115,6 +117,13 @@ const REGISTRY: &[Entry] = &[
         summary:
             "SPH colour-field gradient |grad c| h above a threshold (Mueller et al., SCA 2003)",
         make: || Box::new(MullerDetector::default()),
+    },
+    #[cfg(feature = "divr")]
+    Entry {
+        name: "divr",
+        summary: "SPH divergence of position below a threshold: DualSPHysics, SPHinXsys or \
+                  Chrono::FSI's value by name (Lind et al., JCP 2012)",
+        make: || Box::new(DivrDetector::default()),
     },
     #[cfg(feature = "hpr")]
     Entry {

@@ -148,6 +148,8 @@ fn isolated_label(method: &str) -> Option<bool> {
         // boundary-muller: "An isolated particle has ∇c = 0: it is labelled interior, a known
         // failure of the colour field."
         "muller" => Some(false),
+        // boundary-divr: "An isolated particle has ∇·r = 0: boundary, and isolated."
+        "divr" => Some(true),
         // boundary-svm: "a particle with at most D neighbours within 2r ... is boundary".
         "svm" => Some(true),
         _ => None,
@@ -511,7 +513,7 @@ proptest! {
     ) {
         let sph: Vec<&str> = methods()
             .into_iter()
-            .filter(|m| ["marrone", "muller"].contains(m))
+            .filter(|m| ["marrone", "muller", "divr"].contains(m))
             .collect();
         for name in sph {
             if let Err(e) = case3.check(name) {
