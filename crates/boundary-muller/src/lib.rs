@@ -54,7 +54,7 @@
 //! | `kernel` | `wendland` | `wendland` (C2) or `cubic` (spline), support `2h` |
 //! | `h_over_r` | 1 | smoothing length `h` in units of the resolution `r` |
 //!
-//! The margin of a [`Detection`] is `|∇c_i|·h − threshold` (positive leans boundary).
+//! The margin of a [`Detection`](boundary_core::Detection) is `|∇c_i|·h − threshold` (positive leans boundary).
 //!
 //! # Policy: duplicates, degenerate input
 //! - An isolated particle has `∇c = 0`: it is labelled *interior*, a known failure of the

@@ -9,7 +9,8 @@
 //! the neighbour grid, the metrics) and holds the **registry**: every method compiled in (one
 //! cargo feature per method crate) can be created by its name, with parameters given as
 //! `key=value` strings, exactly as on the command line (`boundary detect --method ge --set
-//! depth=4`).
+//! depth=4`). Any method's labels widen to a narrow band with [`Labels::widen`] (the
+//! command line's `--band K`: every particle within `K·r` of a boundary particle).
 //!
 //! # Example
 //! ```
