@@ -219,6 +219,8 @@ pub fn report_md(outcome: &Outcome, header: &str) -> String {
         md.push_str(&scale_md(scale));
     }
 
+    md.push_str(&divr_md(&outcome.rows));
+
     let swept: Vec<&Row> = outcome.rows.iter().filter(|r| !r.is_default).collect();
     if !swept.is_empty() {
         let _ = writeln!(md, "\n## Parameter sweeps\n");
@@ -262,6 +264,48 @@ pub fn report_md(outcome: &Outcome, header: &str) -> String {
                 row.error.as_deref().unwrap_or("")
             );
         }
+    }
+    md
+}
+
+/// The value of `key` in a row's `key=value, …` parameter text.
+fn param<'a>(params: &'a str, key: &str) -> Option<&'a str> {
+    params
+        .split(", ")
+        .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))
+}
+
+/// `divr` with each solver's published threshold, side by side per scene: what each code's
+/// default costs in false positives and negatives against `exact`. Empty without `divr` rows.
+fn divr_md(rows: &[Row]) -> String {
+    let divr: Vec<&Row> = rows.iter().filter(|r| r.method == "divr").collect();
+    if divr.is_empty() {
+        return String::new();
+    }
+    let mut md = String::from(
+        "\n## Divergence of position: each solver's threshold\n\n`divr` with the threshold \
+         each code publishes (DualSPHysics, SPHinXsys with and without its second layer, \
+         Chrono::FSI), against `exact`.\n\n| Scene | threshold | FP | FN | Rec | FPR | M |\n\
+         |---|---|---|---|---|---|---|\n",
+    );
+    for row in divr {
+        let threshold = param(&row.params, "threshold").unwrap_or("dualsphysics");
+        let layers = match param(&row.params, "layers") {
+            Some("1") => " + layer",
+            _ => "",
+        };
+        let cells = match row.confusion {
+            Some(c) => format!(
+                "{} | {} | {:.4} | {:.4} | {:.4}",
+                c.fp,
+                c.fn_,
+                c.recall(),
+                c.fpr(),
+                c.m()
+            ),
+            None => row.error.clone().unwrap_or_default(),
+        };
+        let _ = writeln!(md, "| `{}` | {threshold}{layers} | {cells} |", row.scene);
     }
     md
 }
@@ -937,6 +981,42 @@ mod tests {
         assert!(md.contains("`gone`: no such file"));
         assert!(md.contains("## Parameter sweeps"));
         assert!(md.contains("ia (depth=2)"));
+        assert!(
+            !md.contains("each solver's threshold"),
+            "no divr rows, no section"
+        );
+    }
+
+    #[test]
+    fn divr_rows_get_one_line_per_threshold() {
+        let c = Confusion {
+            tp: 3,
+            tn: 5,
+            fp: 2,
+            fn_: 1,
+        };
+        let mut outcome = sample();
+        outcome.rows.push(row("divr", "", c, 0.1, 0.1));
+        outcome.rows.push(row(
+            "divr",
+            "threshold=sphinxsys, kernel=wendland, h_over_r=1, layers=1, min_neighbours=auto",
+            c,
+            0.1,
+            0.1,
+        ));
+        let md = report_md(&outcome, "test");
+        assert!(md.contains("## Divergence of position: each solver's threshold"));
+        let scene = "`sandim_vortex_spin_frame_001_1698`";
+        assert!(
+            md.contains(&format!(
+                "| {scene} | dualsphysics | 2 | 1 | 0.7500 | 0.2857 | 0.5357 |"
+            )),
+            "{md}"
+        );
+        assert!(
+            md.contains(&format!("| {scene} | sphinxsys + layer | 2 | 1 |")),
+            "{md}"
+        );
     }
 
     /// The pooled speedup is Σ t1 / Σ t over the default rows of a method, and a method that
