@@ -13,6 +13,8 @@ Every method of the Rust library is available by name (see :func:`methods`):
 - ``ge``: geometric-enclosure slabs (JCP 2020 Sec. 3.2), never a false negative;
 - ``marrone``: SPH renormalisation-matrix eigenvalue and scan cone (Marrone et al., JCP 2010);
 - ``muller``: SPH colour-field gradient (Mueller et al., SCA 2003);
+- ``divr``: SPH divergence of position below a solver's threshold (``threshold=dualsphysics``,
+  ``sphinxsys``, ``chrono`` or a number; Lind et al., JCP 2012);
 - ``hpr``: hidden point removal (Sandim 2020 thesis, ch. 2, Alg. 1);
 - ``svm``: RBF support vector machine on SPH features (Sandim 2020 thesis, ch. 3).
 

@@ -986,7 +986,8 @@ fn resample<'py>(
 /// the closed balls of radius r of the other particles within 2r; otherwise boundary (Sandim,
 /// Paiva & Figueiredo, J. Comput. Phys. 2020). Methods: exact, dilts (Dilts 2000; Haque &
 /// Dilts 2007), ia and ge (JCP 2020 Sec. 3), marrone (Marrone et al. 2010), muller (Mueller
-/// et al. 2003), hpr and svm (Sandim 2020 thesis, ch. 2 and 3). See detect(), score(),
+/// et al. 2003), divr (divergence of position, Lind et al. 2012), hpr and svm (Sandim 2020
+/// thesis, ch. 2 and 3). See detect(), score(),
 /// methods(), read(), write(), resample().
 #[pymodule]
 #[pyo3(name = "boundary")]
