@@ -19,9 +19,8 @@
 //!   (every detector on every scene) in release mode; ARGS go to the sweep (`--help` lists them).
 //! - `cargo xtask fixtures`: regenerate the scenes in `fixtures/`.
 //! - `cargo xtask prereqs`: only check (and where possible install) the MPI prerequisites.
-//! - `cargo xtask package`: `cargo package --no-verify` of every published crate (all but
-//!   those with `publish = false`): metadata and contents fit for crates.io. Reads the crates.io
-//!   index (network), builds nothing.
+//! - `cargo xtask package`: `cargo package --workspace --no-verify`: metadata, contents and
+//!   dependencies fit for crates.io. Reads the crates.io index (network), builds nothing.
 //! - `cargo xtask doc`: `cargo doc --workspace --no-deps` with `RUSTDOCFLAGS=-D warnings`
 //!   (a broken intra-doc link fails it), the same packages as clippy.
 //! - `cargo xtask check-deps`: the dependency rules of `docs/ARCHITECTURE.md`, from the
@@ -101,7 +100,7 @@ fn usage() -> &'static str {
 crates/boundary-svm/models/, target/svm/training.md\n  \
      prereqs    check the MPI prerequisites (install them when root with apt-get)\n  \
      check-deps boundary-core has no format/CLI dependency, method crates no IO dependency\n  \
-     package    `cargo package --no-verify` of every published crate (metadata, contents)\n  \
+     package    `cargo package --workspace --no-verify` (metadata, contents, dependencies)\n  \
      doc        the API documentation, every rustdoc warning an error"
 }
 
@@ -466,61 +465,13 @@ fn check_deps() -> Result<(), String> {
     }
 }
 
-/// The name of the package whose manifest is `manifest` when it says `publish = false`.
-fn unpublished_name(manifest: &str) -> Option<String> {
-    let mut name = None;
-    let mut unpublished = false;
-    let mut in_package = false;
-    for line in manifest.lines().map(str::trim) {
-        if line.starts_with('[') {
-            in_package = line == "[package]";
-        } else if in_package {
-            let Some((key, value)) = line.split_once('=') else {
-                continue;
-            };
-            match key.trim() {
-                "name" => name = Some(value.trim().trim_matches('"').to_owned()),
-                "publish" => unpublished = value.trim() == "false",
-                _ => {}
-            }
-        }
-    }
-    name.filter(|_| unpublished)
-}
-
-/// The workspace's packages with `publish = false` (`crates/*` and xtask).
-fn unpublished_packages() -> Result<Vec<String>, String> {
-    let root = root();
-    let crates = root.join("crates");
-    let mut manifests = vec![root.join("xtask/Cargo.toml")];
-    for entry in std::fs::read_dir(&crates)
-        .map_err(|e| format!("cannot list {}: {e}", crates.display()))?
-        .flatten()
-    {
-        manifests.push(entry.path().join("Cargo.toml"));
-    }
-    let mut names = Vec::new();
-    for manifest in manifests.iter().filter(|m| m.is_file()) {
-        let text = std::fs::read_to_string(manifest)
-            .map_err(|e| format!("cannot read {}: {e}", manifest.display()))?;
-        names.extend(unpublished_name(&text));
-    }
-    names.sort();
-    Ok(names)
-}
-
-/// `cargo package --no-verify` of every crate we publish (those without `publish = false`):
-/// their metadata, contents and dependencies are fit for crates.io (a published crate may not
-/// depend on an unpublished one; its dev-dependencies on the unpublished test scenes are path
-/// only, which cargo drops from the package). Reads the crates.io index; builds nothing.
-/// `--allow-dirty`: a work in progress packages too.
+/// `cargo package --workspace --no-verify`: every member's metadata, contents and
+/// dependencies are fit for a registry (a published crate may not depend on an unpublished
+/// one; dev-dependencies on the test scenes are path only, which cargo drops from the
+/// package). Reads the crates.io index; builds nothing. `--allow-dirty`: a work in progress
+/// packages too (CI runs on a clean checkout, where it changes nothing).
 fn package() -> Result<(), String> {
-    let unpublished = unpublished_packages()?;
-    let mut args = vec!["package", "--workspace", "--no-verify", "--allow-dirty"];
-    for name in &unpublished {
-        args.extend(["--exclude", name.as_str()]);
-    }
-    cargo(&args)
+    cargo(&["package", "--workspace", "--no-verify", "--allow-dirty"])
 }
 
 /// The API documentation of the workspace (without the exclusions `exclude`, as for clippy)
@@ -933,22 +884,6 @@ rayon v1.12.0 (*)
         );
         assert_eq!(forbidden_dependencies("x", tree, &["flate2"]).len(), 1);
         assert!(tree_packages("").is_empty());
-    }
-
-    #[test]
-    fn publish_false_is_read_from_the_package_section_only() {
-        let manifest = "[package]\nname = \"boundary-scenes\"\nversion.workspace = true\n\
-                        publish = false\n\n[dependencies]\npublish = true\n";
-        assert_eq!(
-            unpublished_name(manifest).as_deref(),
-            Some("boundary-scenes")
-        );
-        let published = "[package]\nname = \"boundary-core\"\n[features]\npublish = false\n";
-        assert_eq!(unpublished_name(published), None);
-        assert_eq!(
-            unpublished_name("[package]\nname = \"x\"\npublish = true\n"),
-            None
-        );
     }
 
     #[test]
