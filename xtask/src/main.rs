@@ -17,6 +17,8 @@
 //!   with a note saying why, as for MPI.
 //! - `cargo xtask sweep [ARGS…]`: run the comparison sweep
 //!   (every detector on every scene) in release mode; ARGS go to the sweep (`--help` lists them).
+//!   A full run (no argument selecting scenes or methods) also rewrites `BENCHMARKS.md` and the
+//!   README's picture `docs/img/vortex2d_t4.png`.
 //! - `cargo xtask fixtures`: regenerate the scenes in `fixtures/`.
 //! - `cargo xtask prereqs`: only check (and where possible install) the MPI prerequisites.
 //! - `cargo xtask package`: `cargo package --workspace --no-verify`: metadata, contents and
@@ -94,7 +96,8 @@ fn usage() -> &'static str {
      MPI driver included when Open MPI is installed or installable (CI)\n  \
      test-mpi   only the MPI driver's part of `test`\n  \
      test-bindings  only the C examples and the Python package's part of `test`\n  \
-     sweep      every detector on every scene: target/sweep/report.md\n  \
+     sweep      every detector on every scene: target/sweep/report.md; a full run also\n             \
+BENCHMARKS.md and docs/img/vortex2d_t4.png (--scale adds the scale tier)\n  \
      fixtures   regenerate the generated scenes in fixtures/\n  \
      train-svm  retrain the shipped svm models (seeded) and score them on held-out scenes:\n             \
 crates/boundary-svm/models/, target/svm/training.md\n  \
@@ -233,10 +236,44 @@ fn mpi_prereqs() -> Result<(), String> {
     }
 }
 
+/// The sweep in release mode. A full run (no argument that narrows it or moves its inputs)
+/// also rewrites `BENCHMARKS.md` and the README's picture `docs/img/vortex2d_t4.png`, so that
+/// both are always the output of the documented command; a narrowed run leaves them alone.
 fn sweep(rest: &[String]) -> Result<(), String> {
+    let root = root();
+    let benchmarks = root.join("BENCHMARKS.md").display().to_string();
+    let picture = root.join("docs/img/vortex2d_t4.png").display().to_string();
     let mut args = vec!["run", "--release", "--quiet", "-p", "boundary-sweep", "--"];
     args.extend(rest.iter().map(String::as_str));
+    if writes_pages(rest) {
+        args.extend(["--benchmarks", &benchmarks, "--frame-picture", &picture]);
+    } else {
+        eprintln!("xtask: a narrowed sweep: BENCHMARKS.md and docs/img are left as they are");
+    }
     cargo(&args)
+}
+
+/// Whether a sweep with arguments `rest` is a full run, whose summary may replace the
+/// committed `BENCHMARKS.md`: none of the arguments selects scenes or methods, shortens the
+/// run, reads other inputs, or already names the pages.
+fn writes_pages(rest: &[String]) -> bool {
+    const NARROWING: [&str; 9] = [
+        "--scenes",
+        "--methods",
+        "--quick",
+        "--no-single-thread",
+        "--manifest",
+        "--data-dir",
+        "--benchmarks",
+        "--frame-picture",
+        "--help",
+    ];
+    !rest.iter().any(|arg| {
+        arg == "-h"
+            || NARROWING
+                .iter()
+                .any(|n| arg == n || arg.starts_with(&format!("{n}=")))
+    })
 }
 
 fn fixtures(rest: &[String]) -> Result<(), String> {
@@ -884,6 +921,21 @@ rayon v1.12.0 (*)
         );
         assert_eq!(forbidden_dependencies("x", tree, &["flate2"]).len(), 1);
         assert!(tree_packages("").is_empty());
+    }
+
+    #[test]
+    fn only_a_full_sweep_rewrites_the_committed_pages() {
+        let args = |a: &[&str]| a.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        assert!(writes_pages(&args(&[])));
+        assert!(writes_pages(&args(&["--scale", "--threads", "2"])));
+        assert!(writes_pages(&args(&["--out", "elsewhere"])));
+        assert!(!writes_pages(&args(&["--scenes", "vortex"])));
+        assert!(!writes_pages(&args(&["--methods=ia,exact"])));
+        assert!(!writes_pages(&args(&["--quick"])));
+        assert!(!writes_pages(&args(&["--data-dir", "/data"])));
+        assert!(!writes_pages(&args(&["-h"])));
+        // A value that only starts like a flag is not one.
+        assert!(writes_pages(&args(&["--out", "--quickly"])));
     }
 
     #[test]

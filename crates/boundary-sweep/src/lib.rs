@@ -7,6 +7,7 @@
 //! turn rows into files. Scenes come from `fixtures/scenes.toml` (our generated scenes and
 //! references into `../shared/data`).
 
+pub mod benchmarks;
 pub mod failures;
 pub mod plots;
 pub mod published;
