@@ -14,7 +14,7 @@ Every method of the Rust library is available by name (see :func:`methods`):
 - ``marrone``: SPH renormalisation-matrix eigenvalue and scan cone (Marrone et al., JCP 2010);
 - ``muller``: SPH colour-field gradient (Mueller et al., SCA 2003);
 - ``hpr``: hidden point removal (Sandim 2020 thesis, ch. 2, Alg. 1);
-- ``svm``: RBF support vector machine on SPH features (Sandim 2020 thesis, ch. 3).
+- ``svm``: support vector machine (polynomial kernel) on SPH features (Sandim 2020 thesis, ch. 3).
 
 Conventions shared by every function:
 

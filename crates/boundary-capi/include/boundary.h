@@ -218,8 +218,8 @@ int boundary_detector_detect_phases(const struct boundary_detector *handle,
  * 2 or 3, that of the particles to come), which cover the particles every detection by this
  * handle labels but get no label themselves; set them once, as a solver's fixed boundary
  * particles. `radii` is NULL or holds `m` radius factors (`r_i = r * s_i`, as the particles'
- * own; walls without radii have the factor 1 beside particles with radii). Replaces earlier
- * walls; `m == 0` removes them. A non-finite coordinate or a bad radius is
+ * own; walls without radii have the factor 1 beside particles with radii). Replaces walls set
+ * before; `m == 0` removes them. A non-finite coordinate or a bad radius is
  * `BOUNDARY_ERR_INPUT` naming the wall particle, and leaves the walls unchanged.
  *
  * # Safety

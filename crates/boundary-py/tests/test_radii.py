@@ -1,4 +1,4 @@
-"""A radius per particle from Python (`radii=`, issue 22): the translation of the array, the
+"""A radius per particle from Python (`radii=`): the translation of the array, the
 scale `r`, the CLI's `--radius-attribute` as the reference, and every bad radius a ValueError
 naming the particle (run by `cargo xtask test`)."""
 
@@ -92,7 +92,7 @@ def test_radii_out_of_range_once_scaled_and_a_missing_r_are_named():
 
 
 def test_two_particles_with_radii_1_and_2_are_interior_and_boundary_with_exact():
-    """Waits for exact's support of per-particle radii (issue 22): p0 = (0, 0) with r0 = 1
+    """exact with per-particle radii: p0 = (0, 0) with r0 = 1
     lies inside the ball of p1 = (0.5, 0) with r1 = 2 (interior); S1 reaches 2.5 from p0
     (boundary)."""
     points = np.array([[0.0, 0.0], [0.5, 0.0]])

@@ -387,7 +387,7 @@ type Skipped = (String, String);
 
 /// Scenes of the manifest whose name contains one of `filter` (all if empty), resolved against
 /// the fixtures folder (beside the manifest) and the data directory; mesh scenes are sampled
-/// into `samples_dir` (under `target/`). Scenes whose file is missing are returned as skipped
+/// into `samples_dir` (in the output folder). Scenes whose file is missing are returned as skipped
 /// with the reason.
 fn load_scenes(
     manifest: &Path,
