@@ -53,6 +53,31 @@ fn methods(outcome: &Outcome) -> Vec<String> {
     names
 }
 
+/// Whether every default row that ran has a one-thread time (rows that failed or do not
+/// apply have none, whatever the sweep's options).
+fn has_one_thread(outcome: &Outcome) -> bool {
+    default_rows(outcome)
+        .filter(|r| r.confusion.is_some())
+        .all(|r| r.seconds_1.is_some())
+}
+
+/// A resolution as the page shows it: six significant digits, trailing zeros dropped.
+fn short(r: f64) -> String {
+    let text = format!("{r:.5e}");
+    match text.split_once('e') {
+        Some((mantissa, exp)) => {
+            let value: f64 = format!("{mantissa}e{exp}").parse().unwrap_or(r);
+            let plain = format!("{value}");
+            if plain.len() <= 12 {
+                plain
+            } else {
+                text
+            }
+        }
+        None => text,
+    }
+}
+
 /// The time a summary compares: one thread when every row has it, else all threads.
 fn seconds(row: &Row, one_thread: bool) -> Option<f64> {
     let s = if one_thread {
@@ -104,7 +129,7 @@ fn cell(row: Option<&Row>, value: impl Fn(&Row) -> Option<String>) -> String {
 /// means and medians and shown as `n/a`.
 pub fn benchmarks_md(outcome: &Outcome, provenance: &Provenance) -> String {
     let mut md = String::new();
-    let one_thread = default_rows(outcome).all(|r| r.seconds_1.is_some());
+    let one_thread = has_one_thread(outcome);
     let threads = default_rows(outcome).map(|r| r.threads).max().unwrap_or(0);
     let scenes = report::scene_order(&outcome.rows);
     let methods = methods(outcome);
@@ -189,7 +214,13 @@ pub fn benchmarks_md(outcome: &Outcome, provenance: &Provenance) -> String {
             rows.len(),
             or_dash(mean(&m_of(2)).map(|m| format!("{m:.4}"))),
             or_dash(mean(&m_of(3)).map(|m| format!("{m:.4}"))),
-            or_dash(lowest.map(|(m, s)| format!("{m:.4} (`{s}`)"))),
+            or_dash(lowest.map(|(m, s)| {
+                if m < 1.0 {
+                    format!("{m:.4} (`{s}`)")
+                } else {
+                    "1 (every scene)".to_owned()
+                }
+            })),
             or_dash(median(rates).map(|v| format!("{v:.3e}"))),
             or_dash(median(ratios).map(|v| format!("{v:.2}"))),
         );
@@ -248,7 +279,7 @@ fn table<'a>(
     }
     md.push('\n');
     for (scene, dim, n, r) in scenes {
-        let _ = write!(md, "| `{scene}` | {dim} | {n} | {r} |");
+        let _ = write!(md, "| `{scene}` | {dim} | {n} | {} |", short(*r));
         for m in methods {
             let _ = write!(md, " {} |", cell(row_of(scene, m), value));
         }
@@ -337,7 +368,7 @@ mod tests {
             "{md}"
         );
         assert!(
-            md.contains("| `exact` | yes | 2 | 1.0000 | 1.0000 | 1.0000 (`a`) | 0 |"),
+            md.contains("| `exact` | yes | 2 | 1.0000 | 1.0000 | 1 (every scene) | 0 |"),
             "{md}"
         );
         assert!(
@@ -350,6 +381,34 @@ mod tests {
             md.contains("| `a` | 2 | 1000 | 0.1 | 10.00 | 20.00 |"),
             "{md}"
         );
+    }
+
+    #[test]
+    fn rows_that_did_not_run_do_not_turn_the_times_to_all_threads() {
+        let mut refused = row("a", 2, "hpr", None, 0.0);
+        refused.seconds_1 = None;
+        refused.unsupported = true;
+        let md = benchmarks_md(
+            &Outcome {
+                rows: vec![row("a", 2, "exact", confusion(1, 0, 0, 1), 0.003), refused],
+                ..Outcome::default()
+            },
+            &provenance(),
+        );
+        assert!(
+            md.contains("## Time per scene (one thread, milliseconds)"),
+            "{md}"
+        );
+        assert!(md.contains("| 3.00 | n/a |"), "{md}");
+    }
+
+    #[test]
+    fn resolutions_are_shown_with_six_significant_digits() {
+        assert_eq!(short(0.018750000000000003), "0.01875");
+        assert_eq!(short(std::f64::consts::FRAC_1_SQRT_2), "0.707107");
+        assert_eq!(short(0.0075), "0.0075");
+        assert_eq!(short(1.2), "1.2");
+        assert_eq!(short(2.5e-12), "2.50000e-12");
     }
 
     #[test]
