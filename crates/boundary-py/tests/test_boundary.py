@@ -25,7 +25,8 @@ FIXTURES = Path(__file__).resolve().parents[3] / "fixtures"
 # (file under fixtures/, radius of fixtures/scenes.toml): a 2D and a 3D scene.
 SCENES = [("vortex2d_t1.csv", 0.0075), ("ball_bubble3d.csv", 0.15)]
 
-# The keys of `boundary score --json` (crates/boundary-cli/src/score.rs) that Python shares.
+# The keys of `boundary score --json` (crates/boundary-cli/src/score.rs), which Python and
+# the C API (`struct boundary_confusion`) share.
 CONFUSION_KEYS = {"tp", "tn", "fp", "fn", "recall", "fpr", "m", "precision", "f1"}
 
 
