@@ -11,8 +11,9 @@
 //!   `examples/c/` (built with the system `cc`/`c++` against `crates/boundary-capi`, run on the
 //!   public data, their labels compared with the CLI's), then the Python package
 //!   `crates/boundary-py`: its wheel built by maturin into a virtual environment
-//!   (`target/py-venv`; numpy, pytest and maturin installed there with pip when missing), its
-//!   pytest suite and `examples/python/quickstart.py`. Without a C compiler, or without a
+//!   (`target/py-venv`; numpy, pytest, maturin and mypy installed there with pip when
+//!   missing), its pytest suite run from outside the source tree against the installed wheel
+//!   and the bundled `fixtures/`, and `examples/python/quickstart.py`. Without a C compiler, or without a
 //!   Python >= 3.9 with venv and pip (or with `BOUNDARY_PYTHON=skip`), that part is skipped
 //!   with a note saying why, as for MPI.
 //! - `cargo xtask sweep [ARGS…]`: run the comparison sweep
@@ -179,7 +180,7 @@ fn test(rest: &[String]) -> Result<(), String> {
     let cli = bindings_build(&workspace_exclusions(mpi, python.is_some()))?;
     c_examples(&cli)?;
     match python {
-        Some(python) => python_package(&python, &cli),
+        Some(python) => python_package(&python),
         None => Ok(()),
     }
 }
@@ -541,7 +542,7 @@ fn test_bindings() -> Result<(), String> {
     let cli = bindings_build(&workspace_exclusions(mpi, python.is_some()))?;
     c_examples(&cli)?;
     match python {
-        Some(python) => python_package(&python, &cli),
+        Some(python) => python_package(&python),
         None => Ok(()),
     }
 }
@@ -613,9 +614,19 @@ fn python_usable() -> Option<String> {
 
 /// Runs `program args` in the workspace root with extra environment `envs`, echoing it.
 fn run_in_root(program: &Path, args: &[&str], envs: &[(&str, &Path)]) -> Result<(), String> {
-    eprintln!("xtask: {} {}", program.display(), args.join(" "));
+    run_in(&root(), program, args, envs)
+}
+
+/// Runs `program args` in the folder `dir` with extra environment `envs`, echoing it.
+fn run_in(dir: &Path, program: &Path, args: &[&str], envs: &[(&str, &Path)]) -> Result<(), String> {
+    eprintln!(
+        "xtask: (in {}) {} {}",
+        dir.display(),
+        program.display(),
+        args.join(" ")
+    );
     let mut command = Command::new(program);
-    command.args(args).current_dir(root());
+    command.args(args).current_dir(dir);
     for (key, value) in envs {
         command.env(key, value);
     }
@@ -768,9 +779,11 @@ fn data_dir() -> PathBuf {
 
 /// Builds the Python package's wheel (maturin, profile `wheel`: the test profile's
 /// optimisation without debug info, in the workspace's target dir) in
-/// the virtual environment `target/py-venv`, installs it there and runs its pytest suite and
-/// `examples/python/quickstart.py`. A missing venv or pip skips it with a note.
-fn python_package(python: &str, cli: &Path) -> Result<(), String> {
+/// the virtual environment `target/py-venv`, installs it there and runs its pytest suite
+/// (from `target/py-venv`, outside the source tree, so that the installed wheel is what is
+/// imported; mypy for its stub and type checks) and `examples/python/quickstart.py`. A
+/// missing venv or pip skips it with a note.
+fn python_package(python: &str) -> Result<(), String> {
     let root = root();
     let venv = root.join(PY_VENV);
     let venv_python = venv.join("bin/python");
@@ -788,7 +801,7 @@ fn python_package(python: &str, cli: &Path) -> Result<(), String> {
             return Ok(());
         }
     }
-    let missing: Vec<&str> = ["numpy", "pytest", "maturin"]
+    let missing: Vec<&str> = ["numpy", "pytest", "maturin", "mypy"]
         .into_iter()
         .filter(|module| {
             !Command::new(&venv_python)
@@ -849,10 +862,19 @@ fn python_package(python: &str, cli: &Path) -> Result<(), String> {
         ],
         &[],
     )?;
-    run_in_root(
+    let tests = root.join("crates/boundary-py/tests");
+    run_in(
+        &venv,
         &venv_python,
-        &["-m", "pytest", "-q", "crates/boundary-py/tests"],
-        &[("BOUNDARY_CLI", cli)],
+        &[
+            "-m",
+            "pytest",
+            "-q",
+            "-p",
+            "no:cacheprovider",
+            &tests.to_string_lossy(),
+        ],
+        &[],
     )?;
     let plot = root.join("target/py-quickstart.png");
     let plot_text = plot.to_string_lossy();

@@ -583,6 +583,8 @@ pub fn detect_in<T: BoundaryDetector + ?Sized>(
             r,
         )?),
     };
+    // A stopped method loop leaves partial labels: never return them.
+    crate::stop::check()?;
     Ok(DomainDetection {
         detection: free,
         interface,

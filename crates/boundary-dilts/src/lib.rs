@@ -478,6 +478,9 @@ fn detect_with<const D: usize, C: SphereCover<D>>(
     let results: Vec<(bool, Option<f64>, bool)> = (0..count)
         .into_par_iter()
         .map_init(Scratch::<D, C>::default, |scratch, i| {
+            if boundary_core::stop::requested() {
+                return Default::default();
+            }
             let twins = gather_caps(set.positions(), &grid, i, r, scratch);
             let (label, margin) = scratch.cover.classify(&scratch.caps, tie);
             match label {
@@ -591,6 +594,9 @@ fn detect_radii<const D: usize, C: SphereCover<D>>(
     let results: Vec<(bool, Option<f64>, bool)> = (0..count)
         .into_par_iter()
         .map_init(Scratch::<D, C>::default, |scratch, i| {
+            if boundary_core::stop::requested() {
+                return Default::default();
+            }
             let r = radii[i];
             let p = positions[i];
             let found = gather_power_caps(positions, radii, &grid, i, scratch);
@@ -797,6 +803,9 @@ fn classify_near<const D: usize, C: SphereCover<D>>(
     Ok(indices
         .par_iter()
         .map_init(Scratch::<D, C>::default, |scratch, &i| {
+            if boundary_core::stop::requested() {
+                return Default::default();
+            }
             let p = positions[i];
             // The neighbours' caps, largest first, exactly as on the usual path.
             let (r_i, found) = match &grid {

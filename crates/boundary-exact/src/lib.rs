@@ -644,6 +644,9 @@ where
         .par_iter()
         .map_init(Scratch::<D, C>::default, |scratch, &i| {
             let p = positions[i as usize];
+            if boundary_core::stop::requested() {
+                return Default::default();
+            }
             // The neighbours within FIRST_REACH·r first (`cell_margin` gathers the rest when
             // the cell needs them); d2 == 0 is `i` itself or an exact duplicate, which does
             // not cover (crate docs).

@@ -438,7 +438,10 @@ impl HprDetector {
                 |(candidates, local, visible), v| {
                     candidates.clear();
                     grid.for_each_within(&v.at, reach, |j, _| candidates.push(j));
-                    if candidates.is_empty() || candidates.iter().all(|&j| j >= owned) {
+                    if boundary_core::stop::requested()
+                        || candidates.is_empty()
+                        || candidates.iter().all(|&j| j >= owned)
+                    {
                         return (Vec::new(), HprStats::default());
                     }
                     // Deterministic input order for the hull, whatever the grid's order.

@@ -268,6 +268,9 @@ fn detect_with<const D: usize>(
     let labels: Labels = (0..count)
         .into_par_iter()
         .map_init(Scratch::<D>::default, |scratch, i| {
+            if boundary_core::stop::requested() {
+                return Default::default();
+            }
             match &grids {
                 (Some(grid), _) => scratch.gather(positions, grid, i, r),
                 (_, Some(grid)) => scratch.gather_radii(positions, grid, i),

@@ -407,7 +407,12 @@ impl MarroneDetector {
         let ctx = SphContext::new(set, SphKernel::new(self.kernel, self.h_over_r * r.get()))?;
         Ok((0..set.len())
             .into_par_iter()
-            .map(|i| SymmetricEigen::new(&ctx.local_sums(i).renormalisation).min_value())
+            .map(|i| {
+                if boundary_core::stop::requested() {
+                    return Default::default();
+                }
+                SymmetricEigen::new(&ctx.local_sums(i).renormalisation).min_value()
+            })
             .collect())
     }
 
@@ -423,7 +428,7 @@ impl MarroneDetector {
         let theta = self.cone_angle_deg.to_radians();
         let labels: Labels = (0..count)
             .into_par_iter()
-            .map(|i| self.is_free_surface(&ctx, i, h, theta))
+            .map(|i| !boundary_core::stop::requested() && self.is_free_surface(&ctx, i, h, theta))
             .collect::<Vec<bool>>()
             .into_iter()
             .collect();

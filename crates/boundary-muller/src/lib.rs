@@ -238,7 +238,12 @@ impl MullerDetector {
         let ctx = SphContext::new(set, SphKernel::new(self.kernel, h))?;
         Ok((0..count)
             .into_par_iter()
-            .map(|i| ctx.local_sums(i).gradient_h.norm())
+            .map(|i| {
+                if boundary_core::stop::requested() {
+                    return Default::default();
+                }
+                ctx.local_sums(i).gradient_h.norm()
+            })
             .collect())
     }
 

@@ -114,6 +114,9 @@ impl<const D: usize> NeighbourGrid<D> {
         sorted_out.par_chunks_mut(TASK).enumerate().for_each_init(
             || (init(), Scratch::default()),
             |(state, scratch), (task, results)| {
+                if crate::stop::requested() {
+                    return;
+                }
                 let first = task * TASK;
                 for (s, result) in (first..).zip(results.iter_mut()) {
                     let i = self.order[s] as usize;
