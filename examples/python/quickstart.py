@@ -1,55 +1,50 @@
-"""Quick start of the Python package `boundary`: read a frame, detect its boundary particles
-with three methods, print their scores against the exact labels, and plot the labels.
+"""Quick start of the Python package `boundary-particles`: read a frame, detect its boundary
+particles with three methods, score them against the exact labels, and plot the labels.
 
     pip install ./crates/boundary-py         # once (maturin builds the Rust extension)
-    python examples/python/quickstart.py     # [--data DIR] [--plot quickstart.png] [--no-plot]
+    python examples/python/quickstart.py     # [--plot quickstart.png] [--no-plot]
 
-Reads frame 100 of the vortex of Sandim et al. from the public data (`../shared/data`, or
-`$BOUNDARY_DATA_DIR`). The plot needs matplotlib (`pip install matplotlib`); without it the
-script says so and skips the plot. `cargo xtask test` runs this script.
+Reads a frame of the vortex scene bundled in `fixtures/`. The plot needs matplotlib
+(`pip install matplotlib`); without it the script says so and skips the plot. `cargo xtask
+test` runs this script.
 """
 
 import argparse
-import os
 import time
 from pathlib import Path
 
 import numpy as np
 
-import boundary
+import boundary_particles as bp
 
 REPO = Path(__file__).resolve().parents[2]
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument(
-        "--data",
-        type=Path,
-        default=Path(os.environ.get("BOUNDARY_DATA_DIR", REPO.parent / "shared" / "data")),
-    )
     parser.add_argument("--plot", type=Path, default=Path("quickstart.png"))
     parser.add_argument("--no-plot", action="store_true")
     args = parser.parse_args()
 
     # A frame and its particle resolution r (fixtures/scenes.toml).
-    frame = args.data / "particles2d" / "sandim_vortex_spin_frame_100_1698.csv"
-    r = 0.022105
-    points, attributes = boundary.read(frame)
+    frame = REPO / "fixtures" / "vortex2d_t1.csv"
+    r = 0.0075
+    points, point_data = bp.read(frame)
     print(f"{frame.name}: {len(points)} particles, {points.shape[1]}D, r = {r}")
 
-    exact = boundary.detect(points, r)  # the reference labels (JCP 2020)
+    exact = bp.detect(points, r)  # the reference labels (JCP 2020)
     print(f"exact: {exact.sum()} boundary particles")
     results = {}
-    for method, params in [("ge", {"depth": 4}), ("muller", {}), ("hpr", {})]:
+    for detector in [bp.Detector("ge", depth=4), bp.Detector("muller"), bp.Detector("hpr")]:
         start = time.perf_counter()
-        labels = boundary.detect(points, r, method, **params)
+        labels = detector.detect(points, r)
         seconds = time.perf_counter() - start
-        s = boundary.score(points, r, method, truth=exact, **params)
-        results[method] = labels
+        s = bp.confusion(labels, exact)
+        results[detector.method] = labels
         print(
-            f"{method:>7}: TP {s['TP']:5d}  FP {s['FP']:4d}  FN {s['FN']:4d}  "
-            f"Rec {s['Rec']:.3f}  FPR {s['FPR']:.3f}  M {s['M']:.3f}  ({seconds * 1e3:.0f} ms)"
+            f"{detector.method:>7}: tp {s['tp']:5d}  fp {s['fp']:4d}  fn {s['fn']:4d}  "
+            f"recall {s['recall']:.3f}  fpr {s['fpr']:.3f}  M {s['m']:.3f}  "
+            f"({seconds * 1e3:.0f} ms)"
         )
 
     if args.no_plot:

@@ -11,17 +11,19 @@
 //!   `examples/c/` (built with the system `cc`/`c++` against `crates/boundary-capi`, run on the
 //!   public data, their labels compared with the CLI's), then the Python package
 //!   `crates/boundary-py`: its wheel built by maturin into a virtual environment
-//!   (`target/py-venv`; numpy, pytest and maturin installed there with pip when missing), its
-//!   pytest suite and `examples/python/quickstart.py`. Without a C compiler, or without a
+//!   (`target/py-venv`; numpy, pytest, maturin and mypy installed there with pip when
+//!   missing), its pytest suite run from outside the source tree against the installed wheel
+//!   and the bundled `fixtures/`, and `examples/python/quickstart.py`. Without a C compiler, or without a
 //!   Python >= 3.9 with venv and pip (or with `BOUNDARY_PYTHON=skip`), that part is skipped
 //!   with a note saying why, as for MPI.
 //! - `cargo xtask sweep [ARGS…]`: run the comparison sweep
 //!   (every detector on every scene) in release mode; ARGS go to the sweep (`--help` lists them).
+//!   A full run (no argument selecting scenes or methods) also rewrites `BENCHMARKS.md` and the
+//!   README's picture `docs/img/vortex2d_t4.png`.
 //! - `cargo xtask fixtures`: regenerate the scenes in `fixtures/`.
 //! - `cargo xtask prereqs`: only check (and where possible install) the MPI prerequisites.
-//! - `cargo xtask package`: `cargo package --no-verify` of every published crate (all but
-//!   those with `publish = false`): metadata and contents fit for crates.io. Reads the crates.io
-//!   index (network), builds nothing.
+//! - `cargo xtask package`: `cargo package --workspace --no-verify`: metadata, contents and
+//!   dependencies fit for crates.io. Reads the crates.io index (network), builds nothing.
 //! - `cargo xtask doc`: `cargo doc --workspace --no-deps` with `RUSTDOCFLAGS=-D warnings`
 //!   (a broken intra-doc link fails it), the same packages as clippy.
 //! - `cargo xtask check-deps`: the dependency rules of `docs/ARCHITECTURE.md`, from the
@@ -95,13 +97,14 @@ fn usage() -> &'static str {
      MPI driver included when Open MPI is installed or installable (CI)\n  \
      test-mpi   only the MPI driver's part of `test`\n  \
      test-bindings  only the C examples and the Python package's part of `test`\n  \
-     sweep      every detector on every scene: target/sweep/report.md\n  \
+     sweep      every detector on every scene: target/sweep/report.md; a full run also\n             \
+BENCHMARKS.md and docs/img/vortex2d_t4.png (--scale adds the scale tier)\n  \
      fixtures   regenerate the generated scenes in fixtures/\n  \
      train-svm  retrain the shipped svm models (seeded) and score them on held-out scenes:\n             \
 crates/boundary-svm/models/, target/svm/training.md\n  \
      prereqs    check the MPI prerequisites (install them when root with apt-get)\n  \
      check-deps boundary-core has no format/CLI dependency, method crates no IO dependency\n  \
-     package    `cargo package --no-verify` of every published crate (metadata, contents)\n  \
+     package    `cargo package --workspace --no-verify` (metadata, contents, dependencies)\n  \
      doc        the API documentation, every rustdoc warning an error"
 }
 
@@ -177,7 +180,7 @@ fn test(rest: &[String]) -> Result<(), String> {
     let cli = bindings_build(&workspace_exclusions(mpi, python.is_some()))?;
     c_examples(&cli)?;
     match python {
-        Some(python) => python_package(&python, &cli),
+        Some(python) => python_package(&python),
         None => Ok(()),
     }
 }
@@ -234,10 +237,44 @@ fn mpi_prereqs() -> Result<(), String> {
     }
 }
 
+/// The sweep in release mode. A full run (no argument that narrows it or moves its inputs)
+/// also rewrites `BENCHMARKS.md` and the README's picture `docs/img/vortex2d_t4.png`, so that
+/// both are always the output of the documented command; a narrowed run leaves them alone.
 fn sweep(rest: &[String]) -> Result<(), String> {
+    let root = root();
+    let benchmarks = root.join("BENCHMARKS.md").display().to_string();
+    let picture = root.join("docs/img/vortex2d_t4.png").display().to_string();
     let mut args = vec!["run", "--release", "--quiet", "-p", "boundary-sweep", "--"];
     args.extend(rest.iter().map(String::as_str));
+    if writes_pages(rest) {
+        args.extend(["--benchmarks", &benchmarks, "--frame-picture", &picture]);
+    } else {
+        eprintln!("xtask: a narrowed sweep: BENCHMARKS.md and docs/img are left as they are");
+    }
     cargo(&args)
+}
+
+/// Whether a sweep with arguments `rest` is a full run, whose summary may replace the
+/// committed `BENCHMARKS.md`: none of the arguments selects scenes or methods, shortens the
+/// run, reads other inputs, or already names the pages.
+fn writes_pages(rest: &[String]) -> bool {
+    const NARROWING: [&str; 9] = [
+        "--scenes",
+        "--methods",
+        "--quick",
+        "--no-single-thread",
+        "--manifest",
+        "--data-dir",
+        "--benchmarks",
+        "--frame-picture",
+        "--help",
+    ];
+    !rest.iter().any(|arg| {
+        arg == "-h"
+            || NARROWING
+                .iter()
+                .any(|n| arg == n || arg.starts_with(&format!("{n}=")))
+    })
 }
 
 fn fixtures(rest: &[String]) -> Result<(), String> {
@@ -467,61 +504,13 @@ fn check_deps() -> Result<(), String> {
     }
 }
 
-/// The name of the package whose manifest is `manifest` when it says `publish = false`.
-fn unpublished_name(manifest: &str) -> Option<String> {
-    let mut name = None;
-    let mut unpublished = false;
-    let mut in_package = false;
-    for line in manifest.lines().map(str::trim) {
-        if line.starts_with('[') {
-            in_package = line == "[package]";
-        } else if in_package {
-            let Some((key, value)) = line.split_once('=') else {
-                continue;
-            };
-            match key.trim() {
-                "name" => name = Some(value.trim().trim_matches('"').to_owned()),
-                "publish" => unpublished = value.trim() == "false",
-                _ => {}
-            }
-        }
-    }
-    name.filter(|_| unpublished)
-}
-
-/// The workspace's packages with `publish = false` (`crates/*` and xtask).
-fn unpublished_packages() -> Result<Vec<String>, String> {
-    let root = root();
-    let crates = root.join("crates");
-    let mut manifests = vec![root.join("xtask/Cargo.toml")];
-    for entry in std::fs::read_dir(&crates)
-        .map_err(|e| format!("cannot list {}: {e}", crates.display()))?
-        .flatten()
-    {
-        manifests.push(entry.path().join("Cargo.toml"));
-    }
-    let mut names = Vec::new();
-    for manifest in manifests.iter().filter(|m| m.is_file()) {
-        let text = std::fs::read_to_string(manifest)
-            .map_err(|e| format!("cannot read {}: {e}", manifest.display()))?;
-        names.extend(unpublished_name(&text));
-    }
-    names.sort();
-    Ok(names)
-}
-
-/// `cargo package --no-verify` of every crate we publish (those without `publish = false`):
-/// their metadata, contents and dependencies are fit for crates.io (a published crate may not
-/// depend on an unpublished one; its dev-dependencies on the unpublished test scenes are path
-/// only, which cargo drops from the package). Reads the crates.io index; builds nothing.
-/// `--allow-dirty`: a work in progress packages too.
+/// `cargo package --workspace --no-verify`: every member's metadata, contents and
+/// dependencies are fit for a registry (a published crate may not depend on an unpublished
+/// one; dev-dependencies on the test scenes are path only, which cargo drops from the
+/// package). Reads the crates.io index; builds nothing. `--allow-dirty`: a work in progress
+/// packages too (CI runs on a clean checkout, where it changes nothing).
 fn package() -> Result<(), String> {
-    let unpublished = unpublished_packages()?;
-    let mut args = vec!["package", "--workspace", "--no-verify", "--allow-dirty"];
-    for name in &unpublished {
-        args.extend(["--exclude", name.as_str()]);
-    }
-    cargo(&args)
+    cargo(&["package", "--workspace", "--no-verify", "--allow-dirty"])
 }
 
 /// The API documentation of the workspace (without the exclusions `exclude`, as for clippy)
@@ -554,7 +543,7 @@ fn test_bindings() -> Result<(), String> {
     let cli = bindings_build(&workspace_exclusions(mpi, python.is_some()))?;
     c_examples(&cli)?;
     match python {
-        Some(python) => python_package(&python, &cli),
+        Some(python) => python_package(&python),
         None => Ok(()),
     }
 }
@@ -626,9 +615,19 @@ fn python_usable() -> Option<String> {
 
 /// Runs `program args` in the workspace root with extra environment `envs`, echoing it.
 fn run_in_root(program: &Path, args: &[&str], envs: &[(&str, &Path)]) -> Result<(), String> {
-    eprintln!("xtask: {} {}", program.display(), args.join(" "));
+    run_in(&root(), program, args, envs)
+}
+
+/// Runs `program args` in the folder `dir` with extra environment `envs`, echoing it.
+fn run_in(dir: &Path, program: &Path, args: &[&str], envs: &[(&str, &Path)]) -> Result<(), String> {
+    eprintln!(
+        "xtask: (in {}) {} {}",
+        dir.display(),
+        program.display(),
+        args.join(" ")
+    );
     let mut command = Command::new(program);
-    command.args(args).current_dir(root());
+    command.args(args).current_dir(dir);
     for (key, value) in envs {
         command.env(key, value);
     }
@@ -781,9 +780,11 @@ fn data_dir() -> PathBuf {
 
 /// Builds the Python package's wheel (maturin, profile `wheel`: the test profile's
 /// optimisation without debug info, in the workspace's target dir) in
-/// the virtual environment `target/py-venv`, installs it there and runs its pytest suite and
-/// `examples/python/quickstart.py`. A missing venv or pip skips it with a note.
-fn python_package(python: &str, cli: &Path) -> Result<(), String> {
+/// the virtual environment `target/py-venv`, installs it there and runs its pytest suite
+/// (from `target/py-venv`, outside the source tree, so that the installed wheel is what is
+/// imported; mypy for its stub and type checks) and `examples/python/quickstart.py`. A
+/// missing venv or pip skips it with a note.
+fn python_package(python: &str) -> Result<(), String> {
     let root = root();
     let venv = root.join(PY_VENV);
     let venv_python = venv.join("bin/python");
@@ -801,7 +802,7 @@ fn python_package(python: &str, cli: &Path) -> Result<(), String> {
             return Ok(());
         }
     }
-    let missing: Vec<&str> = ["numpy", "pytest", "maturin"]
+    let missing: Vec<&str> = ["numpy", "pytest", "maturin", "mypy"]
         .into_iter()
         .filter(|module| {
             !Command::new(&venv_python)
@@ -862,10 +863,19 @@ fn python_package(python: &str, cli: &Path) -> Result<(), String> {
         ],
         &[],
     )?;
-    run_in_root(
+    let tests = root.join("crates/boundary-py/tests");
+    run_in(
+        &venv,
         &venv_python,
-        &["-m", "pytest", "-q", "crates/boundary-py/tests"],
-        &[("BOUNDARY_CLI", cli)],
+        &[
+            "-m",
+            "pytest",
+            "-q",
+            "-p",
+            "no:cacheprovider",
+            &tests.to_string_lossy(),
+        ],
+        &[],
     )?;
     let plot = root.join("target/py-quickstart.png");
     let plot_text = plot.to_string_lossy();
@@ -937,19 +947,18 @@ rayon v1.12.0 (*)
     }
 
     #[test]
-    fn publish_false_is_read_from_the_package_section_only() {
-        let manifest = "[package]\nname = \"boundary-scenes\"\nversion.workspace = true\n\
-                        publish = false\n\n[dependencies]\npublish = true\n";
-        assert_eq!(
-            unpublished_name(manifest).as_deref(),
-            Some("boundary-scenes")
-        );
-        let published = "[package]\nname = \"boundary-core\"\n[features]\npublish = false\n";
-        assert_eq!(unpublished_name(published), None);
-        assert_eq!(
-            unpublished_name("[package]\nname = \"x\"\npublish = true\n"),
-            None
-        );
+    fn only_a_full_sweep_rewrites_the_committed_pages() {
+        let args = |a: &[&str]| a.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        assert!(writes_pages(&args(&[])));
+        assert!(writes_pages(&args(&["--scale", "--threads", "2"])));
+        assert!(writes_pages(&args(&["--out", "elsewhere"])));
+        assert!(!writes_pages(&args(&["--scenes", "vortex"])));
+        assert!(!writes_pages(&args(&["--methods=ia,exact"])));
+        assert!(!writes_pages(&args(&["--quick"])));
+        assert!(!writes_pages(&args(&["--data-dir", "/data"])));
+        assert!(!writes_pages(&args(&["-h"])));
+        // A value that only starts like a flag is not one.
+        assert!(writes_pages(&args(&["--out", "--quickly"])));
     }
 
     #[test]

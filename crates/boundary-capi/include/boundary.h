@@ -80,6 +80,50 @@
  */
 typedef struct boundary_detector boundary_detector;
 
+/**
+ * Confusion counts and rates of predicted labels against the truth, boundary the positive
+ * class: the keys of `boundary score --json` and of Python's `confusion`. A rate whose
+ * denominator is zero is 0.
+ */
+typedef struct boundary_confusion {
+  /**
+   * Boundary in both.
+   */
+  uint64_t tp;
+  /**
+   * Interior in both.
+   */
+  uint64_t tn;
+  /**
+   * Predicted boundary, truly interior.
+   */
+  uint64_t fp;
+  /**
+   * Predicted interior, truly boundary.
+   */
+  uint64_t fn;
+  /**
+   * `tp / (tp + fn)`.
+   */
+  double recall;
+  /**
+   * `fp / (fp + tn)`.
+   */
+  double fpr;
+  /**
+   * `recall * (1 - fpr)` (J. Comput. Phys. 2020, Sec. 4).
+   */
+  double m;
+  /**
+   * `tp / (tp + fp)`.
+   */
+  double precision;
+  /**
+   * The harmonic mean of precision and recall.
+   */
+  double f1;
+} boundary_confusion;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -218,8 +262,8 @@ int boundary_detector_detect_phases(const struct boundary_detector *handle,
  * 2 or 3, that of the particles to come), which cover the particles every detection by this
  * handle labels but get no label themselves; set them once, as a solver's fixed boundary
  * particles. `radii` is NULL or holds `m` radius factors (`r_i = r * s_i`, as the particles'
- * own; walls without radii have the factor 1 beside particles with radii). Replaces earlier
- * walls; `m == 0` removes them. A non-finite coordinate or a bad radius is
+ * own; walls without radii have the factor 1 beside particles with radii). Replaces walls set
+ * before; `m == 0` removes them. A non-finite coordinate or a bad radius is
  * `BOUNDARY_ERR_INPUT` naming the wall particle, and leaves the walls unchanged.
  *
  * # Safety
@@ -308,6 +352,24 @@ void boundary_detector_free(struct boundary_detector *handle);
  * `err` is NULL or valid for writes of `err_len` bytes.
  */
 int boundary_set_threads(size_t threads, char *err, size_t err_len);
+
+/**
+ * Scores `n` predicted labels against `n` truth labels (1 boundary, 0 interior, as
+ * `boundary_detect` writes them) into `*out`. Returns `BOUNDARY_OK`, `BOUNDARY_ERR_NULL`, or
+ * `BOUNDARY_ERR_INPUT` for a label other than 0 or 1 (the message names the array and the
+ * particle); `*out` is written only on success.
+ *
+ * # Safety
+ * `predicted` and `truth` are valid for reads of `n` bytes (may be NULL when `n == 0`);
+ * `out` is valid for a write of one `boundary_confusion`; `err` is NULL or valid for writes
+ * of `err_len` bytes.
+ */
+int boundary_confusion_from_labels(const uint8_t *predicted,
+                                   const uint8_t *truth,
+                                   size_t n,
+                                   struct boundary_confusion *out,
+                                   char *err,
+                                   size_t err_len);
 
 #ifdef __cplusplus
 }  // extern "C"

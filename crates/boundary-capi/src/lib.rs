@@ -816,8 +816,8 @@ fn without_walls(domain: &Domain) -> Domain {
 /// 2 or 3, that of the particles to come), which cover the particles every detection by this
 /// handle labels but get no label themselves; set them once, as a solver's fixed boundary
 /// particles. `radii` is NULL or holds `m` radius factors (`r_i = r * s_i`, as the particles'
-/// own; walls without radii have the factor 1 beside particles with radii). Replaces earlier
-/// walls; `m == 0` removes them. A non-finite coordinate or a bad radius is
+/// own; walls without radii have the factor 1 beside particles with radii). Replaces walls set
+/// before; `m == 0` removes them. A non-finite coordinate or a bad radius is
 /// `BOUNDARY_ERR_INPUT` naming the wall particle, and leaves the walls unchanged.
 ///
 /// # Safety
@@ -980,6 +980,98 @@ pub unsafe extern "C" fn boundary_set_threads(
             Ok(mut guard) => *guard = pool,
             Err(poisoned) => *poisoned.into_inner() = pool,
         }
+        Ok(())
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { guarded(err, err_len, body) }
+}
+
+/// Confusion counts and rates of predicted labels against the truth, boundary the positive
+/// class: the keys of `boundary score --json` and of Python's `confusion`. A rate whose
+/// denominator is zero is 0.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct boundary_confusion {
+    /// Boundary in both.
+    pub tp: u64,
+    /// Interior in both.
+    pub tn: u64,
+    /// Predicted boundary, truly interior.
+    pub fp: u64,
+    /// Predicted interior, truly boundary.
+    pub r#fn: u64,
+    /// `tp / (tp + fn)`.
+    pub recall: f64,
+    /// `fp / (fp + tn)`.
+    pub fpr: f64,
+    /// `recall * (1 - fpr)` (J. Comput. Phys. 2020, Sec. 4).
+    pub m: f64,
+    /// `tp / (tp + fp)`.
+    pub precision: f64,
+    /// The harmonic mean of precision and recall.
+    pub f1: f64,
+}
+
+/// Scores `n` predicted labels against `n` truth labels (1 boundary, 0 interior, as
+/// `boundary_detect` writes them) into `*out`. Returns `BOUNDARY_OK`, `BOUNDARY_ERR_NULL`, or
+/// `BOUNDARY_ERR_INPUT` for a label other than 0 or 1 (the message names the array and the
+/// particle); `*out` is written only on success.
+///
+/// # Safety
+/// `predicted` and `truth` are valid for reads of `n` bytes (may be NULL when `n == 0`);
+/// `out` is valid for a write of one `boundary_confusion`; `err` is NULL or valid for writes
+/// of `err_len` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn boundary_confusion_from_labels(
+    predicted: *const u8,
+    truth: *const u8,
+    n: usize,
+    out: *mut boundary_confusion,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    let body = || {
+        let labels = |values: *const u8, what: &str| -> Result<Vec<bool>, Failure> {
+            if n == 0 {
+                return Ok(Vec::new());
+            }
+            if values.is_null() {
+                return Err(Failure::new(BOUNDARY_ERR_NULL, format!("{what} is NULL")));
+            }
+            // SAFETY: non-NULL and valid for reads of `n` bytes by this function's contract;
+            // bytes need no alignment; only read while this call runs.
+            let bytes = unsafe { std::slice::from_raw_parts(values, n) };
+            bytes
+                .iter()
+                .enumerate()
+                .map(|(i, &b)| match b {
+                    0 => Ok(false),
+                    1 => Ok(true),
+                    other => Err(Failure::new(
+                        BOUNDARY_ERR_INPUT,
+                        format!("{what}: particle {i}: a label must be 0 or 1, got {other}"),
+                    )),
+                })
+                .collect()
+        };
+        // SAFETY: NULL or valid for one write (this function's contract).
+        let out = unsafe { out.as_mut() }
+            .ok_or_else(|| Failure::new(BOUNDARY_ERR_NULL, "out is NULL"))?;
+        let predicted = labels(predicted, "predicted")?;
+        let truth = labels(truth, "truth")?;
+        let c = boundary::Confusion::from_labels(&predicted, &truth)
+            .map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, e.to_string()))?;
+        *out = boundary_confusion {
+            tp: c.tp,
+            tn: c.tn,
+            fp: c.fp,
+            r#fn: c.fn_,
+            recall: c.recall(),
+            fpr: c.fpr(),
+            m: c.m(),
+            precision: c.precision(),
+            f1: c.f1(),
+        };
         Ok(())
     };
     // SAFETY: forwarded from this function's contract.

@@ -533,3 +533,83 @@ fn the_version_is_the_crate_version() {
     let version = unsafe { CStr::from_ptr(boundary_version()) };
     assert_eq!(version.to_str(), Ok(env!("CARGO_PKG_VERSION")));
 }
+
+#[test]
+fn confusion_scores_given_labels_with_the_keys_of_the_cli() {
+    let predicted = [1u8, 1, 1, 0, 0, 0, 0, 0];
+    let truth = [1u8, 1, 0, 1, 0, 0, 0, 0];
+    let mut out = boundary_confusion::default();
+    let mut err = [0 as c_char; 256];
+    let code = unsafe {
+        boundary_confusion_from_labels(
+            predicted.as_ptr(),
+            truth.as_ptr(),
+            predicted.len(),
+            &mut out,
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert_eq!(code, BOUNDARY_OK, "{}", message(&err));
+    assert_eq!((out.tp, out.fp, out.r#fn, out.tn), (2, 1, 1, 4));
+    assert!((out.recall - 2.0 / 3.0).abs() < 1e-15);
+    assert!((out.fpr - 0.2).abs() < 1e-15);
+    assert!((out.m - 2.0 / 3.0 * 0.8).abs() < 1e-15);
+    assert!((out.precision - 2.0 / 3.0).abs() < 1e-15 && (out.f1 - 2.0 / 3.0).abs() < 1e-15);
+    // The same numbers as the library's `Confusion`, which `boundary score` prints.
+    let bools = |v: &[u8]| v.iter().map(|&b| b == 1).collect::<Vec<_>>();
+    let c = boundary::Confusion::from_labels(&bools(&predicted), &bools(&truth)).expect("n each");
+    assert_eq!(
+        (c.tp, c.tn, c.fp, c.fn_),
+        (out.tp, out.tn, out.fp, out.r#fn)
+    );
+    assert_eq!((c.recall(), c.fpr(), c.m()), (out.recall, out.fpr, out.m));
+
+    // A label other than 0/1 is named, and the output stays as it was.
+    let bad = [0u8, 2, 0, 0, 0, 0, 0, 0];
+    let before = out;
+    let code = unsafe {
+        boundary_confusion_from_labels(
+            predicted.as_ptr(),
+            bad.as_ptr(),
+            bad.len(),
+            &mut out,
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert_eq!(code, BOUNDARY_ERR_INPUT);
+    assert_eq!(
+        message(&err),
+        "truth: particle 1: a label must be 0 or 1, got 2"
+    );
+    assert_eq!(out, before);
+    let code = unsafe {
+        boundary_confusion_from_labels(
+            std::ptr::null(),
+            truth.as_ptr(),
+            truth.len(),
+            &mut out,
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert_eq!(
+        (code, message(&err).as_str()),
+        (BOUNDARY_ERR_NULL, "predicted is NULL")
+    );
+    let code = unsafe {
+        boundary_confusion_from_labels(
+            std::ptr::null(),
+            std::ptr::null(),
+            0,
+            std::ptr::null_mut(),
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert_eq!(
+        (code, message(&err).as_str()),
+        (BOUNDARY_ERR_NULL, "out is NULL")
+    );
+}

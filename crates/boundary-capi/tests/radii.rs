@@ -255,7 +255,7 @@ fn bad_radii_name_the_particle_and_leave_the_labels_untouched() {
     assert_eq!(code, BOUNDARY_OK, "{}", message(&err));
 }
 
-/// Waits for `exact`'s support of per-particle radii (issue 22): p0 = (0, 0) with r0 = 1 lies
+/// `exact` with per-particle radii: p0 = (0, 0) with r0 = 1 lies
 /// inside the ball of p1 = (0.5, 0) with r1 = 2 (interior); S1 reaches 2.5 from p0 (boundary).
 #[test]
 fn exact_labels_two_particles_with_radii_1_and_2_interior_and_boundary() {

@@ -317,12 +317,6 @@ pub(crate) fn attach_radii(
     ))
 }
 
-/// `--radius auto` is this multiple of the median nearest-neighbour spacing. On a lattice of
-/// spacing s the sphere of an interior particle is covered for r >= s/√2 (square) or
-/// r >= s·√3/2 (cubic), and boundary particles stay boundary for any r; one spacing covers
-/// both lattices with a margin for jitter.
-const AUTO_RADIUS_FACTOR: f64 = 1.0;
-
 /// `--radius-scale`: a resolution (positive, finite, within the supported range).
 fn parse_scale(text: &str) -> Result<f64, String> {
     let value: f64 = text
@@ -354,12 +348,9 @@ pub(crate) fn resolve_radius(
     match arg {
         RadiusArg::Value(v) => Ok((v, false)),
         RadiusArg::Auto => {
-            let spacing = match set {
-                AnyParticleSet::D2(s) => boundary::median_nearest_neighbour_distance(s),
-                AnyParticleSet::D3(s) => boundary::median_nearest_neighbour_distance(s),
-            }?
-            .ok_or_else(|| CliError::AutoRadiusTooFew(input.to_path_buf()))?;
-            Ok((AUTO_RADIUS_FACTOR * spacing, true))
+            let r = boundary::auto_radius(set)?
+                .ok_or_else(|| CliError::AutoRadiusTooFew(input.to_path_buf()))?;
+            Ok((r.get(), true))
         }
     }
 }
@@ -367,8 +358,9 @@ pub(crate) fn resolve_radius(
 /// The warning printed when the radius was estimated.
 pub(crate) fn auto_warning(r: f64, input: &Path) -> String {
     format!(
-        "warning: --radius auto: using r = {r} ({AUTO_RADIUS_FACTOR} x the median \
+        "warning: --radius auto: using r = {r} ({} x the median \
          nearest-neighbour spacing of {}); this is an estimate, pass --radius to set r",
+        boundary::AUTO_RADIUS_FACTOR,
         input.display()
     )
 }

@@ -366,7 +366,7 @@ fn resample_rejects_bad_parameters_and_outputs_in_one_line() {
     assert_one_line_error(&["resample", input, "-r", "1.2"], "--output");
 }
 
-// Bad input at the command line (issue 11). The readers' own messages are checked in
+// Bad input at the command line. The readers' own messages are checked in
 // boundary-io/tests/errors.rs; here the binary must turn each into one `error:` line naming
 // the file (and the line or element), with a non-zero status and no panic.
 

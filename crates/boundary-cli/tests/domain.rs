@@ -191,7 +191,7 @@ fn the_walls_table_of_the_shared_data_is_reproduced_exactly() {
     }
 }
 
-/// The README's command: the summary line names the wall particles used.
+/// `--walls`: the summary line names the wall particles used.
 #[test]
 fn the_summary_line_counts_the_wall_particles() {
     let Some(fluid) = shared("walls/dualsphysics_dambreak3d_dp0.02_fluid.csv") else {
@@ -216,7 +216,7 @@ fn the_summary_line_counts_the_wall_particles() {
     );
 }
 
-/// The README's tank of half-spaces around the splashsurf dam-break frame: the floor's
+/// The tank of half-spaces of `docs/USAGE.md` around the splashsurf dam-break frame: the floor's
 /// particles are covered, and `ia` and `ge` (certified) label every particle `exact` labels
 /// boundary.
 #[test]

@@ -418,7 +418,7 @@ fn radius_options_that_do_not_go_together_say_so() {
     );
 }
 
-/// Waits for `exact`'s support of per-particle radii (issue 22). p0 = (0, 0) with r0 = 1 and
+/// `exact` with per-particle radii: p0 = (0, 0) with r0 = 1 and
 /// p1 = (0.5, 0) with r1 = 2: S0 lies inside B1 (its farthest point from p1 is at 1.5 <= 2),
 /// so particle 0 is interior; S1 reaches (2.5, 0), 2.5 from p0 > r0, so particle 1 is
 /// boundary. With one radius r = 1 both would be boundary (S0's point (-1, 0) is 1.5 from p1).

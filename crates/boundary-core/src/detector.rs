@@ -214,6 +214,10 @@ pub enum DetectError {
         /// What went wrong.
         message: String,
     },
+    /// The detection was stopped through its [`StopToken`](crate::stop::StopToken) before it
+    /// finished; no labels.
+    #[error("interrupted: the detection was stopped before it finished")]
+    Interrupted,
 }
 
 /// The option a refusal of solid meshes names ([`DetectError::check_no_solid_meshes`]).
@@ -390,11 +394,16 @@ pub trait BoundaryDetector: Send + Sync + fmt::Debug {
     }
 
     /// Classifies a set whose dimension is known at run time.
+    ///
+    /// Under a stopped [`StopToken`](crate::stop::StopToken) this is
+    /// [`DetectError::Interrupted`], never the partial labels of a stopped loop.
     fn detect(&self, set: &AnyParticleSet, r: Radius) -> Result<Detection, DetectError> {
-        match set {
+        let detection = match set {
             AnyParticleSet::D2(s) => self.detect_2d(s, r),
             AnyParticleSet::D3(s) => self.detect_3d(s, r),
-        }
+        }?;
+        crate::stop::check()?;
+        Ok(detection)
     }
 }
 

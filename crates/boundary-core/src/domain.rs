@@ -366,7 +366,7 @@ impl Domain {
     }
 
     /// Covering-only particles (walls), of the dimension of the classified set; with radius
-    /// factors if they have their own (module docs). Replaces earlier walls.
+    /// factors if they have their own (module docs). Replaces walls set before.
     pub fn with_walls(mut self, walls: AnyParticleSet) -> Self {
         self.walls = Some(walls);
         self
@@ -583,6 +583,8 @@ pub fn detect_in<T: BoundaryDetector + ?Sized>(
             r,
         )?),
     };
+    // A stopped method loop leaves partial labels: never return them.
+    crate::stop::check()?;
     Ok(DomainDetection {
         detection: free,
         interface,

@@ -63,9 +63,8 @@
 //! prefix doubles, up to all of them (which always decides).
 //!
 //! The cost is `O(m²·k)` exact operations in 3D for a prefix of `m` planes and faces of `k`
-//! vertices: about 4 µs per call (38k instructions) for an inner particle of the cubic lattice
-//! at its tie radius (`i64` path; 200k instructions with `i128` and `BigInt` set-up before),
-//! a few milliseconds for generic `f64` input (big integers); callers use it only where their
+//! vertices: microseconds for an inner particle of the cubic lattice at its tie radius (small
+//! integers, the `i64` path), a few milliseconds for generic `f64` input (big integers); callers use it only where their
 //! floating-point filters and certificates cannot decide. Measure with `cargo run --release
 //! -p boundary-exact --example tie_lattice`.
 //!
@@ -133,13 +132,10 @@
 //! integral (with equal radii the `t` of [`sphere_uncovered`]), and the enumeration runs in
 //! `i128` under the same size bound, else in `BigInt`.
 //!
-//! Cost, measured once (release build, the two-level sets of the tests: fine spacing 1 and
-//! radius `s`, coarse spacing 2 and radius `2s`, 127 particles in 3D): dyadic radii
-//! (`s = 0.875`, `i128`) 36 µs per call with every offset positive and 57 µs on the general
-//! path; `s = 0.9` or jittered positions (`BigInt`) 0.6 to 0.9 ms; 2D 7 µs (`i128`) to
-//! 60 µs (`BigInt`). With equal radii on the same points: 49 µs against 40 µs for
-//! [`sphere_uncovered`] (measured before its set-up moved to `i128` and its lattices to
-//! `i64`; not measured since).
+//! Cost follows the integer width: tens of microseconds per call in `i128` (dyadic radii
+//! such as the tests' two-level sets at `s = 0.875`), about ten times that in `BigInt`
+//! (non-dyadic radii, jittered positions), less in 2D. Callers use it only where their
+//! floating-point filters and certificates cannot decide.
 
 use crate::{HalfSpace, Point};
 use num_bigint::BigInt;

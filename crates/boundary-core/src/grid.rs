@@ -304,11 +304,10 @@ impl<const D: usize> NeighbourGrid<D> {
                 const GAPS: usize = 16;
                 // Rows of up to WHOLE_ROW cells are trimmed along x by their two end cells
                 // only, without a branch: searching for the first and last cell within reach
-                // mispredicted about twice per row and cost more than the candidates it saved
-                // (callgrind, 10^5 ball, `svm`'s features at cells of `r` and radius `2r`:
-                // search 1880M instructions, 6.85M mispredicted branches; whole rows 1869M,
-                // 5.10M; end cells 1776M (with a later change of `svm`'s: 1810M before it),
-                // 4.88M. `exact`: search 1592M, whole rows 1585M, end cells 1566M).
+                // mispredicted about twice per row and cost more than the candidates it saved;
+                // under callgrind (10^5 ball, `svm`'s features and `exact`, cells of `r`,
+                // radius `2r`) the end cells take the fewest instructions and mispredicted
+                // branches of the three (search, whole rows, end cells).
                 const WHOLE_ROW: i64 = 5;
                 let whole_x = hi[0] - lo[0] < WHOLE_ROW;
                 let mut gaps = [[0.0f64; GAPS]; D];

@@ -57,6 +57,7 @@ mod particles;
 pub mod radius_grid;
 pub mod solid_mesh;
 mod spacing;
+pub mod stop;
 
 pub use detector::{
     write_label, BoundaryDetector, DetectError, Detection, Labels, ParamError, ParamInfo, Params,
@@ -68,7 +69,7 @@ pub use metrics::Confusion;
 pub use particles::{AnyParticleSet, Flatness, ParticleSet, Point, Radius};
 pub use radius_grid::RadiusGrid;
 pub use solid_mesh::{MeshError, SolidMesh};
-pub use spacing::median_nearest_neighbour_distance;
+pub use spacing::{auto_radius, median_nearest_neighbour_distance, AUTO_RADIUS_FACTOR};
 
 /// Re-export of the linear-algebra crate used in public signatures.
 pub use nalgebra;

@@ -1,7 +1,7 @@
 //! The particle spacing of a set, for choosing the resolution `r` when the user does not know
 //! it (`boundary detect --radius auto`).
 
-use crate::{CoreError, NeighbourGrid, ParticleSet};
+use crate::{AnyParticleSet, CoreError, NeighbourGrid, ParticleSet, Radius};
 
 /// The median over the particles of the distance to the nearest *other* particle, ignoring
 /// exact duplicates (distance 0), which say nothing about the spacing.
@@ -75,6 +75,34 @@ pub fn median_nearest_neighbour_distance<const D: usize>(
     let middle = (found.len() - 1) / 2;
     let (_, median, _) = found.select_nth_unstable_by(middle, f64::total_cmp);
     Ok(Some(*median))
+}
+
+/// The resolution `auto` (`boundary detect --radius auto`, `detect(points, r="auto")` in
+/// Python) is this multiple of the median nearest-neighbour spacing. On a lattice of spacing
+/// s the sphere of an interior particle is covered for r >= s/√2 (square) or r >= s·√3/2
+/// (cubic), and boundary particles stay boundary for any r; one spacing covers both lattices
+/// with a margin for jitter.
+pub const AUTO_RADIUS_FACTOR: f64 = 1.0;
+
+/// The resolution estimated from the particles: [`AUTO_RADIUS_FACTOR`] times
+/// [`median_nearest_neighbour_distance`]. `None` when the set has fewer than two distinct
+/// positions; an error when the estimate is outside the supported radius range.
+///
+/// ```
+/// use boundary_core::{auto_radius, AnyParticleSet, ParticleSet};
+///
+/// let rows: Vec<[f64; 2]> = (0..16).map(|k| [0.5 * (k % 4) as f64, 0.5 * (k / 4) as f64]).collect();
+/// let set = AnyParticleSet::from(ParticleSet::from_rows(&rows).unwrap());
+/// assert_eq!(auto_radius(&set).unwrap().map(|r| r.get()), Some(0.5));
+/// ```
+pub fn auto_radius(set: &AnyParticleSet) -> Result<Option<Radius>, CoreError> {
+    let spacing = match set {
+        AnyParticleSet::D2(s) => median_nearest_neighbour_distance(s),
+        AnyParticleSet::D3(s) => median_nearest_neighbour_distance(s),
+    }?;
+    spacing
+        .map(|s| Radius::new(AUTO_RADIUS_FACTOR * s))
+        .transpose()
 }
 
 #[cfg(test)]

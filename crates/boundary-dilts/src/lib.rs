@@ -3,6 +3,11 @@
 //! Haque & Dilts (2007) in 3D, the slow "ground truth" against which the JCP paper (Table 3)
 //! and the thesis (Table 8) compare their timings.
 //!
+//! **When to use it:** to check `exact` by an independent argument (both are exact, by
+//! different proofs), or to reproduce the papers' timing baseline. For labels, `exact` gives
+//! the same ones faster (accuracy and speed on the same scenes: `BENCHMARKS.md`, written by
+//! `cargo xtask sweep`).
+//!
 //! # Definition
 //! Particle `i` at `p_i` with resolution `r` is *interior* iff its sphere `S_i` (radius `r`) is
 //! covered by the closed balls `B_j` of radius `r` of the other particles within `2r`; otherwise
@@ -101,9 +106,9 @@
 //! jittered and simulated sweep scenes; on lattice-like scenes every particle whose uncovered
 //! region has only multi-circle corners (lattice symmetry): all 256 / 1000 particles of the
 //! tie lattices, the 304 boundary particles of `duplicates3d`, 2,580 of 9,600 in
-//! `dualsphysics_dambreak3d`, 4,307 of 15,827 in `pysph_case5`. `exact`'s decision settles
-//! lattices in microseconds (`pysph_case5`: 0.28 s for the whole set in the test profile on 2
-//! threads, 13 s when every fallback went to the exact predicate).
+//! `dualsphysics_dambreak3d`, 4,307 of 15,827 in `pysph_case5`. Those go to `exact`'s
+//! decision (its float path with certificates), which settles lattices in microseconds per
+//! particle, where the exact predicate would take milliseconds.
 //!
 //! With every decision outside its band, the criterion (a)–(c) is evaluated exactly as in real
 //! arithmetic, in generic position (no point on three circles: that would put a cap value
@@ -187,7 +192,7 @@
 //! particle with no neighbour has margin `π·r`. In 3D no margin is reported (`None`).
 //!
 //! # Hard cases
-//! What `dilts` returns on the hard cases of issue 11 (the test
+//! What `dilts` returns on the hard cases (the test
 //! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
 //! them all and keeps the table of counts against `exact`, `+FP −FN`, in
 //! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`).
@@ -473,6 +478,9 @@ fn detect_with<const D: usize, C: SphereCover<D>>(
     let results: Vec<(bool, Option<f64>, bool)> = (0..count)
         .into_par_iter()
         .map_init(Scratch::<D, C>::default, |scratch, i| {
+            if boundary_core::stop::requested() {
+                return Default::default();
+            }
             let twins = gather_caps(set.positions(), &grid, i, r, scratch);
             let (label, margin) = scratch.cover.classify(&scratch.caps, tie);
             match label {
@@ -586,6 +594,9 @@ fn detect_radii<const D: usize, C: SphereCover<D>>(
     let results: Vec<(bool, Option<f64>, bool)> = (0..count)
         .into_par_iter()
         .map_init(Scratch::<D, C>::default, |scratch, i| {
+            if boundary_core::stop::requested() {
+                return Default::default();
+            }
             let r = radii[i];
             let p = positions[i];
             let found = gather_power_caps(positions, radii, &grid, i, scratch);
@@ -792,6 +803,9 @@ fn classify_near<const D: usize, C: SphereCover<D>>(
     Ok(indices
         .par_iter()
         .map_init(Scratch::<D, C>::default, |scratch, &i| {
+            if boundary_core::stop::requested() {
+                return Default::default();
+            }
             let p = positions[i];
             // The neighbours' caps, largest first, exactly as on the usual path.
             let (r_i, found) = match &grid {

@@ -169,13 +169,13 @@ proptest! {
     }
 }
 
-/// Found by the `detect_all` fuzz target (issue 11): particle 4 has only two neighbours within
+/// Found by the `detect_all` fuzz target: particle 4 has only two neighbours within
 /// 2r, so it is boundary. Their caps on `S_4` are externally tangent (angle between centres
-/// 125.26° = α_0 + α_2 exactly: cos = −1/√3 on both sides). dilts used to count the touching
-/// circles as crossed, so criterion (c) never probed them, and the probe at the tangency point
-/// stepped `STEP` = 1e-7 rad along the common tangent, which leaves both caps only to second
-/// order (about 1e-14 in `x·u`, below `COVER_TOLERANCE`): interior, a false negative. A tangency
-/// no longer counts as a crossing.
+/// 125.26° = α_0 + α_2 exactly: cos = −1/√3 on both sides). Counted as crossed, the touching
+/// circles would never be probed by criterion (c), and a probe at the tangency point stepped
+/// `STEP` = 1e-7 rad along the common tangent leaves both caps only to second order (about
+/// 1e-14 in `x·u`, below `COVER_TOLERANCE`): interior, a false negative. So a tangency does
+/// not count as a crossing.
 #[test]
 fn externally_tangent_caps_do_not_cover() {
     let rows = [

@@ -280,10 +280,16 @@ impl DivrDetector {
         let ctx = SphContext::new(set, self.smoothing().kernel_at(r))?;
         let evaluations: Vec<Evaluation> = (0..set.len())
             .into_par_iter()
-            .map(|i| self.evaluate(&ctx, i))
+            .map(|i| {
+                if boundary_core::stop::requested() {
+                    return Evaluation::default();
+                }
+                self.evaluate(&ctx, i)
+            })
             .collect();
         let mut labels: Vec<bool> = evaluations.iter().map(|e| e.low || e.isolated).collect();
         self.finish(&ctx, &mut labels);
+        boundary_core::stop::check()?;
         Ok(DivrAnalysis {
             divergence: evaluations.iter().map(|e| e.divergence).collect(),
             neighbours: evaluations.iter().map(|e| e.neighbours).collect(),
@@ -317,15 +323,17 @@ impl DivrDetector {
             detector: self,
             previous: previous.as_slice(),
         };
-        Ok(match set {
+        let detection = match set {
             AnyParticleSet::D2(s) => frame::classify_first(&following, s, s.len(), r)?,
             AnyParticleSet::D3(s) => frame::classify_first(&following, s, s.len(), r)?,
-        })
+        };
+        boundary_core::stop::check()?;
+        Ok(detection)
     }
 }
 
 /// One particle's quantities.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 struct Evaluation {
     divergence: f64,
     neighbours: usize,

@@ -1,6 +1,11 @@
 #![deny(clippy::print_stdout, clippy::print_stderr, clippy::disallowed_methods)] // no output, no files: see clippy.toml
 //! Exact r-boundary detection by restricted Voronoi cells: the reference labels of the project.
 //!
+//! **When to use it:** by default. Its labels are exact for the given `f64` input (a float
+//! filter with a proven bound, an exact integer fallback), every other method is scored
+//! against them, and it is among the fastest methods (accuracy and speed on the same scenes:
+//! `BENCHMARKS.md`, written by `cargo xtask sweep`).
+//!
 //! # Definition
 //! Particle `i` at `p_i` with resolution `r` is *interior* iff its sphere `S_i` (radius `r`)
 //! is covered by the closed balls `B_j` of radius `r` of the other particles within `2r`;
@@ -102,12 +107,11 @@
 //! 1M-particle jittered ball (`r = 1.2a`) no particle needs the fallback; on the sweep scenes
 //! none either, except the inner particles of the two perfect lattices at their tie radius
 //! (196 of 256 in 2D, 512 of 1000 in 3D: genuine near-ties, on small integer coordinates: the
-//! `i64` path, about 4 µs per particle; `cubic_lattice_tie3d` takes 5 ms per detection on one
-//! thread, `cargo run --release -p boundary-exact --example tie_lattice`). `pysph_case5` (15,827 particles of a
-//! body-centred cubic lattice with decimal coordinates) flags nearly every clip
-//! near-degenerate; the certificates below settle all of it (0 fallbacks, 0.24 s in the test
-//! profile on 2 threads; 9.6 s before the shifted planes, with 1,854 big-integer fallbacks of
-//! about 5 ms each).
+//! `i64` path; `cargo run --release -p boundary-exact --example tie_lattice` times it).
+//! `pysph_case5` (15,827 particles of a body-centred cubic lattice with decimal coordinates)
+//! flags nearly every clip near-degenerate; the certificates below settle all of it with no
+//! fallback, where without them over a thousand of its particles would need big integers at
+//! milliseconds each.
 //!
 //! # Certificates
 //! A particle whose float decision is not covered by the bound (a flagged clip, or a margin
@@ -124,9 +128,9 @@
 //!
 //! Perfect lattices need them: their bisectors pass exactly through cell vertices, so nearly
 //! every clip is flagged although the margins are far from 0 (`pysph_case5`, 15,827 particles
-//! of a lattice: 15,423 went to the exact predicate before the certificates, 1,854 with
-//! skipped planes instead of moved ones, none now). Only what neither certificate settles goes
-//! to the exact predicate.
+//! of a lattice, nearly all flagged: the certificates settle every one, while skipping the
+//! flagged planes instead of moving them would leave over a thousand to the exact
+//! predicate). Only what neither certificate settles goes to the exact predicate.
 //!
 //! The same decision (float cell, certificates, exact predicate) is public for a particle
 //! whose neighbours the caller gathered: [`sphere_uncovered_2d`], [`sphere_uncovered_3d`].
@@ -151,7 +155,7 @@
 //!   connected, it then meets `S_i`.
 //! - When every power plane keeps `p_i` strictly inside (offset `> 0`), the minimum is 0 and
 //!   this is the Voronoi test above, with the same float filter and error bound (the plane's
-//!   rounding now includes that of `(1 − s²)/(2|q|)`, `s = r_j/r_i`: `16u·(|q| + (1 + s²)/|q|)`
+//!   rounding also includes that of `(1 − s²)/(2|q|)`, `s = r_j/r_i`: `16u·(|q| + (1 + s²)/|q|)`
 //!   per plane, units of `r_i`). With all radii equal the planes are the bisectors exactly
 //!   (the moved term is exactly 0), so a set whose radii are all equal gets the uniform labels
 //!   (tested).
@@ -248,7 +252,7 @@
 //!   the exact predicate excludes them exactly.
 //!
 //! # Hard cases
-//! What `exact` returns on the hard cases of issue 11 (the test
+//! What `exact` returns on the hard cases (the test
 //! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
 //! them all and keeps the table of counts against `exact`, `+FP −FN`, in
 //! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`):
@@ -309,14 +313,14 @@ const FIRST_BATCH: usize = 16;
 /// interior cells are settled by them. Every other neighbour has a bisector offset of at
 /// least `FIRST_REACH/2` (units of `r`, less `1e-9` relative for the rounding of distances),
 /// so a cell that lies within that after them is final; other cells gather the rest (up to
-/// `2r`) and go on, in the same order. 1.1: on the jittered ball (r = 1.2 spacings) 99.2% of
-/// the settled cells need no neighbour beyond it; callgrind, 50k ball: 1.2 → 1.1 is 862.1M →
-/// 828.1M instructions (1.05: more, since fewer cells settle in the first stage).
+/// `2r`) and go on, in the same order. 1.1: on the jittered ball (r = 1.2 spacings) almost
+/// every settled cell needs no neighbour beyond it; a larger reach reads more neighbours, a
+/// smaller one (1.05) settles fewer cells in the first stage (both cost more instructions
+/// under callgrind on a jittered ball).
 const FIRST_REACH: f64 = 1.1;
 
 /// Grid cell side, in units of `r`: equal to the first reach, so that its query visits
-/// about `3^D` cells (1M-particle ball, 1 thread, alternating: 2.80/2.98 s at `r`, 2.63/2.45 s
-/// at 1.1r; 828.1M → 822.4M instructions at 50k).
+/// about `3^D` cells (cells of side `r` visit more cells for the same neighbours).
 const GRID_CELL: f64 = 1.1;
 
 /// Unit roundoff of `f64`.
@@ -621,8 +625,7 @@ where
 {
     let r = r.get();
     // Cells of side GRID_CELL·r, queried at FIRST_REACH·r and 2r: the 3^D/5^D visited cells
-    // hold fewer non-neighbours than the 3^D cells of side 2r (1M-particle ball, 1 thread:
-    // 3.6 s -> 3.35 s at cells of side r).
+    // hold fewer non-neighbours than the 3^D cells of side 2r.
     let grid = NeighbourGrid::new(set, r * GRID_CELL)?;
     let positions = set.positions();
     // Neighbours are read from the grid's copy of the positions, in cell order: the query
@@ -641,6 +644,9 @@ where
         .par_iter()
         .map_init(Scratch::<D, C>::default, |scratch, &i| {
             let p = positions[i as usize];
+            if boundary_core::stop::requested() {
+                return Default::default();
+            }
             // The neighbours within FIRST_REACH·r first (`cell_margin` gathers the rest when
             // the cell needs them); d2 == 0 is `i` itself or an exact duplicate, which does
             // not cover (crate docs).

@@ -78,6 +78,9 @@ pub(crate) fn apply_meshes(
         search
             .par_iter()
             .map_init(Vec::new, |near: &mut Vec<([f64; 3], f64)>, &i| {
+                if boundary_core::stop::requested() {
+                    return Default::default();
+                }
                 let p = positions[i];
                 near.clear();
                 grid.for_each_reaching(&p, radii[i], |j, d2| {

@@ -95,6 +95,9 @@ where
         .par_iter()
         .map_init(Scratch::<C, D>::default, |scratch, &i| {
             let p = positions[i];
+            if boundary_core::stop::requested() {
+                return Default::default();
+            }
             scratch.near.clear();
             grid.for_each_reaching(&p, radii[i], |j, d2| {
                 // d2 == 0: `i` itself or an exact duplicate, which does not cover.

@@ -4,6 +4,10 @@
 //! interval analysis*, J. Comput. Phys. 2020, Sec. 3.2 and Algorithm 3. Method name `ge`, one
 //! parameter `depth` (default 6).
 //!
+//! **When to use it:** to reproduce the paper's slab method, or where a certificate is
+//! enough: it never misses a boundary particle, and may flag a few interior ones near ties
+//! (fewer at a larger `depth`). For exact labels use `exact` (accuracy and speed on the same scenes: `BENCHMARKS.md`, written by `cargo xtask sweep`).
+//!
 //! # Method
 //! Particle `i` is interior iff its sphere `S_i` is covered by the closed balls `B_j` of the
 //! particles within `2r`. In the frame `T_i(x) = (x − p_i)/r`, `S_i` is the unit sphere and every
@@ -118,7 +122,7 @@
 //! so a detection without solids costs what it did.
 //!
 //! # Hard cases
-//! What `ge` returns on the hard cases of issue 11 (the test
+//! What `ge` returns on the hard cases (the test
 //! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
 //! them all and keeps the table of counts against `exact`, `+FP −FN`, in
 //! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`).
@@ -181,9 +185,9 @@ pub const COVER_MARGIN: f64 = 1e-12;
 const DEEP_SLACK: f64 = 1e-9;
 
 /// How many of the last covering balls (distinct, most recent first) are tried first on each
-/// element. Measured with the two-pass `label` (callgrind, 30k ball, r = 1.2a): 1, 2, 3, 4, 8,
-/// 12 balls cost 1.279e9, 1.293e9, 1.300e9, 1.338e9, 1.378e9, 1.409e9 instructions; 1 and 2
-/// ran as fast as each other and 4% faster than 8 (200k ball, one thread, one run).
+/// element. One: under callgrind on a jittered ball (r = 1.2a) the instruction count grows
+/// with every ball added to the list (2, 3, 4, 8, 12), as the balls tried first rarely settle
+/// an element the last one did not.
 const RECENT: usize = 1;
 
 /// How many balls of a partial element's list are put in order for its children (nearest
@@ -341,6 +345,9 @@ fn detect_with<const D: usize, E: Element<D> + Send + Sync>(
     let labels: Labels = (0..count)
         .into_par_iter()
         .map_init(Scratch::<D, E>::default, |scratch, i| {
+            if boundary_core::stop::requested() {
+                return Default::default();
+            }
             match &grids {
                 (Some(grid), _) => scratch.gather(positions, grid, i, r),
                 (_, Some(grid)) => scratch.gather_radii(positions, grid, i),

@@ -1,12 +1,12 @@
-//! One `hpr` detection for profiling (issue 21): the dense jittered block of the cross-method
+//! One `hpr` detection for profiling: the dense jittered block of the cross-method
 //! bench (`N` particles, default 32,768, spacing 1, jitter ±0.15, r = 2.2) or, with the
 //! argument `ball`, the jittered lattice ball (`N`, default 100,000, r = 1.2). Prints the
 //! time, the rate and a hash of the labels (equal hashes: equal labels). For instruction
-//! counts on one thread:
+//! counts on one thread (`TARGET_DIR`: the build folder, `target` unless configured):
 //!
 //! ```sh
 //! cargo build --release -p boundary-hpr --example profile_dense
-//! RAYON_NUM_THREADS=1 N=8000 valgrind --tool=callgrind target/release/examples/profile_dense
+//! RAYON_NUM_THREADS=1 N=8000 valgrind --tool=callgrind TARGET_DIR/release/examples/profile_dense
 //! ```
 #![allow(clippy::print_stdout)] // an example reports on stdout
 

@@ -5,6 +5,11 @@
 //! 2020, ch. 2 (Sandim et al. 2016), Alg. 1; method name `hpr`. The JCP 2020 paper (Table 1,
 //! "Sandim et al. \[10\]") and the thesis (Table 2) report M between 0.92 and 0.995 for it.
 //!
+//! **When to use it:** to reproduce the thesis' visibility method or to compare with it. It
+//! is not certified (a boundary particle in a tight concave region can be hidden from every
+//! viewpoint); for the labels themselves use `exact`, the reference (accuracy and speed of
+//! both on the same scenes: `BENCHMARKS.md`, written by `cargo xtask sweep`).
+//!
 //! # Method (Alg. 1)
 //! 1. **Viewpoints** ([`viewpoint`]). A uniform grid of cells of side `2r`; a viewpoint at
 //!    the centre of every empty cell adjacent to a full cell. A *cavity cell* (a full cell
@@ -49,9 +54,9 @@
 //!   from the hull of the other flipped points by at most a tolerance (a near-tie: within
 //!   round-off or a hair of being hidden) is not visible. `auto` is
 //!   [`PROTRUSION_TOLERANCE_2D`]` = 1e-3` in 2D and [`PROTRUSION_TOLERANCE_3D`]` = 1e-5`
-//!   (round-off only) in 3D, the one rule we found that meets both goals of issue 23: the
-//!   author's frames at least as the author's code, and no scene of the sweep below Alg. 1
-//!   without the tolerance.
+//!   (round-off only) in 3D, the one rule we found that meets both goals: the author's
+//!   frames at least as well as the author's code scores them, and no scene of the sweep
+//!   below Alg. 1 without the tolerance.
 //!
 //!   In 2D, `1e-3` on the author's frames: frame 50 FP 52 → 45 (M 0.9692), frame 100
 //!   FP 105 → 90 (M 0.9286), Rec 1 on all three (the author's code: 61 and 98 FP).
@@ -71,11 +76,11 @@
 //!   (Frank–Wolfe) instead of the vertex-normal bound, or scaling the tolerance by the
 //!   corner's longest hull edge, its square or the flip's amplification of input noise
 //!   (`(γ−1)|p|^{−γ}`) each lose dambreak9 or frame 100 (measured with the constant as a
-//!   variable on the 36 uniform-radius scenes, against hpr before issue 23, `de92b4a^1`).
-//!   With `auto`, every scene of the sweep is at or above hpr before issue 23 (snapshots
-//!   of `de92b4a^1` against today's), except the tie lattice `cubic_lattice_tie3d`, whose
-//!   particles are all boundary by a hair (`r` is `√3/2` rounded down): M 0.488 at every
-//!   tolerance, where round-off once made 39 more of them visible (section "Noise").
+//!   variable on the 36 uniform-radius scenes, against Alg. 1 without the tolerance).
+//!   With `auto`, every scene of the sweep scores at least as Alg. 1 without the tolerance,
+//!   except the tie lattice `cubic_lattice_tie3d`, whose particles are all boundary by a
+//!   hair (`r` is `√3/2` rounded down): M 0.488 at every tolerance, because the margins of
+//!   section "Noise" keep round-off from making its particles visible.
 //!   Nothing in Alg. 1 separates 2D from 3D: the split is a measured choice, and
 //!   `protrusion=1e-3` (a row of the sweep) gives 3D the higher mean M at the price of
 //!   those three scenes.
@@ -101,36 +106,31 @@
 //! # Cost
 //! Each viewpoint builds one hull of its `k` candidates within `4r`, so the work per
 //! particle grows with `(r / spacing)^D` and with the share of the particles near a surface.
-//! Profiled (issue 21) on a jittered block of 32,768 particles at `r = 2.2` spacings (about
-//! 360 neighbours within `2r`, 2,000 candidates per viewpoint), the quadratic scans after
-//! the hull (every point against every facet and corner, and a norm per pair for the
-//! near-twin test) took 57% of the time; they now exit early and visit only the cells of a
+//! On a dense jittered block (`r = 2.2` spacings: about 360 neighbours within `2r`, 2,000
+//! candidates per viewpoint; example `profile_dense`, made for profilers) the time goes to
+//! the hull (about half of the instructions: Quickhull with exact predicates, 3–5
+//! orientation tests per candidate), the cavity directions `δ_i` (one `2r` neighbour pass per
+//! particle of a cavity cell) and the sorting and gathering of candidates. The hull's test of
+//! a point against a facet first goes through a floating-point filter on the facet's stored
+//! plane, which settles "strictly inside" without the full predicate, and its working memory
+//! is reused between hulls. The scans after the hull (every point against every facet and
+//! corner, a norm per pair for the near-twin test) exit early and visit only the cells of a
 //! box grid over the flips that can reach the level in question
-//! ([`visibility::visible_from_origin`]), with unchanged labels. What remains is the hull
-//! (about half of the instructions: Quickhull with exact predicates, 3–5 orientation tests
-//! per candidate; its tests of a point against a facet first go through a floating-point
-//! filter on the facet's stored plane, which settles "strictly inside" without the full
-//! predicate, and its working memory is reused between hulls: the hulls of `fluid50_r0.1`
-//! −40% instructions, the same hulls), the cavity directions `δ_i` (15%, one `2r` neighbour pass per particle of
-//! a cavity cell) and the sorting and gathering of candidates. One thread, one session on
-//! the shared 2-core machine: the block 9,000 → 21,000–24,000 particles/s, against a median
-//! of 48,000/s over the sweep's scenes of at least 1,000 particles (35,000/s over the 3D
-//! ones) and 170,000–200,000/s on a 100k jittered ball at `r = 1.2` (example
-//! `profile_dense`).
+//! ([`visibility::visible_from_origin`]). Its speed beside the other methods:
+//! `BENCHMARKS.md` and `cargo bench -p boundary --bench methods`.
 //!
 //! # Noise
 //! A perfect lattice puts particles exactly on cell faces, exactly `2r` and `4r` from
-//! viewpoints and neighbours, and flipped points exactly on hull facets; round-off of the
-//! coordinates then decided labels (before, with Qhull: 44 of 50,005 labels of a lattice disc
-//! and 615 of 50,061 of a lattice ball changed at r = 1 under a perturbation of at most
-//! 4e-6 spacings; 41,289 at r = 0.75 in 3D, where round-off gave the symmetric `δ_i = 0` of
-//! interior particles random directions). Every
-//! such decision now has a margin well above round-off: a particle within `1e-4·r` of a cell
+//! viewpoints and neighbours, and flipped points exactly on hull facets; without margins,
+//! round-off of the coordinates would decide labels (a perturbation of a few `1e-6`
+//! spacings would change hundreds of a lattice's labels, and give the symmetric `δ_i = 0`
+//! of interior particles random directions). Every such decision has a margin well above
+//! round-off: a particle within `1e-4·r` of a cell
 //! fills it ([`viewpoint::CELL_TOLERANCE`]), the neighbourhood of Eq. 2.3 reaches
 //! `2r(1 + 1e-4)` ([`viewpoint::NEIGHBOUR_TOLERANCE`]), a `δ_i` shorter than `1e-4·r` gives no
 //! cavity viewpoint ([`viewpoint::DIRECTION_TOLERANCE`]), candidates reach `4r(1 + 1e-4)`
 //! ([`REACH_TOLERANCE`]) and hull vertices must protrude by `1e-3` in 2D, `1e-5` in 3D.
-//! The same lattices now change no label at r = 0.75, 0.9, 1, 1.2, 1.5 and 2 (test
+//! Perturbed lattices change no label at r = 0.75, 0.9, 1, 1.2, 1.5 and 2 (test
 //! `lattice_round_off_does_not_change_the_labels`). What remains: a particle whose distance
 //! to a cell, a viewpoint or a neighbour lies within the noise of the tolerance itself
 //! (e.g. `4r(1 + 1e-4)` exactly) still flips; lattices do not put particles there.
@@ -160,7 +160,7 @@
 //! of `r`, the 3D bound, also used in 2D), which also covers the `8r` of the hulls.
 //!
 //! # Hard cases
-//! What `hpr` returns on the hard cases of issue 11 (the test
+//! What `hpr` returns on the hard cases (the test
 //! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
 //! them all and keeps the table of counts against `exact`, `+FP −FN`, in
 //! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`).
@@ -438,7 +438,10 @@ impl HprDetector {
                 |(candidates, local, visible), v| {
                     candidates.clear();
                     grid.for_each_within(&v.at, reach, |j, _| candidates.push(j));
-                    if candidates.is_empty() || candidates.iter().all(|&j| j >= owned) {
+                    if boundary_core::stop::requested()
+                        || candidates.is_empty()
+                        || candidates.iter().all(|&j| j >= owned)
+                    {
                         return (Vec::new(), HprStats::default());
                     }
                     // Deterministic input order for the hull, whatever the grid's order.

@@ -160,7 +160,12 @@ pub fn place_viewpoints<const D: usize>(
             use rayon::prelude::*;
             members
                 .par_iter()
-                .filter_map(|&i| cavity_viewpoint(positions, grid, i as usize, r))
+                .filter_map(|&i| {
+                    if boundary_core::stop::requested() {
+                        return None;
+                    }
+                    cavity_viewpoint(positions, grid, i as usize, r)
+                })
                 .collect()
         };
         out.extend(found.into_iter().map(|at| Viewpoint {

@@ -171,7 +171,8 @@ pub fn visible_from_origin<const D: usize>(
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Scan {
     /// Every point for every facet and corner (the definitions, quadratic in the number of
-    /// candidates: the profile of issue 21's dense set spent 57% of the time here).
+    /// candidates: on dense sets, with thousands of candidates per viewpoint, most of the time
+    /// would go here).
     #[cfg_attr(not(test), allow(dead_code))]
     Full,
     /// Early exits, and only the cells of [`FlipBoxes`] that can reach a level.
@@ -539,7 +540,7 @@ mod tests {
     }
     /// The pruned scans (early exits, cell boxes, sorted near-twin search) decide as the full
     /// scans that define the test, on the candidates of viewpoints around a dense jittered
-    /// block (about 360 neighbours within 2r, issue 21's bench set) and on near-tie sets
+    /// block (about 360 neighbours within 2r, the cross-method bench's dense set) and on near-tie sets
     /// (jitter of the order of the tolerance), 2D and 3D, at several tolerances.
     #[test]
     fn pruned_scans_decide_as_the_full_scans() {

@@ -74,7 +74,7 @@ fn lattice_balls_rim_and_core() {
 /// The thesis author's own 2D frames at the author's r = 0.022105 (shared data): at default
 /// parameters `hpr` finds every boundary particle (Rec = 1) with M at least that of the
 /// author's reference code (`boundary.py` of marcos-sandim/boundary-detection, which scores
-/// M = 1.0, 0.9582 and 0.9223 on frames 1, 50 and 100; issue 23); so does `grids=2`, whose
+/// M = 1.0, 0.9582 and 0.9223 on frames 1, 50 and 100); so does `grids=2`, whose
 /// boundary is a subset of the default's. A missing data folder is a failure unless
 /// `BOUNDARY_ALLOW_MISSING_DATA=1`.
 #[test]
@@ -132,8 +132,8 @@ fn sandim_vortex_frames_reach_the_authors_code_with_full_recall() {
 
 /// A lattice disc (2D) or ball (3D) of spacing 1 and the same lattice with every coordinate
 /// moved by a pseudo-random round-off of at most `4e-6` spacings: `hpr` gives the same labels
-/// (issue 20: before, on 50k-particle lattices, it changed 44 (2D) and 615 (3D) labels at
-/// r = 1, through ties at cell faces, at `2r` and `4r`, and on hull facets).
+/// (without the margins of the crate docs' section "Noise", ties at cell faces, at `2r` and
+/// `4r`, and on hull facets would let round-off decide them).
 #[test]
 fn lattice_round_off_does_not_change_the_labels() {
     let mut state = 0x2545_f491_4f6c_dd1d_u64;

@@ -4,6 +4,10 @@
 //! particle methods using interval analysis*, J. Comput. Phys. 2020, Sec. 3.1, Algorithms 1–3
 //! and the Appendix (Algorithm 4). Method name `ia`, one parameter `depth` (default 6).
 //!
+//! **When to use it:** to reproduce the paper's interval method, or where a certificate is
+//! enough: it never misses a boundary particle, and may flag a few interior ones near ties
+//! (fewer at a larger `depth`). For exact labels use `exact` (accuracy and speed on the same scenes: `BENCHMARKS.md`, written by `cargo xtask sweep`).
+//!
 //! # Method
 //! Particle `i` is interior iff its sphere `S_i` is covered by the closed balls
 //! `B_j = {x : f_j(x) <= 0}`, `f_j(x) = |x − p_j|² − r²`, of the particles within `2r`.
@@ -91,7 +95,7 @@
 //! solids costs what it did.
 //!
 //! # Hard cases
-//! What `ia` returns on the hard cases of issue 11 (the test
+//! What `ia` returns on the hard cases (the test
 //! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
 //! them all and keeps the table of counts against `exact`, `+FP −FN`, in
 //! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`).
@@ -264,6 +268,9 @@ fn detect_with<const D: usize>(
     let labels: Labels = (0..count)
         .into_par_iter()
         .map_init(Scratch::<D>::default, |scratch, i| {
+            if boundary_core::stop::requested() {
+                return Default::default();
+            }
             match &grids {
                 (Some(grid), _) => scratch.gather(positions, grid, i, r),
                 (_, Some(grid)) => scratch.gather_radii(positions, grid, i),

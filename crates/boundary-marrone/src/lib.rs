@@ -4,6 +4,11 @@
 //! 3652–3663: an SPH baseline of the JCP 2020 comparison (Tables 1–2, "Marrone et al."), method
 //! name `marrone`.
 //!
+//! **When to use it:** to compare with the free-surface test an SPH solver already runs
+//! (positions only, no certificate: it can miss boundary particles and flag interior ones),
+//! or to reproduce the JCP 2020 comparison. For the labels themselves use `exact`
+//! (accuracy and speed on the same scenes: `BENCHMARKS.md`, written by `cargo xtask sweep`).
+//!
 //! # Method
 //! Every quantity is an SPH sum over the neighbours `j` within the kernel support `2h`, with
 //! `∇W_ij = ∇_i W(|x_i − x_j|)` and the summation-density volumes `V_j = m/ρ_j` of a uniform
@@ -59,7 +64,7 @@
 //! - Not certified: the method has no guarantee against false negatives.
 //!
 //! # Hard cases
-//! What `marrone` returns on the hard cases of issue 11 (the test
+//! What `marrone` returns on the hard cases (the test
 //! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
 //! them all and keeps the table of counts against `exact`, `+FP −FN`, in
 //! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`).
@@ -367,7 +372,12 @@ impl MarroneDetector {
         let ctx = SphContext::new(set, self.smoothing().kernel_at(r))?;
         Ok((0..set.len())
             .into_par_iter()
-            .map(|i| SymmetricEigen::new(&ctx.local_sums(i).renormalisation).min_value())
+            .map(|i| {
+                if boundary_core::stop::requested() {
+                    return Default::default();
+                }
+                SymmetricEigen::new(&ctx.local_sums(i).renormalisation).min_value()
+            })
             .collect())
     }
 

@@ -4,6 +4,10 @@
 //! on Computer Animation (SCA) 2003, 154–159, Sec. 4.4 (surface tension): an SPH baseline of
 //! the thesis' comparison (Sandim 2020, Table 2, "Müller"), method name `muller`.
 //!
+//! **When to use it:** to compare with the colour-field surface test of SPH codes, the
+//! cheapest test of all (one kernel sum per particle, no certificate), or to reproduce the
+//! thesis' comparison. For the labels themselves use `exact` (accuracy and speed on the same scenes: `BENCHMARKS.md`, written by `cargo xtask sweep`).
+//!
 //! # Method
 //! The colour field is 1 at particle locations and 0 elsewhere; its SPH interpolant and
 //! gradient are (Müller et al. 2003, Sec. 4.4, with `V_j = m_j/ρ_j`)
@@ -65,7 +69,7 @@
 //! - Not certified.
 //!
 //! # Hard cases
-//! What `muller` returns on the hard cases of issue 11 (the test
+//! What `muller` returns on the hard cases (the test
 //! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
 //! them all and keeps the table of counts against `exact`, `+FP −FN`, in
 //! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`).
@@ -219,7 +223,12 @@ impl MullerDetector {
         let ctx = SphContext::new(set, self.smoothing().kernel_at(r))?;
         Ok((0..set.len())
             .into_par_iter()
-            .map(|i| ctx.local_sums(i).gradient_h.norm())
+            .map(|i| {
+                if boundary_core::stop::requested() {
+                    return Default::default();
+                }
+                ctx.local_sums(i).gradient_h.norm()
+            })
             .collect())
     }
 }

@@ -1,59 +1,60 @@
-//! The Python package `boundary`: boundary particles of meshfree particle sets from NumPy.
+//! The compiled module `boundary_particles._native` of the Python package
+//! `boundary-particles`: boundary particles of meshfree particle sets from NumPy.
 //!
 //! This crate only translates between Python and the Rust library (the facade `boundary`,
 //! `boundary-io`, `boundary-resample`): NumPy arrays in, NumPy arrays out, library errors as
 //! Python exceptions with the messages the `boundary` command prints. No algorithm lives here.
-//!
-//! ```python
-//! import numpy as np, boundary
-//! points = np.random.default_rng(1).random((10_000, 3))
-//! labels = boundary.detect(points, r=0.03, method="ge", depth=4)   # bool array, True = boundary
-//! print(boundary.score(points, 0.03, "muller"))                    # TP, TN, FP, FN, Rec, FPR, M
-//! ```
+//! The public functions, their signatures and their docstrings are those of the pure-Python
+//! package around this module (`python/boundary_particles/__init__.py`), which only forwards
+//! to it; `python/boundary_particles/_native.pyi` types this module (checked by
+//! `mypy.stubtest` in the Python tests).
 //!
 //! # Conventions
-//! - `points`: any `(n, 2)` or `(n, 3)` array-like of reals. A C-contiguous `float64` array is
-//!   read in place (no intermediate copy; the engine's particle set is built straight from its
-//!   buffer); anything else (`float32`, Fortran order, lists) is first converted by NumPy.
-//! - Detection runs on a worker thread with the GIL released; rayon spreads it over all cores
-//!   (or a pool of `threads`). The calling thread waits in slices of 50 ms and checks for
-//!   signals between them, so Ctrl-C raises `KeyboardInterrupt` at once; the abandoned detection
-//!   keeps its worker thread (and cores) busy until it finishes, and its result is dropped.
-//! - `radii`: an optional `(n,)` array-like, a radius factor `s_i` per particle (adaptive
-//!   resolution; converted like `points`); particle `i` then has radius `r_i = r * s_i`, and
-//!   `r` defaults to 1 (the radii as given). Without `radii`, `r` is required.
-//! - A domain (`walls`, `wall_radii`, `solids`, `periodic`, `phases` of `detect`) becomes the
-//!   library's `Domain`, solids and periodic axes as the texts `HalfSpace::parse` and
-//!   `Periodic::parse` read (`"y<0"`, `"x:0:1"`); with `phases`, `detect` also returns the
-//!   interface labels.
+//! - `points`: an `(n, 2)` or `(n, 3)` array-like of reals. A C-contiguous `float64` array is
+//!   read from its own buffer (no NumPy conversion); anything else (`float32`, Fortran order,
+//!   lists) is first converted by NumPy. Either way the positions are then copied once into
+//!   the engine's particle set, validated in the same pass.
+//! - Detection runs on a rayon pool of its own (`threads` workers, default all cores) with the
+//!   GIL released; the calling thread waits in slices of 50 ms and checks for signals between
+//!   them. On Ctrl-C it stops the pool's workers through a `boundary::stop::StopToken` (each
+//!   worker ends the particle it is classifying), waits for them, and raises
+//!   `KeyboardInterrupt`: no detection keeps running in the background.
+//! - `r`: a positive real, or `"auto"` (the core's `auto_radius`, the CLI's `--radius auto`).
+//!   With `radii` (a radius factor `s_i` per particle, `r_i = r * s_i`), `r` defaults to 1.
+//! - A domain (`walls`, `wall_radii`, `solids`, `periodic`, `phases`) becomes the library's
+//!   `Domain`, solids and periodic axes as the texts `HalfSpace::parse` and `Periodic::parse`
+//!   read (`"y<0"`, `"x:0:1"`).
 //! - A flat `(n, 3)` set (one coordinate equal for every particle, or every particle at one
-//!   place; `Flatness`) is a `ValueError` naming the 2D slice to pass: read as 3D, every
-//!   particle of it would be boundary. Walls may be flat.
-//! - Errors: `ValueError` for bad input (shape, NaN, a flat 3D set, `r <= 0`, a bad radius
-//!   naming the particle, unknown method or parameter, malformed file), `OSError` when a file
-//!   cannot be opened or written. No input panics: a panic inside the library would surface as
-//!   `RuntimeError`, never abort the interpreter.
-//!
-//! The typed signatures and the docstrings users see are in `boundary.pyi`.
+//!   place; `Flatness`) is a `ValueError` naming `dim=2` and the 2D slice to pass: read as 3D,
+//!   every particle of it would be boundary. `dim=2` drops the constant axis (z first, then y,
+//!   then x, as `boundary_io` reads a file with `dim = 2`); `dim=3` keeps such a set 3D.
+//! - Errors: `ValueError` for bad input, `OSError` when a file cannot be opened or written.
+//!   No input panics: a panic inside the library would surface as `RuntimeError`, never
+//!   abort the interpreter.
 
+use boundary::stop::StopToken;
 use boundary::{
-    detector_with_params, methods as method_names, summary, AnyParticleSet, BoundaryDetector,
-    Confusion, Detection, Domain, DomainDetection, Flatness, HalfSpace, Labels, ParticleSet,
-    Periodic, Point, Radius,
+    auto_radius, detector_with_params, methods as method_names, summary, AnyParticleSet,
+    BoundaryDetector, Confusion, DetectError, Domain, DomainDetection, Flatness, HalfSpace, Labels,
+    ParticleSet, Periodic, Point, Radius,
 };
 use boundary_io::{AttributeValues, Column, Format, IoError, ReadOptions};
-use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{
+    PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods,
+};
 use pyo3::exceptions::{
-    PyFileNotFoundError, PyOSError, PyRuntimeError, PyTypeError, PyUserWarning, PyValueError,
+    PyFileNotFoundError, PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyTypeError,
+    PyUserWarning, PyValueError,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
 use std::ffi::CString;
 use std::path::PathBuf;
 use std::sync::mpsc::{self, RecvTimeoutError};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-/// How long the calling thread waits for the worker between two signal checks.
+/// How long the calling thread waits for the workers between two signal checks.
 const SIGNAL_POLL: Duration = Duration::from_millis(50);
 
 fn value_error(message: impl std::fmt::Display) -> PyErr {
@@ -76,24 +77,36 @@ fn io_error(err: IoError) -> PyErr {
     }
 }
 
-/// `points` as a C-contiguous `float64` NumPy array: the object itself when it already is one
-/// (`numpy.ascontiguousarray` returns its argument then), else NumPy's converted copy.
-fn as_f64_array<'py>(points: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    let py = points.py();
+/// A detection's error as a Python exception: `KeyboardInterrupt` when it was stopped,
+/// `ValueError` otherwise (bad input for the method or the domain).
+fn detect_error(err: DetectError) -> PyErr {
+    match err {
+        DetectError::Interrupted => PyKeyboardInterrupt::new_err(err.to_string()),
+        other => value_error(other),
+    }
+}
+
+/// An array-like argument `what` as a C-contiguous `float64` array: the object itself when it
+/// already is one (`numpy.ascontiguousarray` returns its argument then), else NumPy's
+/// converted copy.
+fn float_array<'py>(
+    value: &Bound<'py, PyAny>,
+    what: &str,
+    expected: &str,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let py = value.py();
     let numpy = py.import("numpy")?;
     let kwargs = PyDict::new(py);
     kwargs.set_item("dtype", numpy.getattr("float64")?)?;
-    let array = numpy
-        .call_method("ascontiguousarray", (points,), Some(&kwargs))
-        .map_err(|e| {
-            value_error(format!(
-                "points must be an (n, 2) or (n, 3) array of reals: {}",
-                e.value(py)
-            ))
-        })?;
-    array
+    numpy
+        .call_method("ascontiguousarray", (value,), Some(&kwargs))
+        .map_err(|e| value_error(format!("{what} must be {expected}: {}", e.value(py))))?
         .cast_into::<PyArrayDyn<f64>>()
-        .map_err(|_| value_error("points: numpy.ascontiguousarray did not give a float64 array"))
+        .map_err(|_| {
+            value_error(format!(
+                "{what}: numpy.ascontiguousarray did not give a float64 array"
+            ))
+        })
 }
 
 /// The coordinates of `array` (checked `(n, 2)` or `(n, 3)`), as `(dim, flat slice)`.
@@ -125,31 +138,69 @@ fn shape_text(shape: &[usize]) -> String {
     }
 }
 
-/// The validated particle set of `flat` (`dim` coordinates per particle): one pass over the
-/// buffer, errors naming the particle (`particle 3: coordinate 0 is not finite (NaN)`).
-fn particle_set(dim: usize, flat: &[f64]) -> PyResult<AnyParticleSet> {
-    fn build<const D: usize>(flat: &[f64]) -> Result<ParticleSet<D>, boundary::CoreError> {
-        ParticleSet::new(
-            flat.chunks_exact(D)
-                .map(Point::<D>::from_column_slice)
-                .collect(),
-        )
-    }
-    let set = if dim == 2 {
-        build::<2>(flat).map(AnyParticleSet::from)
-    } else {
-        build::<3>(flat).map(AnyParticleSet::from)
-    };
-    set.map_err(value_error)
+/// The validated particle set of `flat` (`stride` coordinates per particle, of which the
+/// columns `kept` are taken, `D` of them): one pass over the buffer, errors naming the
+/// particle (`particle 3: coordinate 0 is not finite (NaN)`).
+fn particle_set<const D: usize>(
+    flat: &[f64],
+    stride: usize,
+    kept: [usize; D],
+) -> Result<ParticleSet<D>, boundary::CoreError> {
+    ParticleSet::new(
+        flat.chunks_exact(stride)
+            .map(|row| Point::<D>::from_fn(|k, _| row[kept[k]]))
+            .collect(),
+    )
 }
 
-/// The particle set of a Python `points` argument; a flat `(n, 3)` set is a ValueError
-/// (read as 3D, every particle of it would be boundary) that names the 2D slice to pass.
-fn read_points(points: &Bound<'_, PyAny>) -> PyResult<AnyParticleSet> {
-    let array = as_f64_array(points)?;
+/// The set of `dim` columns of `flat` (rows of `stride`), without the dimension checks.
+fn any_set(flat: &[f64], stride: usize) -> PyResult<AnyParticleSet> {
+    if stride == 2 {
+        particle_set(flat, 2, [0, 1]).map(AnyParticleSet::from)
+    } else {
+        particle_set(flat, 3, [0, 1, 2]).map(AnyParticleSet::from)
+    }
+    .map_err(value_error)
+}
+
+/// The particle set of a Python `points` argument. `dim`: `None` the array's own dimension,
+/// refusing a flat `(n, 3)` set (read as 3D, every particle of it would be boundary) with a
+/// message naming `dim=2` and the 2D slice; `Some(2)` drops the one constant axis of an
+/// `(n, 3)` array (z first, then y, then x); `Some(3)` keeps an `(n, 3)` array 3D as it is.
+fn read_points(points: &Bound<'_, PyAny>, dim: Option<usize>) -> PyResult<AnyParticleSet> {
+    let array = float_array(points, "points", "an (n, 2) or (n, 3) array of reals")?;
     let readonly = array.readonly();
-    let (dim, flat) = coordinates(&readonly)?;
-    let set = particle_set(dim, flat)?;
+    let (stride, flat) = coordinates(&readonly)?;
+    match (dim, stride) {
+        (None, _) | (Some(2), 2) | (Some(3), 3) => {}
+        (Some(3), _) => {
+            return Err(value_error(
+                "dim=3 but points is an (n, 2) array: a 2D set has no z",
+            ))
+        }
+        (Some(2), _) => {
+            let constant = |axis: usize| flat.chunks_exact(3).all(|row| row[axis] == flat[axis]);
+            let kept = match [2, 1, 0].into_iter().find(|&axis| constant(axis)) {
+                Some(2) => [0, 1],
+                Some(1) => [0, 2],
+                Some(_) => [1, 2],
+                None => {
+                    return Err(value_error(
+                        "dim=2 but none of x, y, z is constant over all particles, so no \
+                         axis can be dropped",
+                    ))
+                }
+            };
+            return particle_set(flat, 3, kept)
+                .map(AnyParticleSet::from)
+                .map_err(value_error);
+        }
+        (Some(d), _) => return Err(value_error(format!("dim must be 2 or 3, got {d}"))),
+    }
+    let set = any_set(flat, stride)?;
+    if dim == Some(3) {
+        return Ok(set);
+    }
     match set.flatness() {
         None => Ok(set),
         Some(flatness @ Flatness::Plane { axis, .. }) => {
@@ -160,7 +211,7 @@ fn read_points(points: &Bound<'_, PyAny>) -> PyResult<AnyParticleSet> {
             };
             Err(value_error(format!(
                 "points: {flatness}: a flat set is 2D, and as an (n, 3) array every particle \
-                 would be boundary; pass {slice}"
+                 would be boundary; pass dim=2 (or {slice}), or dim=3 to keep it 3D"
             )))
         }
         Some(flatness) => Err(value_error(format!(
@@ -169,81 +220,122 @@ fn read_points(points: &Bound<'_, PyAny>) -> PyResult<AnyParticleSet> {
     }
 }
 
-fn radius(r: f64) -> PyResult<Radius> {
-    Radius::new(r).map_err(value_error)
+/// The `r` argument: a positive real or the text `"auto"`.
+enum RadiusArg {
+    Value(f64),
+    Auto,
 }
 
-/// `set` with the radii of a Python `radii` argument (an `(n,)` array-like of reals; a
-/// C-contiguous float64 array is read in place), and the resolution: `r`, which defaults to 1
-/// with radii and is required without. Errors name the particle; scaled radii out of range
-/// too (`r_i = r * s_i`).
-fn with_radii(
-    function: &str,
-    set: AnyParticleSet,
-    r: Option<f64>,
-    radii: Option<&Bound<'_, PyAny>>,
-) -> PyResult<(AnyParticleSet, Radius)> {
-    let Some(radii) = radii else {
-        let r = r.ok_or_else(|| {
+fn radius_arg(r: Option<&Bound<'_, PyAny>>) -> PyResult<Option<RadiusArg>> {
+    let Some(r) = r else { return Ok(None) };
+    if let Ok(text) = r.cast::<PyString>() {
+        let text = text.to_string();
+        return if text.trim().eq_ignore_ascii_case("auto") {
+            Ok(Some(RadiusArg::Auto))
+        } else {
+            Err(value_error(format!(
+                "r must be a positive real or \"auto\", got {text:?}"
+            )))
+        };
+    }
+    if r.is_instance_of::<PyBool>() {
+        return Err(PyTypeError::new_err(
+            "r must be a positive real or \"auto\", got a bool",
+        ));
+    }
+    r.extract::<f64>()
+        .map(|v| Some(RadiusArg::Value(v)))
+        .map_err(|_| {
             PyTypeError::new_err(format!(
-                "{function}() missing required argument 'r' (the resolution; optional only \
-                 with radii=)"
+                "r must be a positive real or \"auto\", got {}",
+                r.get_type()
+                    .name()
+                    .map_or_else(|_| "an object".to_owned(), |n| n.to_string())
             ))
-        })?;
-        return Ok((set, radius(r)?));
-    };
-    let r = radius(r.unwrap_or(1.0))?;
-    let py = radii.py();
-    let numpy = py.import("numpy")?;
-    let kwargs = PyDict::new(py);
-    kwargs.set_item("dtype", numpy.getattr("float64")?)?;
-    let array = numpy
-        .call_method("ascontiguousarray", (radii,), Some(&kwargs))
-        .map_err(|e| value_error(format!("radii must be an array of reals: {}", e.value(py))))?
-        .cast_into::<PyArrayDyn<f64>>()
-        .map_err(|_| value_error("radii: numpy.ascontiguousarray did not give a float64 array"))?;
+        })
+}
+
+fn radius(r: f64) -> PyResult<Radius> {
+    Radius::new(r).map_err(|e| value_error(format!("r: {e}")))
+}
+
+/// The resolution of `set` for an `r` argument without radii: the value, or the estimate of
+/// `"auto"`.
+fn resolve_radius(function: &str, set: &AnyParticleSet, r: Option<RadiusArg>) -> PyResult<Radius> {
+    match r {
+        None => Err(PyTypeError::new_err(format!(
+            "{function}() missing required argument 'r' (the resolution, or \"auto\"; optional \
+             only with radii=)"
+        ))),
+        Some(RadiusArg::Value(v)) => radius(v),
+        Some(RadiusArg::Auto) => auto_radius(set).map_err(value_error)?.ok_or_else(|| {
+            value_error(
+                "r=\"auto\" needs at least two distinct particle positions to estimate the \
+                 spacing",
+            )
+        }),
+    }
+}
+
+/// One radius factor per particle from an `(n,)` array-like `values` (`what` in messages).
+fn radius_factors(values: &Bound<'_, PyAny>, what: &str, per: &str) -> PyResult<Vec<f64>> {
+    let array = float_array(values, what, "an array of reals")?;
     let readonly = array.readonly();
     let shape = readonly.shape();
     if shape.len() != 1 {
         return Err(value_error(format!(
-            "radii must be a one-dimensional array (one radius per particle), got shape {}",
+            "{what} must be a one-dimensional array (one radius per {per}), got shape {}",
             shape_text(shape)
         )));
     }
-    let values = readonly
+    Ok(readonly
         .as_slice()
-        .map_err(|e| value_error(format!("radii: {e}")))?
-        .to_vec();
+        .map_err(|e| value_error(format!("{what}: {e}")))?
+        .to_vec())
+}
+
+/// `set` with radius factors `values` (`what` in messages), checked at scale `r`.
+fn attach_radii(
+    set: AnyParticleSet,
+    values: Vec<f64>,
+    r: Radius,
+    what: &str,
+) -> PyResult<AnyParticleSet> {
     let set = set
         .with_radii(values)
-        .map_err(|e| value_error(format!("radii: {e}")))?;
+        .map_err(|e| value_error(format!("{what}: {e}")))?;
     match &set {
         AnyParticleSet::D2(s) => s.resolved_radii(r).map(drop),
         AnyParticleSet::D3(s) => s.resolved_radii(r).map(drop),
     }
-    .map_err(|e| value_error(format!("radii scaled by r = {}: {e}", r.get())))?;
-    Ok((set, r))
+    .map_err(|e| value_error(format!("{what} scaled by r = {}: {e}", r.get())))?;
+    Ok(set)
 }
 
-/// An array-like argument `what` as a C-contiguous `float64` array (the object itself when it
-/// already is one, else NumPy's converted copy).
-fn float_array<'py>(
-    value: &Bound<'py, PyAny>,
-    what: &str,
-) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    let py = value.py();
-    let numpy = py.import("numpy")?;
-    let kwargs = PyDict::new(py);
-    kwargs.set_item("dtype", numpy.getattr("float64")?)?;
-    numpy
-        .call_method("ascontiguousarray", (value,), Some(&kwargs))
-        .map_err(|e| value_error(format!("{what} must be an array of reals: {}", e.value(py))))?
-        .cast_into::<PyArrayDyn<f64>>()
-        .map_err(|_| {
-            value_error(format!(
-                "{what}: numpy.ascontiguousarray did not give a float64 array"
+/// `set` with the radii of a Python `radii` argument, and the resolution: `r`, which defaults
+/// to 1 with radii (the scale of the factors) and is required without (a value or `"auto"`).
+fn with_radii(
+    function: &str,
+    set: AnyParticleSet,
+    r: Option<RadiusArg>,
+    radii: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(AnyParticleSet, Radius)> {
+    let Some(radii) = radii else {
+        let r = resolve_radius(function, &set, r)?;
+        return Ok((set, r));
+    };
+    let r = match r {
+        None => radius(1.0)?,
+        Some(RadiusArg::Value(v)) => radius(v)?,
+        Some(RadiusArg::Auto) => {
+            return Err(value_error(
+                "r=\"auto\" estimates one uniform resolution; with radii= give r as the scale \
+                 of the radius factors (default 1)",
             ))
-        })
+        }
+    };
+    let values = radius_factors(radii, "radii", "particle")?;
+    Ok((attach_radii(set, values, r, "radii")?, r))
 }
 
 /// The texts of a `solids` or `periodic` argument: one string, or a sequence of strings.
@@ -324,21 +416,13 @@ fn phase_numbers(phases: &Bound<'_, PyAny>) -> PyResult<Vec<u32>> {
 /// The domain of `detect`'s keyword arguments, for particles of dimension `dim` and scale
 /// `r`: walls (an `(m, dim)` array) with their optional radius factors, solid half-spaces and
 /// periodic axes as texts (`"y<0"`, `"x:0:1"`), phase numbers.
-fn domain(
-    dim: usize,
-    r: Radius,
-    walls: Option<&Bound<'_, PyAny>>,
-    wall_radii: Option<&Bound<'_, PyAny>>,
-    solids: Option<&Bound<'_, PyAny>>,
-    periodic: Option<&Bound<'_, PyAny>>,
-    phases: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Domain> {
+fn domain(dim: usize, r: Radius, args: &DomainArgs<'_, '_>) -> PyResult<Domain> {
     let mut domain = Domain::new();
-    match (walls, wall_radii) {
+    match (args.walls, args.wall_radii) {
         (None, Some(_)) => return Err(value_error("wall_radii given without walls")),
         (None, None) => {}
         (Some(walls), wall_radii) => {
-            let array = float_array(walls, "walls")?;
+            let array = float_array(walls, "walls", "an array of reals")?;
             let readonly = array.readonly();
             let shape = readonly.shape();
             if shape.len() != 2 || shape[1] != dim {
@@ -350,52 +434,41 @@ fn domain(
             let flat = readonly
                 .as_slice()
                 .map_err(|e| value_error(format!("walls: {e}")))?;
-            let mut set = particle_set(dim, flat)
+            let mut set = any_set(flat, dim)
                 .map_err(|e| value_error(format!("walls: {}", e.value(walls.py()))))?;
             if let Some(radii) = wall_radii {
-                let array = float_array(radii, "wall_radii")?;
-                let readonly = array.readonly();
-                let shape = readonly.shape();
-                if shape.len() != 1 {
-                    return Err(value_error(format!(
-                        "wall_radii must be a one-dimensional array (one radius per wall \
-                         particle), got shape {}",
-                        shape_text(shape)
-                    )));
-                }
-                let values = readonly
-                    .as_slice()
-                    .map_err(|e| value_error(format!("wall_radii: {e}")))?
-                    .to_vec();
-                set = set
-                    .with_radii(values)
-                    .map_err(|e| value_error(format!("wall_radii: {e}")))?;
-                match &set {
-                    AnyParticleSet::D2(s) => s.resolved_radii(r).map(drop),
-                    AnyParticleSet::D3(s) => s.resolved_radii(r).map(drop),
-                }
-                .map_err(|e| value_error(format!("wall_radii scaled by r = {}: {e}", r.get())))?;
+                let values = radius_factors(radii, "wall_radii", "wall particle")?;
+                set = attach_radii(set, values, r, "wall_radii")?;
             }
             domain = domain.with_walls(set);
         }
     }
-    if let Some(solids) = solids {
+    if let Some(solids) = args.solids {
         for text in texts(solids, "solids", "y<0")? {
             domain = domain.with_solid(HalfSpace::parse(&text).map_err(value_error)?);
         }
     }
-    if let Some(periodic) = periodic {
+    if let Some(periodic) = args.periodic {
         for text in texts(periodic, "periodic", "x:0:1")? {
             domain = domain.with_periodic(Periodic::parse(&text).map_err(value_error)?);
         }
     }
-    if let Some(phases) = phases {
+    if let Some(phases) = args.phases {
         domain = domain.with_phases(phase_numbers(phases)?);
     }
     Ok(domain)
 }
 
-/// A keyword argument's value as the text `--set KEY=VALUE` would carry: `True`/`False` as
+/// The domain arguments of `Detector.detect`, as given.
+struct DomainArgs<'a, 'py> {
+    walls: Option<&'a Bound<'py, PyAny>>,
+    wall_radii: Option<&'a Bound<'py, PyAny>>,
+    solids: Option<&'a Bound<'py, PyAny>>,
+    periodic: Option<&'a Bound<'py, PyAny>>,
+    phases: Option<&'a Bound<'py, PyAny>>,
+}
+
+/// A parameter's value as the text `--set KEY=VALUE` would carry: `True`/`False` as
 /// `true`/`false`, anything else by `str()`.
 fn param_text(value: &Bound<'_, PyAny>) -> PyResult<String> {
     if let Ok(flag) = value.cast::<PyBool>() {
@@ -404,31 +477,22 @@ fn param_text(value: &Bound<'_, PyAny>) -> PyResult<String> {
     Ok(value.str()?.to_string())
 }
 
-/// The detector `method` with the keyword parameters `params`, in the order given.
-fn detector(
-    method: &str,
-    params: Option<&Bound<'_, PyDict>>,
-) -> PyResult<Box<dyn BoundaryDetector>> {
+/// The `(key, text)` pairs of a parameter dict, in the order given.
+fn param_pairs(params: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, String)>> {
     let mut pairs = Vec::new();
     if let Some(params) = params {
         for (key, value) in params.iter() {
             pairs.push((key.str()?.to_string(), param_text(&value)?));
         }
     }
-    detector_with_params(method, &pairs).map_err(value_error)
+    Ok(pairs)
 }
 
-/// A rayon pool of `threads` workers, or `None` for rayon's global pool (all cores).
-fn pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>> {
-    match threads {
-        None => Ok(None),
-        Some(0) => Err(value_error("threads must be at least 1")),
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map(Some)
-            .map_err(|e| PyRuntimeError::new_err(format!("cannot start worker threads: {e}"))),
-    }
+/// The detector `method` with the parameters `pairs`, through the facade's registry.
+fn detector(method: &str, pairs: &[(String, String)]) -> PyResult<Arc<dyn BoundaryDetector>> {
+    detector_with_params(method, pairs)
+        .map(Arc::from)
+        .map_err(value_error)
 }
 
 /// The text of a caught panic's payload.
@@ -440,26 +504,36 @@ fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
         .unwrap_or_else(|| "unknown panic".to_owned())
 }
 
-/// Runs `job` on a worker thread, with the GIL released while waiting, checking for signals
-/// (Ctrl-C) every [`SIGNAL_POLL`]. On a signal the job is abandoned: its thread runs on until
-/// the job ends, and the result is dropped. A panic in `job` becomes `RuntimeError`.
-fn run_interruptible<T, F>(py: Python<'_>, job: F) -> PyResult<T>
+/// Runs `job` on a rayon pool of `threads` workers (all cores when `None`) built for this
+/// call, with the GIL released while waiting, checking for signals (Ctrl-C) every
+/// [`SIGNAL_POLL`]. On a signal the pool's stop token is stopped, so the workers leave their
+/// remaining particles; the call waits for them to end (within one particle's work) and then
+/// raises the signal's exception. A panic in `job` becomes `RuntimeError`.
+fn run_interruptible<T, F>(py: Python<'_>, threads: Option<usize>, job: F) -> PyResult<T>
 where
     T: Send + 'static,
     F: FnOnce() -> T + Send + 'static,
 {
+    if threads == Some(0) {
+        return Err(value_error("threads must be at least 1"));
+    }
+    let token = StopToken::new();
+    let pool = token
+        .pool_builder()
+        .num_threads(threads.unwrap_or(0))
+        .thread_name(|k| format!("boundary-{k}"))
+        .build()
+        .map_err(|e| PyRuntimeError::new_err(format!("cannot start worker threads: {e}")))?;
     let (sender, receiver) = mpsc::channel();
-    std::thread::Builder::new()
-        .name("boundary-detect".to_owned())
-        .spawn(move || {
-            let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(job))
-                .map_err(|payload| panic_text(payload.as_ref()));
-            // The receiver is gone when the caller was interrupted: nothing to deliver to.
-            let _ = sender.send(outcome);
-        })
-        .map_err(|e| PyRuntimeError::new_err(format!("cannot start a worker thread: {e}")))?;
+    pool.spawn(move || {
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(job))
+            .map_err(|payload| panic_text(payload.as_ref()));
+        // The receiver outlives the job (the caller waits for it even when interrupted).
+        let _ = sender.send(outcome);
+    });
     let mut receiver = receiver;
-    loop {
+    let mut interrupted: Option<PyErr> = None;
+    let outcome = loop {
         // The receiver travels into the GIL-free wait and back (it is `Send`, not `Sync`).
         let (back, received) = py.detach(move || {
             let received = receiver.recv_timeout(SIGNAL_POLL);
@@ -467,53 +541,51 @@ where
         });
         receiver = back;
         match received {
-            Ok(Ok(value)) => return Ok(value),
-            Ok(Err(panic)) => {
-                return Err(PyRuntimeError::new_err(format!(
-                    "internal error (please report it): {panic}"
-                )))
+            Ok(outcome) => break outcome,
+            Err(RecvTimeoutError::Timeout) => {
+                if interrupted.is_none() {
+                    if let Err(signal) = py.check_signals() {
+                        token.stop();
+                        interrupted = Some(signal);
+                    }
+                }
             }
-            Err(RecvTimeoutError::Timeout) => py.check_signals()?,
             Err(RecvTimeoutError::Disconnected) => {
-                return Err(PyRuntimeError::new_err(
-                    "internal error (please report it): the worker thread ended without a result",
-                ))
+                break Err("the worker ended without a result".to_owned())
             }
         }
+    };
+    if let Some(signal) = interrupted {
+        return Err(signal);
     }
+    outcome.map_err(|panic| {
+        PyRuntimeError::new_err(format!("internal error (please report it): {panic}"))
+    })
 }
 
-/// Detection of `set` by `detector` in `domain` (the bare cloud: `Domain::new()`) in `pool`,
-/// interruptible; also its wall time in seconds (the Rust call alone, for the overhead
-/// measurement).
+/// Detection of `set` by `detector` in `domain` (the bare cloud: `Domain::new()`) on
+/// `threads` workers, interruptible; also its wall time in seconds (the Rust call alone).
 fn detect_set(
     py: Python<'_>,
-    detector: Box<dyn BoundaryDetector>,
+    detector: Arc<dyn BoundaryDetector>,
     set: AnyParticleSet,
     domain: Domain,
     r: Radius,
     threads: Option<usize>,
 ) -> PyResult<(DomainDetection, f64)> {
-    let pool = pool(threads)?;
-    let outcome = run_interruptible(py, move || {
-        let run = || {
-            let start = Instant::now();
-            let detection = if domain.is_bare() {
-                detector.detect(&set, r).map(|detection| DomainDetection {
-                    detection,
-                    interface: None,
-                })
-            } else {
-                detector.detect_in(&set, &domain, r)
-            };
-            detection.map(|d| (d, start.elapsed().as_secs_f64()))
+    let outcome = run_interruptible(py, threads, move || {
+        let start = Instant::now();
+        let detection = if domain.is_bare() {
+            detector.detect(&set, r).map(|detection| DomainDetection {
+                detection,
+                interface: None,
+            })
+        } else {
+            detector.detect_in(&set, &domain, r)
         };
-        match &pool {
-            Some(pool) => pool.install(run),
-            None => run(),
-        }
+        detection.map(|d| (d, start.elapsed().as_secs_f64()))
     })?;
-    outcome.map_err(value_error)
+    outcome.map_err(detect_error)
 }
 
 fn bool_array(py: Python<'_>, labels: Vec<bool>) -> Bound<'_, PyArray1<bool>> {
@@ -531,131 +603,187 @@ fn points_array<'py>(py: Python<'py>, set: &AnyParticleSet) -> PyResult<Bound<'p
     Ok(PyArray1::from_vec(py, flat).reshape([n, dim])?.into_any())
 }
 
-/// Labels every particle: True on the boundary, False inside.
-///
-/// Particle i is interior iff its sphere of radius r is covered by the balls of radius r of
-/// the other particles within 2r (Sandim, Paiva & Figueiredo, J. Comput. Phys. 2020).
-///
-/// points: (n, 2) or (n, 3) array-like of reals (a C-contiguous float64 array is read in
-///     place); r: the particle resolution (> 0); method: a name from methods() (default
-///     "exact", the reference labels); threads: worker threads (default: all cores);
-///     margin: also return the method's per-particle margin (None if it has none);
-///     radii: optional (n,) radius factors s_i, one per particle: r_i = r * s_i, r then
-///     defaulting to 1; walls: optional (m, dim) covering-only particles, with optional
-///     wall_radii (m,); solids: "y<0" or a list of such closed solid half-spaces; periodic:
-///     "x:0:1" or a list of such periodic axes; phases: optional (n,) integer phase numbers;
-///     **params: the method's parameters, as `--set KEY=VALUE` (depth=4, gamma=1.3, ...).
-///
-/// Returns a bool array of length n, or (labels, margin) with margin=True; with phases, the
-/// interface labels are appended: (labels, interface) or (labels, margin, interface). Raises
-/// ValueError on bad input (shape, NaN, a flat (n, 3) set: the message names the 2D slice to
-/// pass, r <= 0, a bad radius, a bad domain, a method that
-/// cannot honour a solid, unknown method or parameter); Ctrl-C raises KeyboardInterrupt (the
-/// detection finishes in the background and is discarded).
-#[pyfunction]
-#[pyo3(signature = (
-    points, r = None, method = "exact", threads = None, margin = false, radii = None,
-    walls = None, wall_radii = None, solids = None, periodic = None, phases = None, **params
-))]
-#[allow(clippy::too_many_arguments)] // the Python signature: keyword arguments with defaults
-fn detect<'py>(
-    py: Python<'py>,
-    points: &Bound<'py, PyAny>,
-    r: Option<f64>,
-    method: &str,
+/// A method with its parameters and thread count, built once through the facade's registry
+/// (`boundary::detector_with_params`) and used for any number of detections.
+#[pyclass(module = "boundary_particles._native", frozen)]
+struct Detector {
+    method: String,
     threads: Option<usize>,
-    margin: bool,
-    radii: Option<&Bound<'py, PyAny>>,
-    walls: Option<&Bound<'py, PyAny>>,
-    wall_radii: Option<&Bound<'py, PyAny>>,
-    solids: Option<&Bound<'py, PyAny>>,
-    periodic: Option<&Bound<'py, PyAny>>,
-    phases: Option<&Bound<'py, PyAny>>,
-    params: Option<&Bound<'py, PyDict>>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let detector = detector(method, params)?;
-    let set = read_points(points)?;
-    let (set, r) = with_radii("detect", set, r, radii)?;
-    let domain = domain(set.dim(), r, walls, wall_radii, solids, periodic, phases)?;
-    let with_phases = domain.phases().is_some();
-    let (found, _) = detect_set(py, detector, set, domain, r, threads)?;
-    let labels = bool_array(py, found.detection.labels.into_vec()).into_any();
-    let mut out = vec![labels];
-    if margin {
-        out.push(match found.detection.margin {
-            Some(m) => PyArray1::from_vec(py, m).into_any(),
-            None => py.None().into_bound(py),
-        });
+    detector: Arc<dyn BoundaryDetector>,
+}
+
+#[pymethods]
+impl Detector {
+    #[new]
+    #[pyo3(signature = (method = "exact", threads = None, params = None))]
+    fn new(
+        method: &str,
+        threads: Option<usize>,
+        params: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        if threads == Some(0) {
+            return Err(value_error("threads must be at least 1"));
+        }
+        let pairs = param_pairs(params)?;
+        let detector = detector(method, &pairs)?;
+        Ok(Self {
+            method: method.to_owned(),
+            threads,
+            detector,
+        })
     }
-    if with_phases {
-        let interface = found.interface.map(Labels::into_vec).ok_or_else(|| {
-            PyRuntimeError::new_err(
-                "internal error (please report it): no interface labels with phases",
-            )
-        })?;
-        out.push(bool_array(py, interface).into_any());
+
+    /// The method's name.
+    #[getter]
+    fn method(&self) -> &str {
+        &self.method
     }
-    match out.len() {
-        1 => Ok(out.remove(0)),
-        _ => Ok(PyTuple::new(py, out)?.into_any()),
+
+    /// The worker threads (`None`: all cores).
+    #[getter]
+    fn threads(&self) -> Option<usize> {
+        self.threads
+    }
+
+    /// Every parameter of the method with its value in this detector, as `(key, text)` pairs
+    /// (the listing `boundary methods` prints).
+    fn settings(&self) -> Vec<(String, String)> {
+        self.detector
+            .params()
+            .0
+            .into_iter()
+            .map(|p| (p.name.to_owned(), p.value))
+            .collect()
+    }
+
+    /// Whether the method never misses a boundary particle.
+    #[getter]
+    fn certified(&self) -> bool {
+        self.detector.certified()
+    }
+
+    /// The method's label, `name (key=value, ...)`.
+    fn label(&self) -> String {
+        self.detector.to_string()
+    }
+
+    #[pyo3(signature = (
+        points, r = None, margin = false, radii = None, walls = None, wall_radii = None,
+        solids = None, periodic = None, phases = None, dim = None
+    ))]
+    #[allow(clippy::too_many_arguments)] // the Python signature: keyword arguments with defaults
+    fn detect<'py>(
+        &self,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
+        r: Option<&Bound<'py, PyAny>>,
+        margin: bool,
+        radii: Option<&Bound<'py, PyAny>>,
+        walls: Option<&Bound<'py, PyAny>>,
+        wall_radii: Option<&Bound<'py, PyAny>>,
+        solids: Option<&Bound<'py, PyAny>>,
+        periodic: Option<&Bound<'py, PyAny>>,
+        phases: Option<&Bound<'py, PyAny>>,
+        dim: Option<usize>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let r = radius_arg(r)?;
+        let set = read_points(points, dim)?;
+        let (set, r) = with_radii("detect", set, r, radii)?;
+        let args = DomainArgs {
+            walls,
+            wall_radii,
+            solids,
+            periodic,
+            phases,
+        };
+        let domain = domain(set.dim(), r, &args)?;
+        let with_phases = domain.phases().is_some();
+        let (found, _) = detect_set(py, self.detector.clone(), set, domain, r, self.threads)?;
+        let labels = bool_array(py, found.detection.labels.into_vec()).into_any();
+        let mut out = vec![labels];
+        if margin {
+            out.push(match found.detection.margin {
+                Some(m) => PyArray1::from_vec(py, m).into_any(),
+                None => py.None().into_bound(py),
+            });
+        }
+        if with_phases {
+            let interface = found.interface.map(Labels::into_vec).ok_or_else(|| {
+                PyRuntimeError::new_err(
+                    "internal error (please report it): no interface labels with phases",
+                )
+            })?;
+            out.push(bool_array(py, interface).into_any());
+        }
+        match out.len() {
+            1 => Ok(out.remove(0)),
+            _ => Ok(PyTuple::new(py, out)?.into_any()),
+        }
+    }
+
+    /// `detect` on the bare cloud that also returns the seconds the Rust detection took
+    /// (the overhead measurement of `bench/overhead.py`).
+    #[pyo3(signature = (points, r))]
+    fn _detect_timed<'py>(
+        &self,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
+        r: f64,
+    ) -> PyResult<(Bound<'py, PyArray1<bool>>, f64)> {
+        let r = radius(r)?;
+        let set = read_points(points, None)?;
+        let (found, seconds) = detect_set(
+            py,
+            self.detector.clone(),
+            set,
+            Domain::new(),
+            r,
+            self.threads,
+        )?;
+        Ok((bool_array(py, found.detection.labels.into_vec()), seconds))
     }
 }
 
-/// `detect` that also returns the seconds the Rust detection took (overhead measurement).
+/// The resolution `auto` would use on `points`: the core's `auto_radius`.
 #[pyfunction]
-#[pyo3(signature = (points, r, method = "exact", threads = None, **params))]
-fn _detect_timed<'py>(
-    py: Python<'py>,
-    points: &Bound<'py, PyAny>,
-    r: f64,
-    method: &str,
-    threads: Option<usize>,
-    params: Option<&Bound<'py, PyDict>>,
-) -> PyResult<(Bound<'py, PyArray1<bool>>, f64)> {
-    let detector = detector(method, params)?;
-    let r = radius(r)?;
-    let set = read_points(points)?;
-    let (found, seconds) = detect_set(py, detector, set, Domain::new(), r, threads)?;
-    Ok((bool_array(py, found.detection.labels.into_vec()), seconds))
+#[pyo3(signature = (points, dim = None))]
+fn auto_radius_of(points: &Bound<'_, PyAny>, dim: Option<usize>) -> PyResult<f64> {
+    let set = read_points(points, dim)?;
+    resolve_radius("auto_radius", &set, Some(RadiusArg::Auto)).map(|r| r.get())
 }
 
-/// The address of the buffer `detect` reads `points` from (the zero-copy test compares it with
-/// the array's own data pointer).
+/// The address of the buffer `detect` reads `points` from (the no-conversion test compares it
+/// with the array's own data pointer).
 #[pyfunction]
 fn _points_address(points: &Bound<'_, PyAny>) -> PyResult<usize> {
-    let array = as_f64_array(points)?;
+    let array = float_array(points, "points", "an (n, 2) or (n, 3) array of reals")?;
     let readonly = array.readonly();
     let (_, flat) = coordinates(&readonly)?;
     Ok(flat.as_ptr() as usize)
 }
 
-/// Truth labels from an array-like of booleans or 0/1 values, one per particle.
-fn truth_labels(truth: &Bound<'_, PyAny>, n: usize) -> PyResult<Vec<bool>> {
-    let py = truth.py();
-    let numpy = py.import("numpy")?;
-    let kwargs = PyDict::new(py);
-    kwargs.set_item("dtype", numpy.getattr("float64")?)?;
-    let array = numpy
-        .call_method("ascontiguousarray", (truth,), Some(&kwargs))
-        .map_err(|e| value_error(format!("truth: {}", e.value(py))))?
-        .cast_into::<PyArrayDyn<f64>>()
-        .map_err(|_| value_error("truth must be an array of booleans"))?;
+/// Labels from an array-like of booleans or 0/1 values (`what` in messages), `n` of them
+/// when `n` is given.
+fn bool_labels(values: &Bound<'_, PyAny>, what: &str, n: Option<usize>) -> PyResult<Vec<bool>> {
+    let array = float_array(values, what, "an array of booleans or 0/1")?;
     let readonly = array.readonly();
     let shape = readonly.shape();
     if shape.len() != 1 {
         return Err(value_error(format!(
-            "truth must be a one-dimensional array, got shape {}",
+            "{what} must be a one-dimensional array, got shape {}",
             shape_text(shape)
         )));
     }
     let values = readonly
         .as_slice()
-        .map_err(|e| value_error(format!("truth: {e}")))?;
-    if values.len() != n {
-        return Err(value_error(format!(
-            "truth: {} labels for {n} particles",
-            values.len()
-        )));
+        .map_err(|e| value_error(format!("{what}: {e}")))?;
+    if let Some(n) = n {
+        if values.len() != n {
+            return Err(value_error(format!(
+                "{what}: {} labels for {n} particles",
+                values.len()
+            )));
+        }
     }
     values
         .iter()
@@ -667,76 +795,41 @@ fn truth_labels(truth: &Bound<'_, PyAny>, n: usize) -> PyResult<Vec<bool>> {
                 Ok(true)
             } else {
                 Err(value_error(format!(
-                    "truth: particle {i}: boundary must be 0 or 1, got {v}"
+                    "{what}: particle {i}: a label must be 0 or 1 (or a bool), got {v}"
                 )))
             }
         })
         .collect()
 }
 
-/// Scores `method` against the truth: a dict with TP, TN, FP, FN, Rec, FPR, M.
-///
-/// Boundary is the positive class: Rec = TP/(TP+FN), FPR = FP/(FP+TN), M = Rec*(1-FPR)
-/// (J. Comput. Phys. 2020, Sec. 4). truth: one bool (or 0/1) per particle; default: the
-/// labels of "exact" (with the same radii). Other arguments as detect(); method is required
-/// (`score(points, method="ia", radii=h)` when r is left to its default).
+/// The confusion counts of `predicted` against `truth` (boundary is the positive class),
+/// with the keys of `boundary score --json`: tp, tn, fp, fn, recall, fpr, m, precision, f1.
 #[pyfunction]
-#[pyo3(signature = (points, r = None, method = None, truth = None, threads = None, radii = None, **params))]
-#[allow(clippy::too_many_arguments)] // the Python signature: keyword arguments with defaults
-fn score<'py>(
+fn confusion<'py>(
     py: Python<'py>,
-    points: &Bound<'py, PyAny>,
-    r: Option<f64>,
-    method: Option<&str>,
-    truth: Option<&Bound<'py, PyAny>>,
-    threads: Option<usize>,
-    radii: Option<&Bound<'py, PyAny>>,
-    params: Option<&Bound<'py, PyDict>>,
+    predicted: &Bound<'py, PyAny>,
+    truth: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let method =
-        method.ok_or_else(|| PyTypeError::new_err("score() missing required argument 'method'"))?;
-    let detector = detector(method, params)?;
-    let set = read_points(points)?;
-    let (set, r) = with_radii("score", set, r, radii)?;
-    let n = set.len();
-    let truth = match truth {
-        Some(t) => Some(truth_labels(t, n)?),
-        None => None,
-    };
-    let (predicted, truth) = match truth {
-        Some(truth) => (
-            detect_set(py, detector, set, Domain::new(), r, threads)?
-                .0
-                .detection,
-            truth,
-        ),
-        None => {
-            let exact = self::detector("exact", None)?;
-            let shared = std::sync::Arc::new(set);
-            let pool = pool(threads)?;
-            let (a, b) = (shared.clone(), shared);
-            run_interruptible(py, move || {
-                let run = || -> Result<(Detection, Detection), boundary::DetectError> {
-                    Ok((detector.detect(&a, r)?, exact.detect(&b, r)?))
-                };
-                match &pool {
-                    Some(pool) => pool.install(run),
-                    None => run(),
-                }
-            })?
-            .map(|(d, e)| (d, e.labels.into_vec()))
-            .map_err(value_error)?
-        }
-    };
-    let c = Confusion::from_labels(predicted.labels.as_slice(), &truth).map_err(value_error)?;
+    let predicted = bool_labels(predicted, "predicted", None)?;
+    let truth = bool_labels(truth, "truth", None)?;
+    if predicted.len() != truth.len() {
+        return Err(value_error(format!(
+            "predicted has {} labels and truth {}: one label per particle in both",
+            predicted.len(),
+            truth.len()
+        )));
+    }
+    let c = Confusion::from_labels(&predicted, &truth).map_err(value_error)?;
     let dict = PyDict::new(py);
-    dict.set_item("TP", c.tp)?;
-    dict.set_item("TN", c.tn)?;
-    dict.set_item("FP", c.fp)?;
-    dict.set_item("FN", c.fn_)?;
-    dict.set_item("Rec", c.recall())?;
-    dict.set_item("FPR", c.fpr())?;
-    dict.set_item("M", c.m())?;
+    dict.set_item("tp", c.tp)?;
+    dict.set_item("tn", c.tn)?;
+    dict.set_item("fp", c.fp)?;
+    dict.set_item("fn", c.fn_)?;
+    dict.set_item("recall", c.recall())?;
+    dict.set_item("fpr", c.fpr())?;
+    dict.set_item("m", c.m())?;
+    dict.set_item("precision", c.precision())?;
+    dict.set_item("f1", c.f1())?;
     Ok(dict)
 }
 
@@ -746,7 +839,7 @@ fn score<'py>(
 fn methods(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
     let list = PyList::empty(py);
     for name in method_names() {
-        let d = detector(name, None)?;
+        let d = detector(name, &[])?;
         let entry = PyDict::new(py);
         entry.set_item("name", name)?;
         entry.set_item("summary", summary(name).unwrap_or(""))?;
@@ -771,12 +864,17 @@ fn format_arg(format: Option<&str>) -> PyResult<Option<Format>> {
         .transpose()
 }
 
-/// Reads a particle file: (points, attributes).
-///
-/// CSV (header x,y[,z]), XYZ, PLY, legacy VTK, VTK XML .vtu/.vtp, Houdini .bgeo[.gz], by
-/// extension or `format`. points: (n, dim) float64; attributes: every other per-particle
-/// attribute (a vector as name:0, name:1, ...) as an int64 or float64 array. dim=2 drops the
-/// constant axis of a 3D file. Unreadable attributes give a UserWarning.
+/// The component index of a column name `base:k` (`k` decimal), with its base.
+fn component(name: &str) -> Option<(&str, usize)> {
+    let (base, k) = name.rsplit_once(':')?;
+    if base.is_empty() || k.is_empty() || !k.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    Some((base, k.parse().ok()?))
+}
+
+/// Reads a particle file: `(points, point_data)`, each attribute a `(n,)` array, or `(n, k)`
+/// for the `k` columns `name:0 .. name:k-1` of one vector attribute (consecutive, of one type).
 #[pyfunction]
 #[pyo3(signature = (path, dim = None, format = None))]
 fn read<'py>(
@@ -802,19 +900,89 @@ fn read<'py>(
         let text = CString::new(text.replace('\0', " ")).unwrap_or_default();
         PyErr::warn(py, &py.get_type::<PyUserWarning>(), &text, 1)?;
     }
-    let attributes = PyDict::new(py);
-    for attribute in file.attributes {
-        let values = match attribute.values {
-            AttributeValues::Int(v) => PyArray1::from_vec(py, v).into_any(),
-            AttributeValues::Float(v) => PyArray1::from_vec(py, v).into_any(),
+    let n = file.set.len();
+    let point_data = PyDict::new(py);
+    let attributes = file.attributes;
+    let mut a = 0;
+    while a < attributes.len() {
+        // A run `base:0, base:1, ...` of one value type is one (n, k) array.
+        let mut k = 0;
+        if let Some((base, 0)) = component(&attributes[a].name) {
+            let same_kind = |x: &AttributeValues| {
+                matches!(
+                    (x, &attributes[a].values),
+                    (AttributeValues::Int(_), AttributeValues::Int(_))
+                        | (AttributeValues::Float(_), AttributeValues::Float(_))
+                )
+            };
+            while a + k < attributes.len()
+                && component(&attributes[a + k].name) == Some((base, k))
+                && same_kind(&attributes[a + k].values)
+            {
+                k += 1;
+            }
+            if k >= 2 && !point_data.contains(base)? {
+                let columns = &attributes[a..a + k];
+                let value = match &columns[0].values {
+                    AttributeValues::Int(_) => {
+                        let rows: Vec<Vec<i64>> = (0..n)
+                            .map(|i| {
+                                columns
+                                    .iter()
+                                    .map(|c| match &c.values {
+                                        AttributeValues::Int(v) => v[i],
+                                        AttributeValues::Float(_) => 0,
+                                    })
+                                    .collect()
+                            })
+                            .collect();
+                        vector_array(py, rows, k)?
+                    }
+                    AttributeValues::Float(_) => {
+                        let rows: Vec<Vec<f64>> = (0..n)
+                            .map(|i| {
+                                columns
+                                    .iter()
+                                    .map(|c| match &c.values {
+                                        AttributeValues::Float(v) => v[i],
+                                        AttributeValues::Int(_) => 0.0,
+                                    })
+                                    .collect()
+                            })
+                            .collect();
+                        vector_array(py, rows, k)?
+                    }
+                };
+                point_data.set_item(base, value)?;
+                a += k;
+                continue;
+            }
+        }
+        let attribute = &attributes[a];
+        let values = match &attribute.values {
+            AttributeValues::Int(v) => PyArray1::from_slice(py, v).into_any(),
+            AttributeValues::Float(v) => PyArray1::from_slice(py, v).into_any(),
         };
-        attributes.set_item(attribute.name, values)?;
+        point_data.set_item(&attribute.name, values)?;
+        a += 1;
     }
-    Ok((points_array(py, &file.set)?, attributes))
+    Ok((points_array(py, &file.set)?, point_data))
 }
 
-/// One attribute column given to `write`: integers stay integers (NumPy kinds `b`, `i`, `u`),
-/// anything else is written as reals.
+/// An `(n, k)` array of `rows` (each of length `k`; an `(0, k)` array when empty).
+fn vector_array<'py, T: numpy::Element + Copy>(
+    py: Python<'py>,
+    rows: Vec<Vec<T>>,
+    k: usize,
+) -> PyResult<Bound<'py, PyAny>> {
+    let n = rows.len();
+    let flat: Vec<T> = rows.into_iter().flatten().collect();
+    let array: Bound<'py, PyArray2<T>> = PyArray1::from_vec(py, flat).reshape([n, k])?;
+    Ok(array.into_any())
+}
+
+/// One column given to `write`: integers stay integers (NumPy kinds `b`, `i`, `u`), anything
+/// else is written as reals.
 enum OwnedColumn {
     Int(Vec<i64>),
     Float(Vec<f64>),
@@ -829,71 +997,87 @@ impl OwnedColumn {
     }
 }
 
-fn owned_column(name: &str, values: &Bound<'_, PyAny>) -> PyResult<OwnedColumn> {
+/// The columns of one `point_data` entry: a `(n,)` array is the column `name`, a `(n, k)`
+/// array the columns `name:0 .. name:k-1` (which VTK XML writes as one vector array).
+fn owned_columns(name: &str, values: &Bound<'_, PyAny>) -> PyResult<Vec<(String, OwnedColumn)>> {
     let py = values.py();
     let numpy = py.import("numpy")?;
     let array = numpy
         .call_method1("asarray", (values,))
-        .map_err(|e| value_error(format!("column {name:?}: {}", e.value(py))))?;
+        .map_err(|e| value_error(format!("point_data {name:?}: {}", e.value(py))))?;
     let shape: Vec<usize> = array.getattr("shape")?.extract()?;
-    if shape.len() != 1 {
-        return Err(value_error(format!(
-            "column {name:?}: expected one value per particle (a one-dimensional array), got shape {}",
-            shape_text(&shape)
-        )));
-    }
     let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
-    let as_type = |dtype: &str| -> PyResult<Bound<'_, PyAny>> {
-        array
-            .call_method1("astype", (numpy.getattr(dtype)?,))
-            .map_err(|e| value_error(format!("column {name:?}: {}", e.value(py))))
-    };
-    if matches!(kind.as_str(), "b" | "i" | "u") {
-        if kind == "u" {
-            // uint64 beyond i64::MAX would wrap in astype: refuse it instead.
-            let max: u64 = array.call_method0("max").map_or(Ok(0), |m| m.extract())?;
-            if shape[0] > 0 && max > i64::MAX as u64 {
-                return Err(value_error(format!(
-                    "column {name:?}: value {max} does not fit a signed 64-bit integer"
-                )));
-            }
+    let integer = matches!(kind.as_str(), "b" | "i" | "u");
+    if kind == "u" && shape.iter().product::<usize>() > 0 {
+        // uint64 beyond i64::MAX would wrap in astype: refuse it instead.
+        let max: u64 = array.call_method0("max")?.extract()?;
+        if max > i64::MAX as u64 {
+            return Err(value_error(format!(
+                "point_data {name:?}: value {max} does not fit a signed 64-bit integer"
+            )));
         }
-        Ok(OwnedColumn::Int(as_type("int64")?.extract()?))
-    } else {
-        Ok(OwnedColumn::Float(as_type("float64")?.extract()?))
+    }
+    let column = |values: Bound<'_, PyAny>| -> PyResult<OwnedColumn> {
+        let dtype = if integer { "int64" } else { "float64" };
+        let converted = values
+            .call_method1("astype", (numpy.getattr(dtype)?,))
+            .map_err(|e| value_error(format!("point_data {name:?}: {}", e.value(py))))?;
+        Ok(if integer {
+            OwnedColumn::Int(converted.extract()?)
+        } else {
+            OwnedColumn::Float(converted.extract()?)
+        })
+    };
+    match shape.as_slice() {
+        [_] => Ok(vec![(name.to_owned(), column(array)?)]),
+        [_, k] => (0..*k)
+            .map(|j| {
+                let item = array.get_item((pyo3::types::PySlice::full(py), j))?;
+                Ok((format!("{name}:{j}"), column(item)?))
+            })
+            .collect(),
+        _ => Err(value_error(format!(
+            "point_data {name:?}: expected an (n,) or (n, k) array (one value or one vector \
+             per particle), got shape {}",
+            shape_text(&shape)
+        ))),
     }
 }
 
-/// Writes points with an optional `boundary` column (0/1) and one column per keyword
-/// attribute (integer arrays stay integers, others are written as reals), in the format of
-/// the extension or `format`. Atomic: the file appears whole or not at all (a failed write
-/// leaves no file, and a file already at `path` stays as it was).
+/// Writes points with an optional `boundary` column (0/1) and the `point_data` columns, in
+/// the format of the extension or `format`; atomic.
 #[pyfunction]
-#[pyo3(signature = (path, points, boundary = None, format = None, **attributes))]
+#[pyo3(signature = (path, points, boundary = None, point_data = None, format = None, dim = None))]
 fn write(
     py: Python<'_>,
     path: PathBuf,
     points: &Bound<'_, PyAny>,
     boundary: Option<&Bound<'_, PyAny>>,
+    point_data: Option<&Bound<'_, PyAny>>,
     format: Option<&str>,
-    attributes: Option<&Bound<'_, PyDict>>,
+    dim: Option<usize>,
 ) -> PyResult<()> {
-    let set = read_points(points)?;
+    let set = read_points(points, dim)?;
     let format = format_arg(format)?;
     let mut owned: Vec<(String, OwnedColumn)> = Vec::new();
     if let Some(labels) = boundary {
-        let labels = truth_labels(labels, set.len())
-            .map_err(|e| value_error(e.value(py).to_string().replacen("truth", "boundary", 1)))?;
+        let labels = bool_labels(labels, "boundary", Some(set.len()))?;
         owned.push((
             "boundary".to_owned(),
             OwnedColumn::Int(labels.iter().map(|&b| i64::from(b)).collect()),
         ));
     }
-    if let Some(attributes) = attributes {
-        for (key, values) in attributes.iter() {
-            let name = key.cast::<PyString>()?.to_string();
-            let column = owned_column(&name, &values)?;
-            owned.push((name, column));
+    if let Some(point_data) = point_data {
+        let items = point_data
+            .call_method0("items")
+            .map_err(|_| PyTypeError::new_err("point_data must be a mapping of names to arrays"))?;
+        for item in items.try_iter()? {
+            let (key, values): (Bound<'_, PyAny>, Bound<'_, PyAny>) = item?.extract()?;
+            let name = key
+                .cast::<PyString>()
+                .map_err(|_| PyTypeError::new_err("point_data: every name must be a string"))?
+                .to_string();
+            owned.extend(owned_columns(&name, &values)?);
         }
     }
     let columns: Vec<(&str, Column<'_>)> = owned
@@ -911,31 +1095,22 @@ type ResampledArrays<'py> = (
     Bound<'py, PyArray1<i64>>,
 );
 
-/// Classifies boundary particles by feature and resamples thin features (Sandim 2020
-/// thesis Sec. 2.6, Eq. 2.4-2.5; Computers & Graphics 2019).
-///
-/// Boundary particles come from `method` (with **params) or from `labels`. k, alpha, shift:
-/// K and alpha of Eq. 2.5 and the shift in units of r. Returns (points, feature, source):
-/// the new set, each new particle's feature code (FEATURES: -1 interior, 0 droplet,
-/// 1 ligament, 2 sheet, 3 regular) and the input index it comes from.
+/// Classifies boundary particles by feature and resamples thin features (`boundary-resample`).
 #[pyfunction]
-#[pyo3(signature = (points, r, method = "exact", k = 4, alpha = 0.2, shift = 0.5, labels = None, threads = None, **params))]
+#[pyo3(signature = (points, r, detector, k = 4, alpha = 0.2, shift = 0.5, labels = None))]
 #[allow(clippy::too_many_arguments)] // the Python signature: keyword arguments with defaults
 fn resample<'py>(
     py: Python<'py>,
     points: &Bound<'py, PyAny>,
-    r: f64,
-    method: &str,
+    r: &Bound<'py, PyAny>,
+    detector: &Detector,
     k: usize,
     alpha: f64,
     shift: f64,
     labels: Option<&Bound<'py, PyAny>>,
-    threads: Option<usize>,
-    params: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<ResampledArrays<'py>> {
-    let detector = detector(method, params)?;
-    let r = radius(r)?;
-    let set = read_points(points)?;
+    let set = read_points(points, None)?;
+    let r = resolve_radius("resample", &set, radius_arg(Some(r))?)?;
     let config = boundary_resample::ResampleConfig {
         k,
         alpha,
@@ -943,32 +1118,28 @@ fn resample<'py>(
         ..boundary_resample::ResampleConfig::default()
     };
     let given = match labels {
-        Some(l) => Some(boundary::Labels::new(truth_labels(l, set.len()).map_err(
-            |e| value_error(e.value(py).to_string().replacen("truth", "labels", 1)),
-        )?)),
+        Some(l) => Some(Labels::new(bool_labels(l, "labels", Some(set.len()))?)),
         None => None,
     };
-    let pool = pool(threads)?;
-    let outcome = run_interruptible(py, move || {
-        let run = || -> Result<(AnyParticleSet, Vec<i8>, Vec<usize>), String> {
-            let labels = match given {
-                Some(l) => l,
-                None => detector.detect(&set, r).map_err(|e| e.to_string())?.labels,
-            };
-            match &set {
-                AnyParticleSet::D2(s) => boundary_resample::resample(s, r, &labels, &config)
-                    .map(|o| (o.set.into(), o.feature, o.source)),
-                AnyParticleSet::D3(s) => boundary_resample::resample(s, r, &labels, &config)
-                    .map(|o| (o.set.into(), o.feature, o.source)),
-            }
-            .map_err(|e| e.to_string())
+    let method = detector.detector.clone();
+    let outcome = run_interruptible(py, detector.threads, move || {
+        let labels = match given {
+            Some(l) => l,
+            None => method.detect(&set, r)?.labels,
         };
-        match &pool {
-            Some(pool) => pool.install(run),
-            None => run(),
+        match &set {
+            AnyParticleSet::D2(s) => boundary_resample::resample(s, r, &labels, &config)
+                .map(|o| (o.set.into(), o.feature, o.source)),
+            AnyParticleSet::D3(s) => boundary_resample::resample(s, r, &labels, &config)
+                .map(|o| (o.set.into(), o.feature, o.source)),
         }
+        .map_err(|e| DetectError::Method {
+            method: "resample",
+            message: e.to_string(),
+        })
     })?;
-    let (out, feature, source) = outcome.map_err(value_error)?;
+    let (out, feature, source): (AnyParticleSet, Vec<i8>, Vec<usize>) =
+        outcome.map_err(detect_error)?;
     let source: Vec<i64> = source
         .into_iter()
         .map(|i| i64::try_from(i).unwrap_or(i64::MAX))
@@ -980,42 +1151,28 @@ fn resample<'py>(
     ))
 }
 
-/// Boundary particles of meshfree particle sets (SPH, PBF, FLIP/APIC, MPS).
-///
-/// Particle i at p_i with resolution r is interior iff its sphere of radius r is covered by
-/// the closed balls of radius r of the other particles within 2r; otherwise boundary (Sandim,
-/// Paiva & Figueiredo, J. Comput. Phys. 2020). Methods: exact, dilts (Dilts 2000; Haque &
-/// Dilts 2007), ia and ge (JCP 2020 Sec. 3), marrone (Marrone et al. 2010), muller (Mueller
-/// et al. 2003), divr (divergence of position, Lind et al. 2012), hpr and svm (Sandim 2020
-/// thesis, ch. 2 and 3). See detect(), score(),
-/// methods(), read(), write(), resample().
+/// The compiled part of `boundary_particles`; see the package for the documented API.
 #[pymodule]
-#[pyo3(name = "boundary")]
+#[pyo3(name = "_native")]
 fn boundary_py(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    m.add_function(wrap_pyfunction!(detect, m)?)?;
-    m.add_function(wrap_pyfunction!(score, m)?)?;
+    m.add_class::<Detector>()?;
+    m.add_function(wrap_pyfunction!(confusion, m)?)?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
     m.add_function(wrap_pyfunction!(read, m)?)?;
     m.add_function(wrap_pyfunction!(write, m)?)?;
     m.add_function(wrap_pyfunction!(resample, m)?)?;
-    m.add_function(wrap_pyfunction!(_detect_timed, m)?)?;
+    m.add_function(wrap_pyfunction!(auto_radius_of, m)?)?;
     m.add_function(wrap_pyfunction!(_points_address, m)?)?;
     let features = PyDict::new(py);
     features.set_item(boundary_resample::INTERIOR_CODE, "interior")?;
-    for f in [
-        boundary_resample::Feature::Droplet,
-        boundary_resample::Feature::Ligament,
-        boundary_resample::Feature::Sheet,
-        boundary_resample::Feature::Regular,
+    for (f, name) in [
+        (boundary_resample::Feature::Droplet, "droplet"),
+        (boundary_resample::Feature::Ligament, "ligament"),
+        (boundary_resample::Feature::Sheet, "sheet"),
+        (boundary_resample::Feature::Regular, "regular"),
     ] {
-        let name = match f {
-            boundary_resample::Feature::Droplet => "droplet",
-            boundary_resample::Feature::Ligament => "ligament",
-            boundary_resample::Feature::Sheet => "sheet",
-            boundary_resample::Feature::Regular => "regular",
-        };
         features.set_item(f.code(), name)?;
     }
     m.add("FEATURES", features)?;

@@ -7,7 +7,7 @@ test`)."""
 import numpy as np
 import pytest
 
-import boundary
+import boundary_particles as boundary
 
 
 def lattice(w: int, h: int, seed: int = 7) -> np.ndarray:

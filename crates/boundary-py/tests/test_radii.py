@@ -1,16 +1,11 @@
-"""A radius per particle from Python (`radii=`, issue 22): the translation of the array, the
-scale `r`, the CLI's `--radius-attribute` as the reference, and every bad radius a ValueError
-naming the particle (run by `cargo xtask test`)."""
-
-import json
-import subprocess
+"""A radius per particle from Python (`radii=`): the translation of the array, the scale
+`r`, radii read back from a file, and every bad radius a ValueError naming the particle (run
+by `cargo xtask test`)."""
 
 import numpy as np
 import pytest
 
-import boundary
-
-from test_boundary import cli, csv_column
+import boundary_particles as boundary
 
 
 def lattice(side: int = 5) -> np.ndarray:
@@ -36,25 +31,25 @@ def test_radii_of_one_scaled_by_r_give_the_uniform_labels():
     assert margin is not None and margin.shape == (125,)
 
 
-def test_graded_radii_give_the_labels_of_the_cli_radius_attribute(tmp_path):
-    # Radius factors 1 and 0.8 in two halves at scale 0.9, through the CLI's CSV column.
+def test_graded_radii_read_back_from_a_file_give_the_labels_of_both_exact_methods(tmp_path):
+    # Radius factors 1 and 0.8 in two halves at scale 0.9, through a CSV column (what the
+    # CLI's --radius-attribute reads): exact and dilts agree, ia misses no boundary particle.
     points = lattice(6)
     radii = np.where(points[:, 0] < 3, 1.0, 0.8)
     path = tmp_path / "graded.csv"
-    boundary.write(path, points, h=radii)
-    out = tmp_path / "labels.csv"
-    for method in ["exact", "ia"]:
-        run = cli(
-            "detect", str(path), "--radius-attribute", "h", "--radius-scale", "0.9",
-            "--method", method, "--output", str(out), "--json",
-        )
-        assert json.loads(run.stdout)["radii"]["attribute"] == "h"
-        expected = np.array([int(v) for v in csv_column(out, "boundary")]) == 1
-        np.testing.assert_array_equal(boundary.detect(points, 0.9, method, radii=radii), expected)
+    boundary.write(path, points, point_data={"h": radii})
+    back, point_data = boundary.read(path)
+    np.testing.assert_array_equal(point_data["h"], radii)
+    exact = boundary.detect(back, 0.9, radii=point_data["h"])
+    np.testing.assert_array_equal(boundary.detect(points, 0.9, "dilts", radii=radii), exact)
+    ia = boundary.detect(points, 0.9, "ia", radii=radii)
+    assert not np.any(exact & ~ia)
+    # Graded radii change the labels (the smaller half leaves more uncovered).
+    assert not np.array_equal(exact, boundary.detect(points, 0.9))
     score = boundary.score(points, 0.9, "exact", radii=radii)
-    assert (score["FP"], score["FN"]) == (0, 0)
+    assert (score["fp"], score["fn"]) == (0, 0)
     # score with r left to its default: method by keyword.
-    assert boundary.score(points, method="exact", radii=radii)["M"] == 1.0
+    assert boundary.score(points, method="exact", radii=radii)["m"] == 1.0
 
 
 @pytest.mark.parametrize(
@@ -92,9 +87,8 @@ def test_radii_out_of_range_once_scaled_and_a_missing_r_are_named():
 
 
 def test_two_particles_with_radii_1_and_2_are_interior_and_boundary_with_exact():
-    """Waits for exact's support of per-particle radii (issue 22): p0 = (0, 0) with r0 = 1
-    lies inside the ball of p1 = (0.5, 0) with r1 = 2 (interior); S1 reaches 2.5 from p0
-    (boundary)."""
+    """p0 = (0, 0) with r0 = 1 lies inside the ball of p1 = (0.5, 0) with r1 = 2 (interior);
+    S1 reaches 2.5 from p0 (boundary)."""
     points = np.array([[0.0, 0.0], [0.5, 0.0]])
     labels = boundary.detect(points, radii=[1.0, 2.0], method="exact")
     assert labels.tolist() == [False, True]

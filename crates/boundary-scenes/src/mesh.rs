@@ -1,6 +1,6 @@
 //! Volumetric samples of closed triangle meshes (`../shared/data/meshes/*.obj`): the lattice
 //! points of spacing `h` (plus seeded jitter) that lie inside the mesh. Generated at run time
-//! (into `target/`), never committed.
+//! (into the sweep's output folder), never committed.
 //!
 //! OBJ files are read with `tobj` (triangulated); the inside test is parry's point query on a
 //! `TriMesh` built with `TriMeshFlags::ORIENTED`, which uses the pseudo-normals of the closest

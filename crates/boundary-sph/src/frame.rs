@@ -212,7 +212,12 @@ pub fn classify_first<C: SphCriterion, const D: usize>(
     let ctx = SphContext::new(set, criterion.smoothing().kernel_at(r))?;
     let verdicts: Vec<Verdict> = (0..count)
         .into_par_iter()
-        .map(|i| criterion.classify(&ctx, i))
+        .map(|i| {
+            if boundary_core::stop::requested() {
+                return Verdict::label(false);
+            }
+            criterion.classify(&ctx, i)
+        })
         .collect();
     let mut labels: Vec<bool> = verdicts.iter().map(|v| v.boundary).collect();
     criterion.finish(&ctx, &mut labels);
@@ -267,8 +272,8 @@ pub fn spread_within<const D: usize>(ctx: &SphContext<'_, D>, reach: f64, labels
     let spread: Vec<bool> = (0..n)
         .into_par_iter()
         .map(|i| {
-            if flagged[i] {
-                return true;
+            if flagged[i] || boundary_core::stop::requested() {
+                return flagged[i];
             }
             let mut near = false;
             ctx.grid().for_each_within(&positions[i], reach, |j, _| {

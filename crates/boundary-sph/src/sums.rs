@@ -33,6 +33,9 @@ fn reduced_number_density<const D: usize>(
     positions
         .par_iter()
         .map(|p| {
+            if boundary_core::stop::requested() {
+                return 0.0;
+            }
             let mut sum = 0.0;
             grid.for_each_within(p, support, |j, _| {
                 let q = ((positions[j] - p) * inv_h).norm();

@@ -2,7 +2,7 @@
 //! lattice filling a ball (spacing a = 1, jitter ±0.15a, r = 1.2a), in the same run so that
 //! their ratio is meaningful; also the cascade `refine=exact`. Run at one thread for
 //! particles/s per core: `RAYON_NUM_THREADS=1 cargo bench -p boundary-svm`.
-//! `BOUNDARY_BENCH_N` sets the particle count (default 100,000); the 1M ball of issue 23:
+//! `BOUNDARY_BENCH_N` sets the particle count (default 100,000); the 1M ball:
 //! `RAYON_NUM_THREADS=1 BOUNDARY_BENCH_N=1000000 cargo bench -p boundary-svm --
 //! 'jittered_ball/(svm|exact)$'`.
 

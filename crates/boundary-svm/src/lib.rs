@@ -2,6 +2,11 @@
 //! Boundary particles by a support vector machine (Sandim 2020 thesis, ch. 3), method name
 //! `svm`.
 //!
+//! **When to use it:** to reproduce the thesis' learning method, or to compare a learned
+//! classifier with the geometric ones. It is not certified (it can miss boundary
+//! particles); for the labels themselves use `exact`, the reference (accuracy and speed of
+//! both on the same scenes: `BENCHMARKS.md`, written by `cargo xtask sweep`).
+//!
 //! # Method
 //! Each particle gets the thesis' six SPH features (Sec. 3.2.1, made scale-free) and one of
 //! ours, all from one neighbour query per particle (see [`features`]): the Parzen density,
@@ -80,7 +85,7 @@
 //! Every scene of the sweep (`fixtures/scenes.toml`: our fixtures and the public frames of
 //! `../shared/data`) is held out: the models never saw them, nor any frame or rotation of
 //! the simulations they come from. `cargo xtask train-svm` scores every one of them, with
-//! `marrone` beside it (`target/svm/training.md`); the test
+//! `marrone` beside it (its training report); the test
 //! `quoted_held_out_scores_are_reproduced` (`tests/svm.rs`) recomputes the rows quoted here:
 //!
 //! | scene (held out) | n | TP | FN | FP | TN | Rec | FPR | M | `marrone` M |
@@ -94,16 +99,13 @@
 //! over all 36 (`marrone` 0.900); **no scene below M = 0.85**, the lowest
 //! `enright3d_t1.5` (0.940), `double_dambreak26_r0.1` (0.933) and `fluid50_r0.1` (0.967).
 //!
-//! Those two splash sheets (`r` ≈ 2.7 spacings, at most about four layers thick: every
-//! interior particle lies within two spacings of a boundary one) were below 0.85 with the
-//! cover margin of fixed sample points only (0.832 and 0.818; FPR 0.16–0.18, recall 0.995).
-//! Their false positives were interior particles whose sampled margin was shallow (mean
-//! −0.10 against −0.24 for the true negatives) among uncertified *boundary* particles whose
-//! small uncovered caps the 17 sample directions missed (301 of 916 uncertified particles
-//! on `fluid50_r0.1`). The ascent of the cover margin (see [`features`]) certifies most of
-//! those (301 → 62 there), so that the model sees few boundary particles among shallow
-//! margins: FPR 0.028 and 0.064 with recall 0.994–0.996. A generated family of thick
-//! sheets in the training set had been tried before and did not help (0.808 and 0.815).
+//! Thin splash sheets (`r` ≈ 2.7 spacings, at most about four layers thick: every interior
+//! particle within two spacings of a boundary one) are where fixed sample points of the
+//! sphere fall short: the small uncovered caps of their boundary particles escape the 17
+//! sample directions, which leaves uncertified boundary particles among interior ones with
+//! shallow margins, and the model then flags those interior particles too. The ascent of the
+//! cover margin (see [`features`]) certifies most of these boundary particles, so that the
+//! model sees few of them among shallow margins.
 //!
 //! Perfect square and cubic lattices (16², 10³) at 0.6, the tie radius, `±1e-9` and `±4`
 //! ulps around it, 0.8, 1, 1.2, 1.5 and 2 spacings: no false negative (training report;
@@ -112,71 +114,47 @@
 //! `1e-9` below the tie every particle is boundary by the definition (the certificate
 //! sees the uncovered diagonal points).
 //!
-//! **Speed.** The thesis' case for the SVM is speed. One thread, features included, the
-//! 1M-particle jittered ball, both in one run on the otherwise idle 2-core machine (`cargo
-//! run --release -p boundary-svm --example svm_throughput 1000000 1`: each method twice,
-//! alternately, its faster run kept; three runs): svm 2.49, 2.23 and 2.37 s, `exact` 2.22,
-//! 2.07 and 2.18 s, **svm at 0.89x, 0.93x and 0.92x the speed of `exact`**, which had just
-//! become about 1.2x faster (its cell clip scans vertices in SIMD lanes; decisions checksum
-//! unchanged). Before that change, svm was at 1.22x, 1.13x and 1.05x (`exact` 2.70, 2.48 and
-//! 2.47 s) and in the sweep's scale tier at 1.07x on one thread and 0.94x on two.
-//! Against `exact` it was 0.59x before the polynomial kernel and the chunked feature sums,
-//! 1.32x and 1.24x before the ascent of the cover margin, then 0.70x once `exact` became
-//! 1.6–1.8x faster (issue 21: a simpler cell and a staged neighbour query). Its feature pass
-//! has since become cheaper with the same features and decisions bit for bit (the example
-//! prints a checksum of the decision values; unchanged throughout): the
-//! neighbourhoods come from the core grid's `NeighbourGrid::par_map_within` (particles in cell
-//! order, a distance test without a branch per candidate; short rows of cells trimmed at their
-//! ends only), the sums run two lanes at a time through every chunk with their sums in
-//! registers, the cover search runs lane by lane over the neighbours within `1.1r` first, the
-//! offsets are written without a branch per neighbour, the polynomial decision takes its
-//! inner sums side by side, and each decision is taken inside the neighbour pass, so the
-//! features are never stored (peak heap 97 → 49 bytes per particle in the scale tier).
-//! Callgrind, svm alone on the 10^5 ball (`BOUNDARY_SKIP_EXACT=1`): 2.27e9 → 1.74e9
-//! instructions, mispredicted branches 13.6M → 4.9M under `--branch-sim=yes`; one thread in
-//! the scale tier, the run quoted before the last of these changes against this one: 3.43 s →
-//! 2.83 s (`exact` 3.02 s and 3.03 s). What remains is
-//! the feature pass itself: the neighbour query (about 30% of the cycles), the writes and
-//! sums over the neighbours (about 35%), the cover search over 17 sample directions (about
-//! 15%); the model's decision is 4%. In 2D, where `exact` is cheaper, svm was about as fast
-//! as `exact` before these changes (trainer's timing on a jittered disc: 0.95x).
+//! **Speed.** The thesis' case for the SVM is speed. A decision costs the feature pass (one
+//! neighbour query per particle, sums over the neighbours, the cover search over 17 sample
+//! directions) and at most `7 + 7² + 7³` multiply-adds of the polynomial model. Each
+//! decision is taken inside the neighbour pass (`NeighbourGrid::par_map_within`), so the
+//! features are never stored. The neighbour sums run two lanes at a time with their sums in
+//! registers, the cover search runs lane by lane over the neighbours within `1.1r` first, and
+//! the offsets are written without a branch per neighbour. To measure it against `exact` in
+//! one run: `cargo run --release -p boundary-svm --example svm_throughput 1000000 1` (each
+//! method twice, alternately, its faster run kept; it prints a checksum of the decision
+//! values), or `cargo bench -p boundary-svm`; `BENCHMARKS.md` compares it with every method
+//! on the sweep's scenes.
 //!
 //! # Trade-off: support vectors against M and speed
 //! `cargo xtask train-svm` trains every model of its grid (training-sample size 800, 1600
 //! or 3200; `C` 1, 10 or 100; kernel RBF with `γ` 0.1 or 0.3, or polynomial of degree 2 or
 //! 3 with `γ` 0.1) and writes, per dimension, the table of support vectors against the mean
-//! validation M, the held-out mean M and the speed relative to `exact` (one thread, features
-//! included, the fastest of five runs; a 30,000-particle ball, so only a relative
-//! indicator: the criterion bench above is the measurement) to `target/svm/training.md`.
-//! Polynomial kernels of degree 3 are trained at `C = 1` only and of degree 2 at `C` up to
-//! 10 (linfa's SMO took minutes beyond). In 3D, the rows of the largest sample (the shipped
-//! model among them) and the smallest polynomial model (features 4.88 µs, `exact` 6.37 µs
-//! per particle in that run, on a loaded machine, against `exact` before issue 21 made it
-//! 1.6–1.8x faster and before svm's feature pass became 1.6x cheaper: the ratios between
-//! models hold, the column against `exact` does not; the shipped model's current ratio is
-//! the one above):
+//! validation M, the held-out mean M and the speed relative to `exact` to its training
+//! report. Polynomial kernels of degree 3 are trained at `C = 1` only and of degree 2 at `C`
+//! up to 10 (linfa's SMO takes minutes beyond). In 3D, the rows of the largest sample (the
+//! shipped model among them) and the smallest polynomial model:
 //!
-//! | sample | C | kernel | support vectors | validation M | held-out mean M | speed vs `exact` |
-//! |---|---|---|---|---|---|---|
-//! | 800 | 1 | poly2 γ=0.1 | 202 | 0.9747 | 0.9724 | 1.27x |
-//! | 3200 | 1 | rbf γ=0.1 | 673 | 0.9808 | 0.9759 | 0.18x |
-//! | 3200 | 1 | rbf γ=0.3 | 682 | 0.9789 | 0.9719 | 0.13x |
-//! | 3200 | 1 | poly2 γ=0.1 (shipped) | 650 | 0.9781 | 0.9768 | 1.27x |
-//! | 3200 | 1 | poly3 γ=0.1 | 612 | 0.9791 | 0.9763 | 1.26x |
-//! | 3200 | 10 | rbf γ=0.1 | 586 | 0.9758 | 0.9744 | 0.14x |
-//! | 3200 | 10 | rbf γ=0.3 | 585 | 0.9754 | 0.9695 | 0.10x |
-//! | 3200 | 10 | poly2 γ=0.1 | 609 | 0.9745 | 0.9743 | 1.27x |
-//! | 3200 | 100 | rbf γ=0.1 | 538 | 0.9718 | 0.9707 | 0.15x |
-//! | 3200 | 100 | rbf γ=0.3 | 540 | 0.9686 | 0.9633 | 0.14x |
+//! | sample | C | kernel | support vectors | validation M | held-out mean M |
+//! |---|---|---|---|---|---|
+//! | 800 | 1 | poly2 γ=0.1 | 202 | 0.9747 | 0.9724 |
+//! | 3200 | 1 | rbf γ=0.1 | 673 | 0.9808 | 0.9759 |
+//! | 3200 | 1 | rbf γ=0.3 | 682 | 0.9789 | 0.9719 |
+//! | 3200 | 1 | poly2 γ=0.1 (shipped) | 650 | 0.9781 | 0.9768 |
+//! | 3200 | 1 | poly3 γ=0.1 | 612 | 0.9791 | 0.9763 |
+//! | 3200 | 10 | rbf γ=0.1 | 586 | 0.9758 | 0.9744 |
+//! | 3200 | 10 | rbf γ=0.3 | 585 | 0.9754 | 0.9695 |
+//! | 3200 | 10 | poly2 γ=0.1 | 609 | 0.9745 | 0.9743 |
+//! | 3200 | 100 | rbf γ=0.1 | 538 | 0.9718 | 0.9707 |
+//! | 3200 | 100 | rbf γ=0.3 | 540 | 0.9686 | 0.9633 |
 //!
-//! An RBF model's cost grows with its support vectors (one exponential each: 0.1–0.2x
-//! `exact` with 540–680 of them), a polynomial model's does not (the same speed whatever
-//! their number), at the same M. The shipped model is the cheapest decision within 0.005 of
-//! the best validation M: the 3200-sample RBF model's validation M (0.9808) rules out the
+//! An RBF model's cost grows with its support vectors (one exponential each), a polynomial
+//! model's does not, at the same M. The shipped model is the cheapest decision within 0.005
+//! of the best validation M: the 3200-sample RBF model's validation M (0.9808) rules out the
 //! smaller polynomial models, and every degree-2 model costs the same.
 //!
 //! # Hard cases
-//! What `svm` (default model, `refine=none`) returns on the hard cases of issue 11 (the test
+//! What `svm` (default model, `refine=none`) returns on the hard cases (the test
 //! `every_detector_survives_the_hard_cases` in `crates/boundary/tests/every_detector.rs` runs
 //! them all and keeps the table of counts against `exact`, `+FP −FN`, in
 //! `crates/boundary/tests/snapshots/every_detector__hard_cases.snap`):

@@ -1,4 +1,4 @@
-//! The serialised SVM model and its RBF evaluation.
+//! The serialised SVM model and its evaluation (polynomial or RBF kernel).
 //!
 //! A model is plain data: the standardisation of the features (`z = (f − mean) / scale`),
 //! the support vectors (standardised), their signed dual coefficients `α_k y_k`, the bias and
@@ -17,7 +17,7 @@
 //!
 //! and the particle is boundary iff `d(f) >= 0` (a tie counts as boundary, the safe side of a
 //! filter whose misses cannot be recovered by the cascade). This is the decision function of
-//! a C-SVC with an RBF kernel in LIBSVM's convention; the shipped models are trained with
+//! a C-SVC with the kernel `K` above in LIBSVM's convention; the shipped models are trained with
 //! `linfa-svm` (`cargo xtask train-svm`) and exported into this form, so inference needs no
 //! machine-learning crate.
 //!

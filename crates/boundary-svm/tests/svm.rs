@@ -256,10 +256,10 @@ fn certified_particles_are_boundary_for_exact() {
     assert!(total > 1000, "the certificate fired only {total} times");
 }
 
-/// The held-out scores quoted in the README and the crate documentation, recomputed: the
-/// shipped models on scenes of other simulations than any training scene (the trainer
-/// generates its own; see boundary-svm-train). `cargo xtask train-svm` prints the same rows
-/// for every scene of the sweep (`target/svm/training.md`).
+/// The held-out scores quoted in the crate documentation, recomputed: the shipped models on
+/// scenes of other simulations than any training scene (the trainer generates its own; see
+/// boundary-svm-train). `cargo xtask train-svm` prints the same rows for every scene of the
+/// sweep in its training report.
 #[test]
 fn quoted_held_out_scores_are_reproduced() {
     /// `None`: the data is missing and `BOUNDARY_ALLOW_MISSING_DATA=1` (a skip).

@@ -1,12 +1,13 @@
 //! The comparison sweep: every detector over every scene, scored against `exact`, timed on one
 //! thread and on all threads. `cargo xtask sweep` runs the `boundary-sweep` binary, which
-//! writes `target/sweep/{results.csv, scale.csv, report.md, *.svg, *.png}`; [`scale`] is the tier of
-//! large generated sets.
+//! writes `results.csv`, `scale.csv`, `report.md` and the plots (SVG and PNG) into its output
+//! folder, and the summary page [`benchmarks`]; [`scale`] is the tier of large generated sets.
 //!
 //! The library half (this file) runs the sweep and returns rows; [`report`] and [`plots`]
 //! turn rows into files. Scenes come from `fixtures/scenes.toml` (our generated scenes and
 //! references into `../shared/data`).
 
+pub mod benchmarks;
 pub mod failures;
 pub mod plots;
 pub mod published;

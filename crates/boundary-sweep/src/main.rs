@@ -1,7 +1,9 @@
-//! `boundary-sweep`: runs every detector over every scene and writes
-//! `results.csv`, `report.md` and the plots. Normally started by `cargo xtask sweep`, which
-//! first checks the system prerequisites.
+//! `boundary-sweep`: runs every detector over every scene and writes `results.csv`,
+//! `report.md` and the plots into its output folder; with `--benchmarks` also the summary page
+//! `BENCHMARKS.md`, and with `--frame-picture` the README's picture. Normally started by
+//! `cargo xtask sweep`, which builds it in release mode and asks for both pages on a full run.
 
+use boundary_sweep::benchmarks::{self, Provenance};
 use boundary_sweep::{default_configs, plots, report, run, scale, Options, Progress, SceneSpec};
 use clap::Parser;
 use peakmem_alloc::PeakMemAllocTrait;
@@ -57,6 +59,12 @@ struct Args {
     /// Scale tier: timed runs per method and set (the median is reported).
     #[arg(long, default_value_t = scale::DEFAULT_RUNS)]
     scale_runs: usize,
+    /// Also write the summary page (date, commit, machine and command at the top) to this file.
+    #[arg(long)]
+    benchmarks: Option<PathBuf>,
+    /// Also draw the exact labels of the scene `vortex2d_t4` into this PNG file.
+    #[arg(long)]
+    frame_picture: Option<PathBuf>,
 }
 
 /// Counts the heap for the scale tier's peak memory (two atomic updates per allocation).
@@ -91,6 +99,8 @@ fn real_main() -> Result<(), String> {
             args.scale_budget, args.scale_runs
         ));
     }
+    // Before the run: the tree as measured, the load the run starts under.
+    let provenance = args.benchmarks.as_ref().map(|_| provenance());
     let data_dir = args
         .data_dir
         .clone()
@@ -225,6 +235,30 @@ fn real_main() -> Result<(), String> {
     written.push(write("report.md", report::report_md(&outcome, &header))?);
     plots::register_font()?;
     written.extend(plots::write_all(&outcome, &args.out)?);
+    if let (Some(path), Some(provenance)) = (&args.benchmarks, &provenance) {
+        let text = benchmarks::benchmarks_md(&outcome, provenance);
+        boundary_io::write_atomic(path, |out| out.write_all(text.as_bytes()))
+            .map_err(|e| e.to_string())?;
+        written.push(path.clone());
+    }
+    if let Some(path) = &args.frame_picture {
+        let pic = outcome
+            .pictures
+            .iter()
+            .find(|p| p.scene == plots::FRAME_SCENE)
+            .ok_or_else(|| {
+                format!(
+                    "--frame-picture: the scene {} was not run (is it filtered out?)",
+                    plots::FRAME_SCENE
+                )
+            })?;
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+        }
+        plots::write_frame(pic, path)?;
+        written.push(path.clone());
+    }
     for path in &written {
         println!("{}", path.display());
     }
@@ -242,6 +276,92 @@ fn real_main() -> Result<(), String> {
         args.out.join("report.md").display()
     );
     Ok(())
+}
+
+/// When, where and how this run was made, for `BENCHMARKS.md`: the UTC date, the commit
+/// (`git`, from the current folder; the generated pages themselves do not count as changes),
+/// the machine, and the command as `cargo xtask sweep` plus this run's arguments (less the
+/// output files of the summary pages, which the xtask adds).
+fn provenance() -> Provenance {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0);
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_owned())
+    };
+    let commit = match git(&["rev-parse", "--short=12", "HEAD"]) {
+        Some(hash) => {
+            let changes = git(&[
+                "status",
+                "--porcelain",
+                "--untracked-files=no",
+                "--",
+                ".",
+                ":!BENCHMARKS.md",
+                ":!docs/img",
+            ]);
+            match changes {
+                Some(c) if c.is_empty() => format!("`{hash}`"),
+                Some(_) => format!("`{hash}` with uncommitted changes"),
+                None => format!("`{hash}`"),
+            }
+        }
+        None => "unknown (not a git checkout)".to_owned(),
+    };
+    let mut command = vec!["cargo xtask sweep".to_owned()];
+    let mut args = std::env::args().skip(1);
+    while let Some(arg) = args.next() {
+        if arg == "--benchmarks" || arg == "--frame-picture" {
+            args.next();
+        } else if !(arg.starts_with("--benchmarks=") || arg.starts_with("--frame-picture=")) {
+            command.push(arg);
+        }
+    }
+    Provenance {
+        date: benchmarks::utc_date(secs),
+        commit,
+        machine: machine(),
+        command: command.join(" "),
+    }
+}
+
+/// The machine in words, from what Linux exposes (`/proc`); parts it cannot read are left out.
+fn machine() -> String {
+    let read = |path: &str| std::fs::read_to_string(path).unwrap_or_default();
+    let field = |text: &str, key: &str| {
+        text.lines()
+            .find(|l| l.starts_with(key))
+            .and_then(|l| l.split_once(':'))
+            .map(|(_, v)| v.trim().to_owned())
+    };
+    let mut parts = Vec::new();
+    if let Some(cpu) = field(&read("/proc/cpuinfo"), "model name") {
+        parts.push(cpu);
+    }
+    if let Ok(n) = std::thread::available_parallelism() {
+        parts.push(format!("{n} cores available"));
+    }
+    if let Some(kib) = field(&read("/proc/meminfo"), "MemTotal")
+        .and_then(|v| v.split_whitespace().next().map(str::to_owned))
+        .and_then(|v| v.parse::<f64>().ok())
+    {
+        parts.push(format!("{:.0} GiB memory", kib / 1024.0 / 1024.0));
+    }
+    parts.push(format!(
+        "{} {}",
+        std::env::consts::OS,
+        std::env::consts::ARCH
+    ));
+    if let Some(load) = read("/proc/loadavg").split_whitespace().next() {
+        parts.push(format!("load average {load} at the start"));
+    }
+    parts.join(", ")
 }
 
 /// Prints a progress line on stderr: rewritten in place on a terminal, one per line otherwise.
@@ -267,7 +387,7 @@ type Skipped = (String, String);
 
 /// Scenes of the manifest whose name contains one of `filter` (all if empty), resolved against
 /// the fixtures folder (beside the manifest) and the data directory; mesh scenes are sampled
-/// into `samples_dir` (under `target/`). Scenes whose file is missing are returned as skipped
+/// into `samples_dir` (in the output folder). Scenes whose file is missing are returned as skipped
 /// with the reason.
 fn load_scenes(
     manifest: &Path,

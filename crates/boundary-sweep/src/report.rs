@@ -373,7 +373,7 @@ fn parallel_efficiency(outcome: &Outcome) -> String {
 /// scene against its median rate): their times are mostly start-up (grid, thread pool), not
 /// the method.
 pub const SPREAD_MIN_PARTICLES: usize = 1000;
-/// The spread issue 21 allows: each method's slowest scene within this factor of its median
+/// The spread a method may show: its slowest scene within this factor of its median
 /// rate over the scenes.
 pub const SPREAD_BOUND: f64 = 3.0;
 

@@ -1,6 +1,5 @@
-//! Every registered method in one run, so that the ratios between them are meaningful
-//! (issue 21: "one criterion group per method on the 1M ball and on one dense-neighbourhood
-//! set"). Two sets:
+//! Every registered method in one run, so that the ratios between them are meaningful: one
+//! criterion group per method on each of two sets:
 //! - `ball`: the 3D jittered cubic lattice ball (spacing a = 1, jitter ±0.15a, r = 1.2a, about
 //!   58 neighbours within 2r; `boundary_scenes::jittered_lattice_ball`), `BOUNDARY_BENCH_N`
 //!   particles (default 1,000,000);

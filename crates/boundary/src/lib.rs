@@ -136,7 +136,8 @@ const REGISTRY: &[Entry] = &[
     #[cfg(feature = "svm")]
     Entry {
         name: "svm",
-        summary: "RBF support vector machine on six SPH features, trained on exact labels; \
+        summary:
+            "support vector machine (polynomial kernel) on SPH features, trained on exact labels; \
                   refine=exact|ge re-tests its boundary particles (Sandim 2020, ch. 3)",
         make: || Box::new(SvmDetector::default()),
     },

@@ -1,8 +1,8 @@
 //! Every registered detector (whatever `boundary::methods()` lists, so a new method is covered
-//! the day it is registered) on the robustness cases of issue 11:
+//! the day it is registered) on the robustness cases:
 //!
 //! - the hard cases (`boundary_scenes::certify::hard_cases`) and the extra degenerate inputs of
-//!   the issue: no panic, one label per particle, no false negative for a certified method, and
+//!   `extra_cases`: no panic, one label per particle, no false negative for a certified method, and
 //!   the documented behaviour of the SPH baselines on isolated particles;
 //! - determinism: the same labels for rayon pools of 1, 2 and 4 threads and across runs;
 //! - invariance (proptest): labels unchanged under the transformations that are exact in
@@ -74,7 +74,7 @@ fn moved_lattice<const D: usize>(n: usize, seed: u64, spacing: f64, offset: f64)
         .collect()
 }
 
-/// The cases of issue 11 not already among the hard cases, each with the index of an isolated
+/// Degenerate inputs not already among the hard cases, each with the index of an isolated
 /// particle when it has one.
 fn extra_cases() -> Vec<(Case, Option<usize>)> {
     let mut cases = Vec::new();

@@ -1,4 +1,4 @@
-//! A radius per particle (issue 22): power cells. `exact`, `dilts`, `ia` and `ge` support it;
+//! A radius per particle: power cells. `exact`, `dilts`, `ia` and `ge` support it;
 //! the others refuse it with an error naming the limitation. Checked against an independent
 //! oracle written here (dense sampling of `S_i` with a Lipschitz bound, so that only the
 //! particles it decides rigorously are compared), and uniform radii against today's labels.

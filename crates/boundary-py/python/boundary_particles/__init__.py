@@ -1,0 +1,742 @@
+"""Boundary particles of meshfree particle sets (SPH, PBF, FLIP/APIC, MPS).
+
+Particle *i* at *p_i* with resolution *r* is **interior** iff its sphere *S_i* of radius *r*
+is covered by the closed balls of radius *r* of the other particles within *2r*; otherwise it
+is **boundary** (Sandim, Paiva & Figueiredo, J. Comput. Phys. 2020). Coincident duplicates do
+not cover each other.
+
+Every method of the Rust library is available by name (see :func:`methods`); ``exact`` (the
+default) gives the reference labels and is among the fastest. The others reproduce a paper
+or serve a comparison: ``dilts`` (exact as well), ``ia`` and ``ge`` (certified: never a
+false negative), ``marrone``, ``muller``, ``divr``, ``hpr`` and ``svm``.
+
+>>> import numpy as np, boundary_particles as bp
+>>> points = np.random.default_rng(1).random((2000, 2))
+>>> labels = bp.detect(points, r="auto")                 # bool array, True = boundary
+>>> scores = bp.confusion(bp.detect(points, r="auto", method="muller"), labels)
+>>> sorted(scores)
+['f1', 'fn', 'fp', 'fpr', 'm', 'precision', 'recall', 'tn', 'tp']
+
+Conventions shared by every function:
+
+- ``points`` is an ``(n, 2)`` or ``(n, 3)`` array-like of reals. A C-contiguous ``float64``
+  array is read from its own buffer; ``float32``, Fortran-ordered arrays and lists are
+  converted by NumPy first. The positions are then copied once into the engine's particle
+  set, validated in the same pass. A 2D set has no z.
+- A flat ``(n, 3)`` set (every particle with the same z, or y, or x) raises ``ValueError``
+  naming ``dim=2``: read as 3D, every particle of it would be boundary. ``dim=2`` drops the
+  constant axis; ``dim=3`` keeps the set 3D.
+- ``r`` is the resolution (positive, finite, in the positions' unit), or ``"auto"``: the
+  median distance from a particle to its nearest other particle (:func:`auto_radius`), the
+  command line's ``--radius auto``.
+- Detection releases the GIL and runs on all cores, or on ``threads`` worker threads. Ctrl-C
+  stops the workers (each finishes the particle it is on) and raises ``KeyboardInterrupt``.
+- Method parameters are keyword arguments, as ``--set KEY=VALUE`` on the command line
+  (``detect(points, r, "ge", depth=4)``); ``True``/``False`` become ``true``/``false``.
+- Errors raise ``ValueError`` (bad input, naming the particle or the argument) or ``OSError``
+  (a file that cannot be opened or written), with the messages the ``boundary`` command
+  prints.
+"""
+
+from __future__ import annotations
+
+from os import PathLike
+from typing import (
+    Any,
+    Dict,
+    List,
+    Literal,
+    Mapping,
+    Optional,
+    Sequence,
+    Tuple,
+    TypedDict,
+    Union,
+    overload,
+)
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import _native
+
+__all__ = [
+    "FEATURES",
+    "Confusion",
+    "Detector",
+    "MethodInfo",
+    "ParamInfo",
+    "auto_radius",
+    "confusion",
+    "detect",
+    "methods",
+    "read",
+    "resample",
+    "score",
+    "write",
+]
+
+__version__: str = _native.__version__
+
+#: Feature codes of :func:`resample` (thesis Eq. 2.5): -1 interior, 0 droplet, 1 ligament,
+#: 2 sheet, 3 regular boundary particle.
+FEATURES: Dict[int, str] = dict(_native.FEATURES)
+
+Path = Union[str, "PathLike[str]"]
+Param = Union[str, int, float, bool]
+Radius = Union[float, Literal["auto"]]
+Labels = NDArray[np.bool_]
+Margin = Optional[NDArray[np.float64]]
+Texts = Union[str, Sequence[str]]
+
+
+class ParamInfo(TypedDict):
+    """One parameter of a method: its name, default and description."""
+
+    name: str
+    default: str
+    description: str
+
+
+class MethodInfo(TypedDict):
+    """One method: its name, a summary naming its paper, whether it is certified, and its
+    parameters."""
+
+    name: str
+    summary: str
+    certified: bool
+    params: List[ParamInfo]
+
+
+class Confusion(TypedDict):
+    """Confusion counts and rates, boundary the positive class; the keys of
+    ``boundary score --json`` and of the C API."""
+
+    tp: int
+    tn: int
+    fp: int
+    fn: int
+    recall: float
+    fpr: float
+    m: float
+    precision: float
+    f1: float
+
+
+class Detector:
+    """A method with its parameters and thread count, checked once and reused.
+
+    Parameters
+    ----------
+    method : str, default "exact"
+        A name from :func:`methods`. ``exact`` gives the reference labels of the definition.
+    threads : int, optional
+        Worker threads of each detection (default: all cores).
+    **params : str, int, float or bool
+        The method's parameters, as ``--set KEY=VALUE`` on the command line (``depth=4``,
+        ``gamma=1.3``, ...).
+
+    Raises
+    ------
+    ValueError
+        An unknown method, an unknown parameter or a value out of its range (the message
+        names it and its accepted values), ``threads=0``.
+
+    Examples
+    --------
+    >>> import numpy as np, boundary_particles as bp
+    >>> ge = bp.Detector("ge", depth=4)
+    >>> ge
+    Detector('ge', depth=4)
+    >>> ge.detect(np.random.default_rng(0).random((500, 3)), r=0.1).shape
+    (500,)
+    """
+
+    def __init__(
+        self, method: str = "exact", *, threads: Optional[int] = None, **params: Param
+    ) -> None:
+        self._native = _native.Detector(method, threads, params)
+        self._params = dict(params)
+
+    @property
+    def method(self) -> str:
+        """The method's name."""
+        return self._native.method
+
+    @property
+    def threads(self) -> Optional[int]:
+        """The worker threads of each detection (``None``: all cores)."""
+        return self._native.threads
+
+    @property
+    def params(self) -> Dict[str, Param]:
+        """The parameters given."""
+        return dict(self._params)
+
+    @property
+    def certified(self) -> bool:
+        """Whether the method never labels a boundary particle interior."""
+        return self._native.certified
+
+    def settings(self) -> Dict[str, str]:
+        """Every parameter of the method with its value in this detector (defaults
+        included)."""
+        return dict(self._native.settings())
+
+    def __repr__(self) -> str:
+        args = [repr(self.method)]
+        if self.threads is not None:
+            args.append(f"threads={self.threads!r}")
+        args += [f"{key}={value!r}" for key, value in self._params.items()]
+        return f"Detector({', '.join(args)})"
+
+    def __str__(self) -> str:
+        return self._native.label()
+
+    @overload
+    def detect(
+        self,
+        points: ArrayLike,
+        r: Optional[Radius] = None,
+        *,
+        margin: Literal[False] = False,
+        radii: Optional[ArrayLike] = None,
+        walls: Optional[ArrayLike] = None,
+        wall_radii: Optional[ArrayLike] = None,
+        solids: Optional[Texts] = None,
+        periodic: Optional[Texts] = None,
+        phases: None = None,
+        dim: Optional[int] = None,
+    ) -> Labels: ...
+    @overload
+    def detect(
+        self,
+        points: ArrayLike,
+        r: Optional[Radius] = None,
+        *,
+        margin: Literal[True],
+        radii: Optional[ArrayLike] = None,
+        walls: Optional[ArrayLike] = None,
+        wall_radii: Optional[ArrayLike] = None,
+        solids: Optional[Texts] = None,
+        periodic: Optional[Texts] = None,
+        phases: None = None,
+        dim: Optional[int] = None,
+    ) -> Tuple[Labels, Margin]: ...
+    @overload
+    def detect(
+        self,
+        points: ArrayLike,
+        r: Optional[Radius] = None,
+        *,
+        margin: Literal[False] = False,
+        radii: Optional[ArrayLike] = None,
+        walls: Optional[ArrayLike] = None,
+        wall_radii: Optional[ArrayLike] = None,
+        solids: Optional[Texts] = None,
+        periodic: Optional[Texts] = None,
+        phases: ArrayLike,
+        dim: Optional[int] = None,
+    ) -> Tuple[Labels, Labels]: ...
+    @overload
+    def detect(
+        self,
+        points: ArrayLike,
+        r: Optional[Radius] = None,
+        *,
+        margin: Literal[True],
+        radii: Optional[ArrayLike] = None,
+        walls: Optional[ArrayLike] = None,
+        wall_radii: Optional[ArrayLike] = None,
+        solids: Optional[Texts] = None,
+        periodic: Optional[Texts] = None,
+        phases: ArrayLike,
+        dim: Optional[int] = None,
+    ) -> Tuple[Labels, Margin, Labels]: ...
+    def detect(
+        self,
+        points: ArrayLike,
+        r: Optional[Radius] = None,
+        *,
+        margin: bool = False,
+        radii: Optional[ArrayLike] = None,
+        walls: Optional[ArrayLike] = None,
+        wall_radii: Optional[ArrayLike] = None,
+        solids: Optional[Texts] = None,
+        periodic: Optional[Texts] = None,
+        phases: Optional[ArrayLike] = None,
+        dim: Optional[int] = None,
+    ) -> Union[
+        Labels,
+        Tuple[Labels, Margin],
+        Tuple[Labels, Labels],
+        Tuple[Labels, Margin, Labels],
+    ]:
+        """Labels every particle: ``True`` on the boundary, ``False`` inside.
+
+        Parameters
+        ----------
+        points : array_like, shape (n, 2) or (n, 3)
+            The positions.
+        r : float or "auto"
+            The particle resolution (positive, finite), or ``"auto"`` to estimate it
+            (:func:`auto_radius`). Required without ``radii``; with ``radii`` it is the scale
+            of every radius (``r_i = r * radii[i]``), default 1.
+        margin : bool, default False
+            Also return the method's per-particle margin (positive leans boundary, negative
+            interior, near zero a near-tie; for ``exact`` the distance by which the particle's
+            Voronoi cell reaches beyond ``r``), or ``None`` when the method has none.
+        radii : array_like, shape (n,), optional
+            A radius factor per particle, each positive and finite: particle *i* has radius
+            ``r * radii[i]`` and is interior iff its sphere is covered by the balls of the
+            others. A method without per-particle radii raises ``ValueError`` saying so.
+        walls : array_like, shape (m, d), optional
+            Covering-only particles (a solver's fixed boundary particles): they cover the
+            points' spheres and get no label. May be flat.
+        wall_radii : array_like, shape (m,), optional
+            Radius factors of the walls (default 1 each). Only with ``walls``.
+        solids : str or sequence of str, optional
+            Closed axis-aligned solid half-spaces ``"AXIS<VALUE"`` / ``"AXIS>VALUE"``
+            (``"y<0"``: the solid ``{y <= 0}``, a floor). What lies in a solid counts as
+            covered. Methods without a rule for solids raise ``ValueError`` (use ``walls``).
+        periodic : str or sequence of str, optional
+            Periodic axes ``"AXIS:MIN:MAX"`` (``"x:0:1"``): the images of every particle and
+            wall shifted by ``±(MAX - MIN)`` cover. Every particle must lie in
+            ``[MIN, MAX]`` and the period must be at least the method's reach.
+        phases : array_like of int, shape (n,), optional
+            A phase number per particle (``0 .. 2**32 - 1``). The labels stay those of the
+            free surface; the interface labels are returned besides them.
+        dim : {2, 3}, optional
+            ``2`` drops the one constant axis of an ``(n, 3)`` array (z first, then y, then
+            x); ``3`` keeps a flat ``(n, 3)`` set 3D (every particle of it is then boundary).
+            Default: the array's own dimension, refusing a flat ``(n, 3)`` set.
+
+        Returns
+        -------
+        labels : ndarray of bool, shape (n,)
+            ``True`` for a boundary particle.
+        margin : ndarray of float64, shape (n,), or None
+            Only with ``margin=True``.
+        interface : ndarray of bool, shape (n,)
+            Only with ``phases``: ``True`` for a particle on an interface between phases (not
+            on the free surface, but uncovered once only its own phase may cover).
+
+        Raises
+        ------
+        ValueError
+            Bad shape, a non-finite coordinate (naming the particle), a flat ``(n, 3)`` set
+            (naming ``dim=2``), ``r <= 0``, a bad radius, a bad domain, a method that cannot
+            honour the input.
+        TypeError
+            ``r`` missing without ``radii``; ``solids`` or ``periodic`` not strings.
+        KeyboardInterrupt
+            Ctrl-C during the detection; the workers have stopped when it is raised.
+        """
+        out: Any = self._native.detect(
+            points,
+            r,
+            margin,
+            radii,
+            walls,
+            wall_radii,
+            solids,
+            periodic,
+            phases,
+            dim,
+        )
+        return out  # type: ignore[no-any-return]
+
+
+@overload
+def detect(
+    points: ArrayLike,
+    r: Optional[Radius] = None,
+    method: str = "exact",
+    *,
+    threads: Optional[int] = None,
+    margin: Literal[False] = False,
+    radii: Optional[ArrayLike] = None,
+    walls: Optional[ArrayLike] = None,
+    wall_radii: Optional[ArrayLike] = None,
+    solids: Optional[Texts] = None,
+    periodic: Optional[Texts] = None,
+    phases: None = None,
+    dim: Optional[int] = None,
+    **params: Param,
+) -> Labels: ...
+@overload
+def detect(
+    points: ArrayLike,
+    r: Optional[Radius] = None,
+    method: str = "exact",
+    *,
+    threads: Optional[int] = None,
+    margin: Literal[True],
+    radii: Optional[ArrayLike] = None,
+    walls: Optional[ArrayLike] = None,
+    wall_radii: Optional[ArrayLike] = None,
+    solids: Optional[Texts] = None,
+    periodic: Optional[Texts] = None,
+    phases: None = None,
+    dim: Optional[int] = None,
+    **params: Param,
+) -> Tuple[Labels, Margin]: ...
+@overload
+def detect(
+    points: ArrayLike,
+    r: Optional[Radius] = None,
+    method: str = "exact",
+    *,
+    threads: Optional[int] = None,
+    margin: Literal[False] = False,
+    radii: Optional[ArrayLike] = None,
+    walls: Optional[ArrayLike] = None,
+    wall_radii: Optional[ArrayLike] = None,
+    solids: Optional[Texts] = None,
+    periodic: Optional[Texts] = None,
+    phases: ArrayLike,
+    dim: Optional[int] = None,
+    **params: Param,
+) -> Tuple[Labels, Labels]: ...
+@overload
+def detect(
+    points: ArrayLike,
+    r: Optional[Radius] = None,
+    method: str = "exact",
+    *,
+    threads: Optional[int] = None,
+    margin: Literal[True],
+    radii: Optional[ArrayLike] = None,
+    walls: Optional[ArrayLike] = None,
+    wall_radii: Optional[ArrayLike] = None,
+    solids: Optional[Texts] = None,
+    periodic: Optional[Texts] = None,
+    phases: ArrayLike,
+    dim: Optional[int] = None,
+    **params: Param,
+) -> Tuple[Labels, Margin, Labels]: ...
+def detect(
+    points: ArrayLike,
+    r: Optional[Radius] = None,
+    method: str = "exact",
+    *,
+    threads: Optional[int] = None,
+    margin: bool = False,
+    radii: Optional[ArrayLike] = None,
+    walls: Optional[ArrayLike] = None,
+    wall_radii: Optional[ArrayLike] = None,
+    solids: Optional[Texts] = None,
+    periodic: Optional[Texts] = None,
+    phases: Optional[ArrayLike] = None,
+    dim: Optional[int] = None,
+    **params: Param,
+) -> Union[
+    Labels,
+    Tuple[Labels, Margin],
+    Tuple[Labels, Labels],
+    Tuple[Labels, Margin, Labels],
+]:
+    """Labels every particle: ``True`` on the boundary, ``False`` inside.
+
+    ``Detector(method, threads=threads, **params).detect(points, r, ...)`` in one call; build
+    a :class:`Detector` once to reuse it.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 2) or (n, 3)
+        The positions.
+    r : float or "auto"
+        The particle resolution, or ``"auto"``; see :meth:`Detector.detect`.
+    method : str, default "exact"
+        A name from :func:`methods`; ``exact`` gives the reference labels.
+    threads : int, optional
+        Worker threads (default: all cores).
+    margin, radii, walls, wall_radii, solids, periodic, phases, dim
+        As :meth:`Detector.detect`.
+    **params : str, int, float or bool
+        The method's parameters (``depth=4``, ``gamma=1.3``, ...).
+
+    Returns
+    -------
+    labels : ndarray of bool, shape (n,)
+        ``True`` for a boundary particle; with ``margin=True`` and/or ``phases``, a tuple
+        ``(labels[, margin][, interface])`` as :meth:`Detector.detect`.
+
+    Raises
+    ------
+    ValueError
+        Bad input or an unknown method or parameter; see :meth:`Detector.detect`.
+    KeyboardInterrupt
+        Ctrl-C during the detection; the workers have stopped when it is raised.
+    """
+    detector = Detector(method, threads=threads, **params)
+    out: Any = detector._native.detect(
+        points, r, margin, radii, walls, wall_radii, solids, periodic, phases, dim
+    )
+    return out  # type: ignore[no-any-return]
+
+
+def auto_radius(points: ArrayLike, dim: Optional[int] = None) -> float:
+    """The resolution ``r="auto"`` uses: the median over the particles of the distance to
+    the nearest other particle (exact duplicates ignored).
+
+    On a square or cubic lattice of spacing *s* it is *s*, for which every interior
+    particle is covered. It is an estimate: pass ``r`` when the simulation's resolution is
+    known.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 2) or (n, 3)
+        The positions.
+    dim : {2, 3}, optional
+        As :meth:`Detector.detect`.
+
+    Returns
+    -------
+    float
+        The estimated resolution.
+
+    Raises
+    ------
+    ValueError
+        Fewer than two distinct positions, or bad points.
+    """
+    return _native.auto_radius_of(points, dim)
+
+
+def confusion(predicted: ArrayLike, truth: ArrayLike) -> Confusion:
+    """Scores labels one already has against the truth; boundary is the positive class.
+
+    Parameters
+    ----------
+    predicted, truth : array_like of bool or 0/1, shape (n,)
+        One label per particle, ``True`` (or 1) for boundary.
+
+    Returns
+    -------
+    Confusion
+        ``tp, tn, fp, fn`` (counts), ``recall = tp / (tp + fn)``, ``fpr = fp / (fp + tn)``,
+        ``m = recall * (1 - fpr)`` (J. Comput. Phys. 2020, Sec. 4), ``precision`` and ``f1``:
+        the keys of ``boundary score --json``. A rate whose denominator is zero is 0.
+
+    Raises
+    ------
+    ValueError
+        Lengths that differ, a label other than 0/1, an array that is not one-dimensional.
+    """
+    return _native.confusion(predicted, truth)  # type: ignore[return-value]
+
+
+@overload
+def score(
+    points: ArrayLike,
+    r: Radius,
+    method: str,
+    *,
+    truth: Optional[ArrayLike] = None,
+    threads: Optional[int] = None,
+    radii: Optional[ArrayLike] = None,
+    dim: Optional[int] = None,
+    **params: Param,
+) -> Confusion: ...
+@overload
+def score(
+    points: ArrayLike,
+    r: Optional[Radius] = None,
+    *,
+    method: str,
+    truth: Optional[ArrayLike] = None,
+    threads: Optional[int] = None,
+    radii: ArrayLike,
+    dim: Optional[int] = None,
+    **params: Param,
+) -> Confusion: ...
+def score(
+    points: ArrayLike,
+    r: Optional[Radius] = None,
+    method: Optional[str] = None,
+    *,
+    truth: Optional[ArrayLike] = None,
+    threads: Optional[int] = None,
+    radii: Optional[ArrayLike] = None,
+    dim: Optional[int] = None,
+    **params: Param,
+) -> Confusion:
+    """Runs ``method`` and scores its labels against the truth (``boundary score``).
+
+    ``confusion(detect(points, r, method, ...), truth)``, the truth defaulting to the
+    ``exact`` labels of the same points, ``r`` and radii.
+
+    Parameters
+    ----------
+    points, r, radii, dim
+        As :meth:`Detector.detect`.
+    method : str
+        Required (by keyword when ``r`` is left to its default with ``radii``).
+    truth : array_like of bool or 0/1, shape (n,), optional
+        The reference labels; default: those of ``exact``.
+    threads : int, optional
+        Worker threads (default: all cores).
+    **params : str, int, float or bool
+        The method's parameters.
+
+    Returns
+    -------
+    Confusion
+        As :func:`confusion`.
+    """
+    if method is None:
+        raise TypeError("score() missing required argument 'method'")
+    predicted = Detector(method, threads=threads, **params).detect(
+        points, r, radii=radii, dim=dim
+    )
+    if truth is None:
+        truth = Detector("exact", threads=threads).detect(points, r, radii=radii, dim=dim)
+    return confusion(predicted, truth)
+
+
+def methods() -> List[MethodInfo]:
+    """Every available method.
+
+    Returns
+    -------
+    list of MethodInfo
+        Per method: ``name``, ``summary`` (with its paper), ``certified`` (never a false
+        negative) and ``params`` (``name``, ``default``, ``description`` each): the data of
+        ``boundary methods --json``.
+    """
+    return _native.methods()  # type: ignore[return-value]
+
+
+def read(
+    path: Path, dim: Optional[int] = None, format: Optional[str] = None
+) -> Tuple[NDArray[np.float64], Dict[str, NDArray[Any]]]:
+    """Reads a particle file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        CSV (header ``x,y[,z]``), whitespace XYZ, PLY, legacy VTK, VTK XML ``.vtu`` /
+        ``.vtp``, Houdini BGEO (``.bgeo``, ``.bgeo.gz``).
+    dim : {2, 3}, optional
+        ``2`` drops the one constant axis of a 3D file; ``3`` asks for 3D.
+    format : str, optional
+        The format when the extension does not say it (``csv``, ``xyz``, ``ply``, ``vtk``,
+        ``vtu``, ``vtp``, ``bgeo``).
+
+    Returns
+    -------
+    points : ndarray of float64, shape (n, dim)
+    point_data : dict of str to ndarray
+        Every other per-particle attribute, as meshio gives it: a scalar as an ``(n,)``
+        array, a vector of ``k`` components as an ``(n, k)`` array; ``int64`` or ``float64``.
+
+    Warns
+    -----
+    UserWarning
+        For each attribute of the file that cannot be kept (named, with the reason).
+
+    Raises
+    ------
+    FileNotFoundError, OSError
+        The file cannot be opened.
+    ValueError
+        Malformed content (naming the line or element).
+    """
+    return _native.read(path, dim, format)
+
+
+def write(
+    path: Path,
+    points: ArrayLike,
+    *,
+    boundary: Optional[ArrayLike] = None,
+    point_data: Optional[Mapping[str, ArrayLike]] = None,
+    format: Optional[str] = None,
+    dim: Optional[int] = None,
+) -> None:
+    """Writes a particle file; atomic (the file appears whole or not at all, and a file
+    already at ``path`` stays as it was when the write fails).
+
+    Parameters
+    ----------
+    path : str or path-like
+        The format is that of the extension, or ``format``.
+    points : array_like, shape (n, 2) or (n, 3)
+        The positions.
+    boundary : array_like of bool or 0/1, shape (n,), optional
+        Written as the integer column ``boundary``.
+    point_data : mapping of str to array_like, optional
+        Per-particle attributes, as meshio takes them: an ``(n,)`` array is one column, an
+        ``(n, k)`` array a vector attribute (VTK XML writes one array of ``k`` components,
+        the other formats the columns ``name:0 .. name:k-1``). Integer arrays stay integers,
+        anything else is written as reals. Any name is allowed that is a valid column name
+        and not a position (``x``, ...).
+    format : str, optional
+        As :func:`read`.
+    dim : {2, 3}, optional
+        As :meth:`Detector.detect`.
+
+    Raises
+    ------
+    OSError
+        The file cannot be written.
+    ValueError
+        Bad points, a column of the wrong length or shape, a bad or repeated name.
+    """
+    _native.write(path, points, boundary, point_data, format, dim)
+
+
+def resample(
+    points: ArrayLike,
+    r: Radius,
+    method: str = "exact",
+    *,
+    k: int = 4,
+    alpha: float = 0.2,
+    shift: float = 0.5,
+    labels: Optional[ArrayLike] = None,
+    threads: Optional[int] = None,
+    **params: Param,
+) -> Tuple[NDArray[np.float64], NDArray[np.int8], NDArray[np.int64]]:
+    """Classifies the boundary particles by feature and resamples thin features (Sandim et
+    al., Computers & Graphics 2019; thesis Sec. 2.6, Eq. 2.4-2.5).
+
+    A droplet (fewer than ``k`` neighbours) becomes 4 (2D) or 6 (3D) particles, a ligament 2
+    or 4, a sheet 2, all ``shift * r`` from it along its thin directions; a regular boundary
+    particle moves ``shift * r`` outwards; interior particles are kept.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 2) or (n, 3)
+        The positions.
+    r : float or "auto"
+        The particle resolution.
+    method : str, default "exact"
+        The method giving the boundary particles (with ``**params``), unless ``labels``.
+    k : int, default 4
+        *K* of Eq. 2.5.
+    alpha : float, default 0.2
+        *alpha* of Eq. 2.5.
+    shift : float, default 0.5
+        The shift in units of ``r``.
+    labels : array_like of bool or 0/1, shape (n,), optional
+        The boundary labels to use instead of running ``method``.
+    threads : int, optional
+        Worker threads (default: all cores).
+    **params : str, int, float or bool
+        The method's parameters.
+
+    Returns
+    -------
+    points : ndarray of float64, shape (m, dim)
+        The new set.
+    feature : ndarray of int8, shape (m,)
+        Each new particle's feature code (:data:`FEATURES`).
+    source : ndarray of int64, shape (m,)
+        The index of the input particle each new particle comes from.
+    """
+    detector = Detector(method, threads=threads, **params)
+    return _native.resample(
+        points, r, detector._native, k, alpha, shift, labels
+    )
