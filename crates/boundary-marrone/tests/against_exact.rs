@@ -5,11 +5,11 @@
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
-use boundary_core::decompose::{morton_blocks, slabs};
-use boundary_core::{BoundaryDetector, Confusion, Labels, ParticleSet, Radius};
+use boundary_core::{BoundaryDetector, Labels, ParticleSet, Radius};
 use boundary_exact::ExactDetector;
 use boundary_marrone::MarroneDetector;
-use boundary_scenes::{jittered_lattice_ball, jittered_lattice_disc, SharedData, SHARED_SCENES};
+use boundary_scenes::against;
+use boundary_scenes::{jittered_lattice_ball, jittered_lattice_disc};
 use boundary_sph::Kernel;
 
 fn labels<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, r: f64) -> Labels {
@@ -22,33 +22,8 @@ fn labels<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, r: f64) -> 
 /// deeper than one kernel support plus a spacing are all interior, and the exact boundary is
 /// found with Rec >= 0.95.
 fn check_ball<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, radius: f64, r: f64) {
-    let found = labels(d, set, r);
-    let exact = labels_exact(set, r);
-    let h = d.h_over_r() * r;
-    for (i, p) in set.positions().iter().enumerate() {
-        let depth = radius - p.norm();
-        if depth < 0.3 {
-            assert!(
-                found.is_boundary(i),
-                "{D}D: rim particle {i} at depth {depth}"
-            );
-        }
-        if depth > 2.0 * h + 1.0 {
-            assert!(
-                !found.is_boundary(i),
-                "{D}D: deep particle {i} at depth {depth}"
-            );
-        }
-    }
-    let c = Confusion::from_labels(found.as_slice(), exact.as_slice()).unwrap();
-    assert!(c.recall() >= 0.95, "{D}D: {c:?}");
-}
-
-fn labels_exact<const D: usize>(set: &ParticleSet<D>, r: f64) -> Labels {
-    ExactDetector
-        .detect(&set.to_any(), Radius::new(r).unwrap())
-        .unwrap()
-        .labels
+    let core = 2.0 * d.h_over_r() * r + 1.0;
+    against::check_ball(d, &ExactDetector, set, radius, r, core, 0.95).unwrap();
 }
 
 #[test]
@@ -111,38 +86,7 @@ fn shared_scenes_keep_m_at_or_above_the_recorded_floors() {
         ("dambreak23_r0.05", 0.9),
         ("dualsphysics_dambreak3d", 0.95),
     ];
-    let data = SharedData::from_env();
-    for &(name, dim, file, r, _, _, _) in SHARED_SCENES {
-        let Some(&(_, floor)) = floors.iter().find(|f| f.0 == name) else {
-            continue;
-        };
-        let d = MarroneDetector::default();
-        let c = if dim == 2 {
-            let Some(set) = data.set::<2>(file).unwrap() else {
-                continue;
-            };
-            Confusion::from_labels(
-                labels(&d, &set, r).as_slice(),
-                labels_exact(&set, r).as_slice(),
-            )
-        } else {
-            let Some(set) = data.set::<3>(file).unwrap() else {
-                continue;
-            };
-            Confusion::from_labels(
-                labels(&d, &set, r).as_slice(),
-                labels_exact(&set, r).as_slice(),
-            )
-        }
-        .unwrap();
-        println!(
-            "{name}: Rec {:.4} FPR {:.4} M {:.4}",
-            c.recall(),
-            c.fpr(),
-            c.m()
-        );
-        assert!(c.m() >= floor, "{name}: M {:.4} < {floor}", c.m());
-    }
+    against::check_shared_floors(&MarroneDetector::default(), &ExactDetector, &floors).unwrap();
 }
 
 /// The same labels for a jittered lattice and its copies scaled by 1e-100 to 8e99 at r
@@ -209,42 +153,5 @@ fn degenerate_input_gives_the_documented_labels() {
 
 #[test]
 fn labels_do_not_depend_on_threads_or_decomposition() {
-    let data = SharedData::from_env();
-    let Some(set) = data
-        .set::<2>("particles2d/sandim_vortex_spin_frame_100_1698.csv")
-        .unwrap()
-    else {
-        return;
-    };
-    let r = Radius::new(0.022105).unwrap();
-    let d = MarroneDetector::default();
-    let global = d.detect_2d(&set, r).unwrap().labels;
-    for threads in [1, 3] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        assert_eq!(
-            pool.install(|| d.detect_2d(&set, r).unwrap().labels),
-            global
-        );
-    }
-    let halo = d.halo_width(r);
-    for subs in [
-        slabs(&set, 3, 0, halo).unwrap(),
-        morton_blocks(&set, 4, halo).unwrap(),
-    ] {
-        let mut merged = vec![false; set.len()];
-        for sub in &subs {
-            let local = sub.particles(&set).to_any();
-            let labels = d.detect_owned(&local, sub.owned.len(), r).unwrap().labels;
-            assert_eq!(labels.len(), sub.owned.len());
-            for (k, &i) in sub.owned.iter().enumerate() {
-                merged[i] = labels.is_boundary(k);
-            }
-        }
-        assert_eq!(merged, global.as_slice());
-    }
-    let too_many = d.detect_owned(&set.to_any(), set.len() + 1, r);
-    assert!(too_many.is_err());
+    against::check_threads_and_decomposition(&MarroneDetector::default()).unwrap();
 }

@@ -15,6 +15,7 @@
 //! assert!(manifest.scene.iter().any(|s| s.origin == Origin::Fixture && s.dim == 2));
 //! ```
 
+pub mod against;
 pub mod brute;
 pub mod certify;
 mod generate;

@@ -27,8 +27,65 @@
 //!   `h^-D` and are not finite for extreme `h`; the detectors use the reduced ones.
 //! - **Linear algebra** ([`SymmetricEigen`]): eigen-decomposition of the `D × D` symmetric
 //!   matrices, for the smallest eigenvalue of `B_i` and solves with it.
+//! - **The frame** ([`frame`]): what an SPH-sum detector shares with the others. A method
+//!   crate writes its criterion ([`SphCriterion`]: the verdict of one particle from the sums
+//!   of a [`SphContext`]) and its listing ([`SphMethod`]); [`impl_sph_detector!`] writes the
+//!   rest of its `BoundaryDetector`: 2D/3D dispatch, the refusal of per-particle radii, the
+//!   kernel at `h = h_over_r · r` ([`Smoothing`], whose `kernel` and `h_over_r` every method
+//!   checks and lists alike), the parallel loop, the owned particles of `detect_owned` (walls
+//!   and periodic images of a domain enter the sums as ghosts) and a halo of two supports.
 //!
-//! # Example
+//! # A criterion on the frame
+//! ```
+//! use boundary_core::{BoundaryDetector, ParamError, Params, ParticleSet, Radius};
+//! use boundary_sph::{Smoothing, SphContext, SphCriterion, SphMethod, Verdict};
+//!
+//! /// Boundary iff fewer than `min` other particles lie within the kernel support.
+//! #[derive(Debug)]
+//! struct Crowd {
+//!     min: usize,
+//!     smoothing: Smoothing,
+//! }
+//!
+//! impl SphCriterion for Crowd {
+//!     const METHOD: &'static str = "crowd";
+//!     const MARGIN: bool = true;
+//!     fn smoothing(&self) -> Smoothing {
+//!         self.smoothing
+//!     }
+//!     fn classify<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Verdict {
+//!         let n = ctx.local_sums(i).neighbours as f64;
+//!         Verdict { boundary: n < self.min as f64, margin: self.min as f64 - n }
+//!     }
+//! }
+//!
+//! impl SphMethod for Crowd {
+//!     const RADII_REFUSAL: &'static str = "a neighbour count assumes one support";
+//!     const SOLID_REFUSAL: &'static str = "a half-space is no particle";
+//!     fn param_list(&self) -> Params {
+//!         Params(self.smoothing.param_infos().to_vec())
+//!     }
+//!     fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+//!         if self.smoothing.set_text(Self::METHOD, key, value)? {
+//!             Ok(())
+//!         } else {
+//!             Err(ParamError::unknown(Self::METHOD, key, &["kernel", "h_over_r"]))
+//!         }
+//!     }
+//! }
+//!
+//! boundary_sph::impl_sph_detector!(Crowd);
+//!
+//! // A 9 x 9 lattice at h = r = 1.3 (support 2.6): a corner has 7 neighbours, the centre 20.
+//! let rows: Vec<[f64; 2]> = (0..81).map(|k| [(k % 9) as f64, (k / 9) as f64]).collect();
+//! let set = ParticleSet::from_rows(&rows).unwrap();
+//! let d = Crowd { min: 12, smoothing: Smoothing::default() };
+//! let labels = d.detect_2d(&set, Radius::new(1.3).unwrap()).unwrap().labels;
+//! assert!(labels.is_boundary(0) && !labels.is_boundary(40));
+//! assert_eq!(d.to_string(), "crowd (kernel=wendland, h_over_r=1)");
+//! ```
+//!
+//! # Example: the sums
 //! ```
 //! use boundary_core::ParticleSet;
 //! use boundary_sph::{Kernel, SphContext, SphKernel, SymmetricEigen};
@@ -46,10 +103,16 @@
 //! assert!(corner < 0.5);
 //! ```
 
+pub mod frame;
 mod kernel;
 mod linalg;
 mod sums;
 
+pub use frame::{Smoothing, SphCriterion, SphMethod, Verdict};
 pub use kernel::{Kernel, SphKernel, UnknownKernel, SUPPORT_FACTOR};
 pub use linalg::SymmetricEigen;
 pub use sums::{colour_field_normals, number_density, summation_density, LocalSums, SphContext};
+
+#[doc(hidden)]
+/// For [`impl_sph_detector!`]: the core types its expansion names.
+pub use boundary_core as __core;
