@@ -115,24 +115,15 @@ mod criterion;
 
 pub use criterion::{AsymmetrySums, AsymmetryValue};
 
-use boundary_core::{
-    AnyParticleSet, BoundaryDetector, CoreError, DetectError, Detection, Labels, ParamError,
-    ParamInfo, Params, ParticleSet, Point, Radius,
-};
-use boundary_sph::{Kernel, SphContext, SphKernel, SUPPORT_FACTOR};
+use boundary_core::{CoreError, ParamError, ParamInfo, Params, ParticleSet, Point, Radius};
+use boundary_sph::{Kernel, Smoothing, SphContext, SphCriterion, SphMethod, Verdict};
 use rayon::prelude::*;
-
-/// Why `asymmetry` rejects per-particle radii ([`DetectError::PerParticleRadii`]).
-const NO_RADII: &str =
-    "the kernel sums and the thresholds in units of h (He et al. 2012) assume one smoothing length";
 
 /// Default threshold on the asymmetry `a_i` (units of `h`), tuned as the crate documentation
 /// says.
 pub const DEFAULT_THRESHOLD: f64 = 0.125;
 /// Default density ratio, tuned as the crate documentation says.
 pub const DEFAULT_DENSITY_RATIO: f64 = 0.7;
-/// Default smoothing length in units of `r`.
-pub const DEFAULT_H_OVER_R: f64 = 1.0;
 
 const METHOD: &str = "asymmetry";
 const KEYS: [&str; 4] = ["threshold", "density_ratio", "kernel", "h_over_r"];
@@ -152,38 +143,33 @@ pub struct AsymmetryParams {
 
 impl Default for AsymmetryParams {
     fn default() -> Self {
+        let s = Smoothing::default();
         AsymmetryParams {
             threshold: DEFAULT_THRESHOLD,
             density_ratio: DEFAULT_DENSITY_RATIO,
-            kernel: Kernel::WendlandC2,
-            h_over_r: DEFAULT_H_OVER_R,
+            kernel: s.kernel,
+            h_over_r: s.h_over_r,
         }
     }
 }
 
 /// `v` if finite and `ok`, else the error naming `key` and the value as `shown`.
-fn check(
-    key: &str,
-    v: f64,
-    shown: &str,
-    ok: fn(f64) -> bool,
-    expected: &str,
-) -> Result<f64, ParamError> {
-    if v.is_finite() && ok(v) {
+fn check(key: &str, v: f64, shown: &str, rule: Rule) -> Result<f64, ParamError> {
+    if v.is_finite() && (rule.0)(v) {
         Ok(v)
     } else {
         Err(ParamError::invalid(
             METHOD,
             key,
             shown,
-            format!("must be {expected}"),
+            format!("must be {}", rule.1),
         ))
     }
 }
 
-const THRESHOLD_RULE: (fn(f64) -> bool, &str) = (|v| v >= 0.0, "a number >= 0");
-const RATIO_RULE: (fn(f64) -> bool, &str) = (|v| (0.0..=1.0).contains(&v), "in [0, 1]");
-const H_RULE: (fn(f64) -> bool, &str) = (|v| v > 0.0 && v <= 100.0, "in (0, 100]");
+type Rule = (fn(f64) -> bool, &'static str);
+const THRESHOLD_RULE: Rule = (|v| v >= 0.0, "a number >= 0");
+const RATIO_RULE: Rule = (|v| (0.0..=1.0).contains(&v), "in [0, 1]");
 
 /// The asymmetry detector (`asymmetry`). See the crate documentation.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -200,23 +186,15 @@ impl AsymmetryDetector {
             "threshold",
             params.threshold,
             &shown(params.threshold),
-            THRESHOLD_RULE.0,
-            THRESHOLD_RULE.1,
+            THRESHOLD_RULE,
         )?;
         check(
             "density_ratio",
             params.density_ratio,
             &shown(params.density_ratio),
-            RATIO_RULE.0,
-            RATIO_RULE.1,
+            RATIO_RULE,
         )?;
-        check(
-            "h_over_r",
-            params.h_over_r,
-            &shown(params.h_over_r),
-            H_RULE.0,
-            H_RULE.1,
-        )?;
+        Smoothing::try_new(METHOD, params.kernel, params.h_over_r)?;
         Ok(AsymmetryDetector { params })
     }
 
@@ -232,37 +210,11 @@ impl AsymmetryDetector {
         set: &ParticleSet<D>,
         r: Radius,
     ) -> Result<Vec<AsymmetryValue>, CoreError> {
-        self.values_first(set, set.len(), r)
-    }
-
-    fn values_first<const D: usize>(
-        &self,
-        set: &ParticleSet<D>,
-        count: usize,
-        r: Radius,
-    ) -> Result<Vec<AsymmetryValue>, CoreError> {
-        let h = self.params.h_over_r * r.get();
-        let ctx = SphContext::new(set, SphKernel::new(self.params.kernel, h))?;
-        Ok((0..count)
+        let ctx = SphContext::new(set, self.smoothing().kernel_at(r))?;
+        Ok((0..set.len())
             .into_par_iter()
             .map(|i| sums(&ctx, i).value())
             .collect())
-    }
-
-    fn detect_first<const D: usize>(
-        &self,
-        set: &ParticleSet<D>,
-        count: usize,
-        r: Radius,
-    ) -> Result<Detection, CoreError> {
-        let (t, ratio) = (self.params.threshold, self.params.density_ratio);
-        let values = self.values_first(set, count, r)?;
-        let labels: Labels = values.iter().map(|v| v.is_boundary(t, ratio)).collect();
-        let margin = values.iter().map(|v| v.margin(t, ratio)).collect();
-        Ok(Detection {
-            labels,
-            margin: Some(margin),
-        })
     }
 }
 
@@ -272,7 +224,6 @@ fn sums<const D: usize>(ctx: &SphContext<'_, D>, i: usize) -> AsymmetrySums<D> {
     let kernel = ctx.kernel();
     let inv_h = 1.0 / kernel.h();
     let volumes = ctx.reduced_volumes();
-    let density = 1.0 / volumes[i];
     let mut offset = Point::<D>::zeros();
     let mut smallest_volume = volumes[i];
     let mut has_neighbour = false;
@@ -284,28 +235,45 @@ fn sums<const D: usize>(ctx: &SphContext<'_, D>, i: usize) -> AsymmetrySums<D> {
     });
     AsymmetrySums {
         offset,
-        density,
+        density: 1.0 / volumes[i],
         reference_density: 1.0 / smallest_volume,
         has_neighbour,
     }
 }
 
-// `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
-boundary_core::impl_display_as_label!(AsymmetryDetector);
+impl SphCriterion for AsymmetryDetector {
+    const METHOD: &'static str = METHOD;
+    const MARGIN: bool = true;
 
-impl BoundaryDetector for AsymmetryDetector {
-    fn name(&self) -> &'static str {
-        METHOD
+    fn smoothing(&self) -> Smoothing {
+        Smoothing {
+            kernel: self.params.kernel,
+            h_over_r: self.params.h_over_r,
+        }
     }
 
-    fn params(&self) -> Params {
+    fn classify<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Verdict {
+        let v = sums(ctx, i).value();
+        let (t, ratio) = (self.params.threshold, self.params.density_ratio);
+        Verdict {
+            boundary: v.is_boundary(t, ratio),
+            margin: v.margin(t, ratio),
+        }
+    }
+}
+
+impl SphMethod for AsymmetryDetector {
+    const RADII_REFUSAL: &'static str =
+        "the kernel sums and the thresholds in units of h (He et al. 2012) assume one smoothing length";
+    const SOLID_REFUSAL: &'static str = "its density and weighted mean are kernel sums over particles, and a half-space is no particle; give the walls as particles (--walls), which enter the sums";
+
+    fn param_list(&self) -> Params {
         let p = &self.params;
-        let d = AsymmetryParams::default();
-        Params(vec![
+        let mut list = vec![
             ParamInfo {
                 name: "threshold",
                 value: p.threshold.to_string(),
-                default: d.threshold.to_string(),
+                default: DEFAULT_THRESHOLD.to_string(),
                 description:
                     "boundary iff the distance from the particle to the kernel-weighted \
                               mean of its neighbourhood, in units of h, exceeds it (He et al. 2012)",
@@ -313,65 +281,22 @@ impl BoundaryDetector for AsymmetryDetector {
             ParamInfo {
                 name: "density_ratio",
                 value: p.density_ratio.to_string(),
-                default: d.density_ratio.to_string(),
+                default: DEFAULT_DENSITY_RATIO.to_string(),
                 description: "boundary iff the number density is below this fraction of the \
                               largest within the support; 0 turns the density test off",
             },
-            ParamInfo {
-                name: "kernel",
-                value: p.kernel.name().to_owned(),
-                default: d.kernel.name().to_owned(),
-                description: "SPH kernel: wendland (C2) or cubic (spline), support 2h",
-            },
-            ParamInfo {
-                name: "h_over_r",
-                value: p.h_over_r.to_string(),
-                default: d.h_over_r.to_string(),
-                description: "smoothing length h in units of r",
-            },
-        ])
+        ];
+        list.extend(self.smoothing().param_infos());
+        Params(list)
     }
 
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+    fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
         self.params = text_params::with(&self.params, key, value)?;
         Ok(())
     }
-
-    fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        DetectError::check_uniform(METHOD, NO_RADII, set.radii())?;
-        Ok(self.detect_first(set, set.len(), r)?)
-    }
-
-    fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        DetectError::check_uniform(METHOD, NO_RADII, set.radii())?;
-        Ok(self.detect_first(set, set.len(), r)?)
-    }
-
-    /// Two kernel supports: the densities of the neighbours within `2h` (and so the reference
-    /// density) come from their own neighbours within `2h`.
-    fn halo_width(&self, r: Radius) -> f64 {
-        2.0 * SUPPORT_FACTOR * self.params.h_over_r * r.get()
-    }
-
-    fn solid_refusal(&self) -> &'static str {
-        "its density and weighted mean are kernel sums over particles, and a half-space is no particle; give the walls as particles (--walls), which enter the sums"
-    }
-
-    /// Classifies only the owned particles; the ghosts serve as neighbours and for densities.
-    fn detect_owned(
-        &self,
-        set: &AnyParticleSet,
-        owned: usize,
-        r: Radius,
-    ) -> Result<Detection, DetectError> {
-        DetectError::check_uniform(METHOD, NO_RADII, set.radii())?;
-        DetectError::check_owned(METHOD, owned, set.len())?;
-        Ok(match set {
-            AnyParticleSet::D2(s) => self.detect_first(s, owned, r)?,
-            AnyParticleSet::D3(s) => self.detect_first(s, owned, r)?,
-        })
-    }
 }
+
+boundary_sph::impl_sph_detector!(AsymmetryDetector);
 
 /// The `key=value` adapter of today's `BoundaryDetector::set_param`: parses into
 /// [`AsymmetryParams`] and validates through [`AsymmetryDetector::try_new`]. Kept apart so that
@@ -385,38 +310,24 @@ mod text_params {
         key: &str,
         value: &str,
     ) -> Result<AsymmetryParams, ParamError> {
-        let number = |expected: &str| {
-            value
-                .trim()
-                .parse::<f64>()
-                .map_err(|_| ParamError::invalid(METHOD, key, value, format!("must be {expected}")))
+        let number = |rule: Rule| {
+            let v = value.trim().parse::<f64>().map_err(|_| {
+                ParamError::invalid(METHOD, key, value, format!("must be {}", rule.1))
+            })?;
+            check(key, v, value, rule)
         };
         let mut next = params.clone();
+        let mut smoothing = Smoothing {
+            kernel: next.kernel,
+            h_over_r: next.h_over_r,
+        };
         match key {
-            "threshold" => {
-                next.threshold = check(
-                    key,
-                    number(THRESHOLD_RULE.1)?,
-                    value,
-                    THRESHOLD_RULE.0,
-                    THRESHOLD_RULE.1,
-                )?
+            "threshold" => next.threshold = number(THRESHOLD_RULE)?,
+            "density_ratio" => next.density_ratio = number(RATIO_RULE)?,
+            _ if smoothing.set_text(METHOD, key, value)? => {
+                next.kernel = smoothing.kernel;
+                next.h_over_r = smoothing.h_over_r;
             }
-            "density_ratio" => {
-                next.density_ratio = check(
-                    key,
-                    number(RATIO_RULE.1)?,
-                    value,
-                    RATIO_RULE.0,
-                    RATIO_RULE.1,
-                )?
-            }
-            "kernel" => {
-                next.kernel = value.parse().map_err(|e: boundary_sph::UnknownKernel| {
-                    ParamError::invalid(METHOD, key, value, e.to_string())
-                })?
-            }
-            "h_over_r" => next.h_over_r = check(key, number(H_RULE.1)?, value, H_RULE.0, H_RULE.1)?,
             _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
         }
         AsymmetryDetector::try_new(next.clone())?;
@@ -428,6 +339,7 @@ mod text_params {
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 mod tests {
     use super::*;
+    use boundary_core::BoundaryDetector;
 
     #[test]
     fn parameters_round_trip_and_are_validated_without_clamping() {

@@ -40,7 +40,7 @@ fn jittered_discs_and_balls_are_scored_within_bounds() {
             labels(&d, &disc, r),
             disc.positions()
                 .iter()
-                .map(|p| (20.0 - p.norm()))
+                .map(|p| 20.0 - p.norm())
                 .collect::<Vec<_>>(),
         ),
         (
@@ -49,7 +49,7 @@ fn jittered_discs_and_balls_are_scored_within_bounds() {
             labels(&d, &ball, r),
             ball.positions()
                 .iter()
-                .map(|p| (radius - p.norm()))
+                .map(|p| radius - p.norm())
                 .collect::<Vec<_>>(),
         ),
     ] {
