@@ -13,8 +13,8 @@ pub struct AsymmetrySums<const D: usize> {
     pub density: f64,
     /// The largest `n_j` over `i` and the particles within its support: the reference density.
     pub reference_density: f64,
-    /// Whether some particle lies within the support at a positive distance (duplicates of
-    /// `x_i` do not count).
+    /// Whether some particle lies inside the open support at a positive distance (duplicates
+    /// of `x_i`, and particles exactly `2h` away, whose weight is zero, do not count).
     pub has_neighbour: bool,
 }
 
