@@ -67,6 +67,11 @@ impl<const D: usize> Cells<D> {
         Cells { cells, offsets }
     }
 
+    /// The occupied cells.
+    pub fn keys(&self) -> impl Iterator<Item = &[i64; D]> {
+        self.cells.keys()
+    }
+
     /// The number of particles in cell `key` (0 if empty).
     pub fn count(&self, key: &[i64; D]) -> u32 {
         self.cells.get(key).map_or(0, |c| c.0)

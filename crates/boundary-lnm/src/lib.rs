@@ -115,6 +115,7 @@ use boundary_core::{
     Params, ParticleSet, Point, Radius,
 };
 use rayon::prelude::*;
+use rustc_hash::FxHashMap;
 
 /// Default cell side in units of `r`: twice the particle spacing, Bubbles' grid for LNM.
 pub const DEFAULT_CELL_OVER_R: f64 = 2.0;
@@ -198,9 +199,14 @@ impl LnmDetector {
             .collect::<Result<_, _>>()?;
         let cells = Cells::new(&keys);
         let delta = self.delta(D);
+        // Each cell's layer once, then one lookup per particle.
+        let layers: FxHashMap<[i64; D], Layer> = cells
+            .keys()
+            .map(|key| (*key, cells.layer(key, delta).unwrap_or(Layer::First)))
+            .collect();
         Ok(keys[..count]
             .par_iter()
-            .map(|key| cells.layer(key, delta).unwrap_or(Layer::First))
+            .map(|key| layers.get(key).copied().unwrap_or(Layer::First))
             .collect())
     }
 
