@@ -4,12 +4,13 @@
 //! `asymmetry`.
 //!
 //! # When to use it
-//! When you want the cheapest SPH-style surface flag that still sees isolated droplets and
-//! thin sheets, and can accept a few false positives and false negatives: one kernel sum per
-//! particle, no matrix, no eigenvalue. It is not certified; for labels that follow the
-//! geometric definition use `exact`, `dilts`, `ia` or `ge`. Compared with `muller` (the colour
-//! field gradient), it adds a density test, so a particle with few neighbours all around is
-//! found even where its neighbourhood is symmetric.
+//! When you need the criterion He et al. use (to compare with a solver or renderer that flags
+//! its surface this way), or the cheapest kernel-sum flag: one sum per particle, no matrix,
+//! no eigenvalue. It is not certified and, like `muller`'s colour field, blind to symmetric
+//! neighbourhoods (the middle of a line or of a sheet one particle thick); unlike it, isolated
+//! particles are boundary. For labels that follow the geometric definition use `exact`,
+//! `dilts`, `ia` or `ge`; among the SPH criteria `marrone` scores higher on the sweep's scenes
+//! (see its report).
 //!
 //! # Method
 //! He et al. extend the centre-of-mass test of Zhang, Solenthaler & Pajarola (2008) with the
@@ -65,7 +66,7 @@
 //! | `kernel` | `wendland` | `wendland` (C2) or `cubic` (spline), support `2h` |
 //! | `h_over_r` | 1 | smoothing length `h` in units of the resolution `r` |
 //!
-//! The margin of a [`Detection`] is `max(a_i − threshold, density_ratio − n_i/n_ref,i)`
+//! The margin of a [`Detection`](boundary_core::Detection) is `max(a_i − threshold, density_ratio − n_i/n_ref,i)`
 //! (positive leans boundary), 1 for an isolated particle.
 //!
 //! # Policy: ties, duplicates, degenerate input

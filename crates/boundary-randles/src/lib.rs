@@ -60,8 +60,9 @@
 //! | `kernel` | `wendland` | `wendland` (C2) or `cubic` (spline), support `2h` |
 //! | `h_over_r` | 1 | smoothing length `h` in units of the resolution `r` |
 //!
-//! The margin of a [`Detection`](boundary_core::Detection) is `mu − λ_i` (positive leans
-//! boundary; 0 is a tie, labelled boundary).
+//! Detections carry no margin: the label is decided without computing `λ_i` (`B_i − mu·I` is
+//! not positive definite, by a Cholesky factorisation: [`positive_definite`]), which costs less
+//! than the eigen-decomposition; [`RandlesDetector::lambdas`] gives `λ_i` for inspection.
 //!
 //! # Policy: ties, duplicates, degenerate input
 //! - The test is closed, as Marrone et al. write it (`λ <= 0.2`): `λ_i = mu` is free surface.
@@ -114,6 +115,7 @@
 //! }
 //! ```
 
+use boundary_core::nalgebra::SMatrix;
 use boundary_core::{CoreError, ParamError, ParamInfo, Params, ParticleSet, Radius};
 use boundary_sph::{
     Kernel, Smoothing, SphContext, SphCriterion, SphMethod, SymmetricEigen, Verdict,
@@ -236,9 +238,57 @@ fn lambda<const D: usize>(ctx: &SphContext<'_, D>, i: usize) -> f64 {
     SymmetricEigen::new(&ctx.local_sums(i).renormalisation).min_value()
 }
 
+/// `B_i = Σ_j V_j (x_j − x_i) ⊗ ∇W_ij` alone, in units of `h` (the matrix of
+/// [`LocalSums::renormalisation`](boundary_sph::LocalSums), without the Shepard sum and the
+/// gradient the classification does not read).
+fn renormalisation<const D: usize>(ctx: &SphContext<'_, D>, i: usize) -> SMatrix<f64, D, D> {
+    let kernel = ctx.kernel();
+    let inv_h = 1.0 / kernel.h();
+    let volumes = ctx.reduced_volumes();
+    let mut b = SMatrix::<f64, D, D>::zeros();
+    ctx.for_each_neighbour(i, |j, xji, d| {
+        if d > 0.0 {
+            let x = xji * inv_h;
+            let w = volumes[j] * kernel.reduced_gradient_weight(d * inv_h);
+            b += (x * w) * x.transpose();
+        }
+    });
+    b
+}
+
+/// Whether the symmetric matrix `m` is positive definite, by Cholesky factorisation: every
+/// pivot must be positive (Sylvester's criterion in the form that needs no determinant).
+/// `λ_min(B) <= mu` iff `B − mu·I` is not positive definite; the factorisation decides it
+/// without the eigen-decomposition, equal to the eigenvalue test up to the rounding of a few
+/// operations on the entries (a tie within that is decided either way).
+pub fn positive_definite<const D: usize>(m: &SMatrix<f64, D, D>) -> bool {
+    let mut l = SMatrix::<f64, D, D>::zeros();
+    for k in 0..D {
+        let mut pivot = m[(k, k)];
+        for j in 0..k {
+            pivot -= l[(k, j)] * l[(k, j)];
+        }
+        if !(pivot > 0.0) {
+            return false;
+        }
+        let root = pivot.sqrt();
+        l[(k, k)] = root;
+        for r in k + 1..D {
+            let mut v = m[(r, k)];
+            for j in 0..k {
+                v -= l[(r, j)] * l[(k, j)];
+            }
+            l[(r, k)] = v / root;
+        }
+    }
+    true
+}
+
 impl SphCriterion for RandlesDetector {
     const METHOD: &'static str = METHOD;
-    const MARGIN: bool = true;
+    /// No margin: the classification decides `λ_i <= mu` without computing `λ_i`
+    /// ([`positive_definite`]); [`RandlesDetector::lambdas`] gives `λ_i` for inspection.
+    const MARGIN: bool = false;
 
     fn smoothing(&self) -> Smoothing {
         Smoothing {
@@ -248,11 +298,8 @@ impl SphCriterion for RandlesDetector {
     }
 
     fn classify<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Verdict {
-        let (lambda, mu) = (lambda(ctx, i), self.mu(D));
-        Verdict {
-            boundary: is_free_surface(lambda, mu),
-            margin: mu - lambda,
-        }
+        let shifted = renormalisation(ctx, i) - SMatrix::<f64, D, D>::identity() * self.mu(D);
+        Verdict::label(!positive_definite(&shifted))
     }
 }
 
@@ -334,6 +381,31 @@ mod text_params {
 mod tests {
     use super::*;
     use boundary_core::BoundaryDetector;
+
+    #[test]
+    fn the_cholesky_test_agrees_with_the_smallest_eigenvalue() {
+        use rand::{rngs::StdRng, Rng, SeedableRng};
+        let mut rng = StdRng::seed_from_u64(5);
+        let mut both = [0usize; 2];
+        for _ in 0..20_000 {
+            let a = SMatrix::<f64, 3, 3>::from_fn(|_, _| rng.gen_range(-1.0..1.0));
+            // Symmetric positive semi-definite, like B: a aᵀ, and a μ around its eigenvalues.
+            let b = a * a.transpose();
+            let mu = rng.gen_range(0.0..1.5);
+            let lambda = SymmetricEigen::new(&b).min_value();
+            if (lambda - mu).abs() < 1e-9 {
+                continue;
+            }
+            let shifted = b - SMatrix::<f64, 3, 3>::identity() * mu;
+            let free = !positive_definite(&shifted);
+            assert_eq!(free, is_free_surface(lambda, mu), "λ {lambda} μ {mu}");
+            both[usize::from(free)] += 1;
+        }
+        assert!(both[0] > 1000 && both[1] > 1000, "{both:?}");
+        // Zero matrix at mu = 0: λ = 0 <= 0, free surface (the closed test).
+        assert!(!positive_definite(&SMatrix::<f64, 2, 2>::zeros()));
+        assert!(positive_definite(&SMatrix::<f64, 2, 2>::identity()));
+    }
 
     #[test]
     fn the_criterion_is_closed() {

@@ -41,8 +41,8 @@ fn the_smallest_eigenvalue_of_a_small_lattice_is_the_hand_computed_one() {
     for (k, (got, want)) in lambdas.iter().zip(expected).enumerate() {
         assert!((got - want).abs() < 1e-12, "particle {k}: {got} vs {want}");
     }
-    // mu between the edge and the centre values: everything but the centre is free surface;
-    // the margin is mu − λ.
+    // mu between the edge and the centre values: everything but the centre is free surface
+    // (decided without λ: no margin).
     let mu = 0.5 * (edge.max(corner) + centre);
     let d = RandlesDetector::try_new(RandlesParams {
         mu_2d: mu,
@@ -52,7 +52,7 @@ fn the_smallest_eigenvalue_of_a_small_lattice_is_the_hand_computed_one() {
     let got = d.detect_2d(&set, Radius::new(h).unwrap()).unwrap();
     assert_eq!(got.labels.boundary_count(), 8);
     assert!(!got.labels.is_boundary(4));
-    assert!((got.margin.unwrap()[4] - (mu - centre)).abs() < 1e-12);
+    assert_eq!(got.margin, None);
 }
 
 #[test]
