@@ -234,7 +234,7 @@ fn cell_of<const D: usize>(p: &Point<D>, l: f64, i: usize) -> Result<[i64; D], D
     let mut key = [0i64; D];
     for (k, c) in key.iter_mut().enumerate() {
         let x = (p[k] / l).floor();
-        if !(x.abs() < MAX_INDEX) {
+        if !x.is_finite() || x.abs() >= MAX_INDEX {
             return Err(DetectError::Method {
                 method: METHOD,
                 message: format!(

@@ -268,7 +268,7 @@ pub fn positive_definite<const D: usize>(m: &SMatrix<f64, D, D>) -> bool {
         for j in 0..k {
             pivot -= l[(k, j)] * l[(k, j)];
         }
-        if !(pivot > 0.0) {
+        if pivot.is_nan() || pivot <= 0.0 {
             return false;
         }
         let root = pivot.sqrt();

@@ -285,7 +285,8 @@ fn randles_mu(row: &Row) -> Option<f64> {
 pub fn randles_md(rows: &[Row]) -> String {
     let mut md = String::new();
     // (dim, scene) -> [(mu, M)].
-    let mut by_scene: Vec<((usize, String), Vec<(f64, f64)>)> = Vec::new();
+    type SceneRuns = ((usize, String), Vec<(f64, f64)>);
+    let mut by_scene: Vec<SceneRuns> = Vec::new();
     for row in rows.iter().filter(|r| r.method == "randles") {
         let (Some(mu), Some(c)) = (randles_mu(row), row.confusion) else {
             continue;
