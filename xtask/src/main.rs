@@ -351,6 +351,7 @@ const METHOD_CRATES: &[&str] = &[
     "boundary-sph",
     "boundary-marrone",
     "boundary-muller",
+    "boundary-divr",
     "boundary-hpr",
     "boundary-svm",
     "boundary-resample",

@@ -35,6 +35,11 @@ pub(crate) struct DetectArgs {
     /// the Wendland C2 kernel at h = r; zero for interior particles.
     #[arg(long)]
     normals: bool,
+    /// Widen the boundary to a narrow band: every particle within K·r of a boundary particle
+    /// is labelled boundary too (K > 0; with --radius-attribute, r is --radius-scale). Any
+    /// method; the margin column stays the method's.
+    #[arg(long, value_name = "K", value_parser = parse_band)]
+    band: Option<f64>,
     /// Process every frame INPUT (a file or glob pattern) matches, in natural order, writing
     /// one output per frame into DIR, named after its input.
     #[arg(long, value_name = "DIR", conflicts_with = "output")]
@@ -118,6 +123,8 @@ struct FrameJob<'a> {
     options: ReadOptions,
     margin: bool,
     normals: bool,
+    /// `--band K`.
+    band: Option<f64>,
     pool: &'a rayon::ThreadPool,
 }
 
@@ -172,7 +179,8 @@ impl FrameJob<'_> {
             return self.run_in(setup, file, input, outcome, output);
         }
         let set = &file.set;
-        let (detection, seconds) = run_timed(self.pool, self.detector, set, r)?;
+        let (mut detection, seconds) = run_timed(self.pool, self.detector, set, r)?;
+        self.widen(&mut detection, set, r_value)?;
         if let Some((path, format)) = output {
             let flags: Vec<i64> = detection
                 .labels
@@ -222,7 +230,8 @@ impl FrameJob<'_> {
         let frame = setup.frame(&file, input, &self.options)?;
         let fluid = frame.fluid(&file.set);
         let r = radius(outcome.radius)?;
-        let (found, seconds) = run_timed_in(self.pool, self.detector, fluid, &frame.domain, r)?;
+        let (mut found, seconds) = run_timed_in(self.pool, self.detector, fluid, &frame.domain, r)?;
+        self.widen(&mut found.detection, fluid, outcome.radius)?;
         let detection = &found.detection;
         if let Some((path, format)) = output {
             let rows = file.set.len();
@@ -285,6 +294,22 @@ impl FrameJob<'_> {
         outcome.seconds = seconds;
         outcome.skipped = file.skipped;
         Ok(outcome)
+    }
+
+    /// `--band K`: the labels widened to every particle within `K·r` of a boundary one
+    /// (`Labels::widen`), on the rayon pool of the run.
+    fn widen(
+        &self,
+        detection: &mut boundary::Detection,
+        set: &AnyParticleSet,
+        r: f64,
+    ) -> Result<(), CliError> {
+        if let Some(k) = self.band {
+            detection.labels = self
+                .pool
+                .install(|| detection.labels.widen_any(set, k * r))?;
+        }
+        Ok(())
     }
 
     /// Writes every row of `file` with the `boundary` flags, the optional margin and normals,
@@ -352,6 +377,14 @@ fn normal_components(
     .map_err(CliError::from)
 }
 
+/// `--band K`: a number, finite and `> 0`.
+fn parse_band(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(k) if k.is_finite() && k > 0.0 => Ok(k),
+        _ => Err(format!("'{text}' is not a number > 0")),
+    }
+}
+
 /// `--normals` smooth over one length h = r: not defined with a radius per particle.
 fn check_normals(normals: bool, mode: &RadiusMode) -> Result<(), CliError> {
     if normals && matches!(mode, RadiusMode::PerParticle { .. }) {
@@ -391,6 +424,7 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
         options: read_options(&args.input),
         margin: args.margin,
         normals: args.normals,
+        band: args.band,
         pool: &pool,
     };
     let output = args.output.as_deref().zip(output_format);
@@ -615,6 +649,7 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
         options,
         margin: args.margin,
         normals: args.normals,
+        band: args.band,
         pool: &pool,
     };
     let bar = if args.input.json {

@@ -58,7 +58,8 @@ struct Cli {
 #[derive(Debug, Subcommand)]
 enum Command {
     /// Label every particle of INPUT as boundary (1) or interior (0).
-    Detect(detect::DetectArgs),
+    // Boxed: the detect options are by far the largest variant (clippy::large_enum_variant).
+    Detect(Box<detect::DetectArgs>),
     /// Compare a method with the truth: TP, TN, FP, FN, Rec, FPR, M.
     Score(score::ScoreArgs),
     /// Classify the boundary particles by feature (droplet, ligament, sheet, regular) and
@@ -82,7 +83,7 @@ fn main() -> ExitCode {
         }
     };
     let result: Result<(), CliError> = match cli.command {
-        Command::Detect(args) => detect::detect(args),
+        Command::Detect(args) => detect::detect(*args),
         Command::Score(args) => score::score(args),
         Command::Resample(args) => resample::resample(args),
         Command::Methods(args) => methods::list_methods(args),

@@ -180,6 +180,48 @@ fn methods_lists_every_registered_method() {
 
 /// A failing command: non-zero status, nothing on stdout, exactly one line on stderr starting
 /// with `error:` and containing `needle`.
+/// `--band K`: the exact boundary of the 7^3 lattice at r = 1.2 widened by K·r. With K = 1
+/// (1.2) the next shell (depth 1, distance 1 from the outer one) joins, leaving the 3^3
+/// core; with K = 0.5 (0.6) no other particle is that close: the labels of the plain run;
+/// with K = 10 every particle. `--json` counts the band.
+#[test]
+fn detect_band_widens_the_boundary_by_k_radii() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = lattice_csv(dir.path());
+    let input = input.to_str().unwrap();
+    for (k, min_interior_depth) in [("1", 2), ("0.5", 1), ("10", 4)] {
+        let output = dir.path().join(format!("band{k}.csv"));
+        let out = boundary(&[
+            "detect",
+            input,
+            "-r",
+            "1.2",
+            "--band",
+            k,
+            "--json",
+            "-o",
+            output.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let text = std::fs::read_to_string(&output).unwrap();
+        let mut boundary_rows = 0;
+        for (i, line) in text.lines().skip(1).enumerate() {
+            let (x, y, z) = (i % 7, (i / 7) % 7, i / 49);
+            let depth = [x, y, z, 6 - x, 6 - y, 6 - z].into_iter().min().unwrap();
+            let inner = depth >= min_interior_depth;
+            boundary_rows += usize::from(!inner);
+            assert!(
+                line.ends_with(if inner { ",0" } else { ",1" }),
+                "K {k} row {i}: {line}"
+            );
+        }
+        let v: Value = serde_json::from_str(stdout(&out).trim()).unwrap();
+        assert_eq!(v["boundary"], boundary_rows, "K = {k}");
+    }
+    assert_one_line_error(&["detect", input, "-r", "1.2", "--band", "0"], "--band");
+    assert_one_line_error(&["detect", input, "-r", "1.2", "--band", "nan"], "nan");
+}
+
 fn assert_one_line_error(args: &[&str], needle: &str) {
     let out = boundary(args);
     assert!(!out.status.success(), "{args:?} succeeded");

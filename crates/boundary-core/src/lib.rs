@@ -45,6 +45,7 @@
 //! assert_eq!(near, vec![0, 1]);
 //! ```
 
+mod band;
 pub mod decompose;
 mod detector;
 pub mod domain;

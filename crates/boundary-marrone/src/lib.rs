@@ -104,16 +104,13 @@
 
 mod scan;
 
-use boundary_core::{
-    AnyParticleSet, BoundaryDetector, CoreError, DetectError, Detection, Labels, ParamError,
-    ParamInfo, Params, ParticleSet, Radius,
+use boundary_core::{CoreError, ParamError, ParamInfo, Params, ParticleSet, Radius};
+use boundary_sph::frame::DEFAULT_H_OVER_R as FRAME_H_OVER_R;
+use boundary_sph::{
+    Kernel, Smoothing, SphContext, SphCriterion, SphMethod, SymmetricEigen, Verdict,
 };
-use boundary_sph::{Kernel, SphContext, SphKernel, SymmetricEigen, SUPPORT_FACTOR};
 use rayon::prelude::*;
 use scan::ScanRegion;
-
-/// Why `marrone` rejects per-particle radii ([`DetectError::PerParticleRadii`]).
-const NO_RADII: &str = "the renormalisation matrix and the scan cone (Marrone et al. 2010) assume one smoothing length";
 
 /// Default `lambda_surface` (M2): the paper's threshold for surely free-surface particles.
 pub const DEFAULT_LAMBDA_SURFACE: f64 = 0.2;
@@ -122,7 +119,7 @@ pub const DEFAULT_LAMBDA_INTERIOR: f64 = 0.75;
 /// Default cone half-angle of the scan region (M4), in degrees: the paper's `π/4`.
 pub const DEFAULT_CONE_ANGLE_DEG: f64 = 45.0;
 /// Default smoothing length in units of `r`.
-pub const DEFAULT_H_OVER_R: f64 = 1.0;
+pub const DEFAULT_H_OVER_R: f64 = FRAME_H_OVER_R;
 
 const METHOD: &str = "marrone";
 const KEYS: [&str; 5] = [
@@ -185,11 +182,6 @@ const CONE_ANGLE: Rule = Rule {
     ok: |v| v > 0.0 && v < 90.0,
     expected: "an angle in degrees in (0, 90)",
 };
-const H_OVER_R: Rule = Rule {
-    key: "h_over_r",
-    ok: |v| v > 0.0 && v <= 100.0,
-    expected: "in (0, 100]",
-};
 
 impl Rule {
     /// `v` if finite and allowed, else the error `set_param` gives for the text `shown`.
@@ -234,7 +226,7 @@ impl MarroneDetector {
             lambda_interior: check(&LAMBDA_INTERIOR, lambda_interior)?,
             cone_angle_deg: check(&CONE_ANGLE, cone_angle_deg)?,
             kernel,
-            h_over_r: check(&H_OVER_R, h_over_r)?,
+            h_over_r: Smoothing::check_h_over_r(METHOD, h_over_r, &h_over_r.to_string())?,
         })
     }
 
@@ -288,21 +280,36 @@ impl MarroneDetector {
 
     /// Sets `h / r` (in `(0, 100]`); on error the detector is unchanged.
     pub fn set_h_over_r(&mut self, v: f64) -> Result<(), ParamError> {
-        self.h_over_r = H_OVER_R.check(v, &v.to_string())?;
+        self.h_over_r = Smoothing::check_h_over_r(METHOD, v, &v.to_string())?;
         Ok(())
     }
 }
 
-// `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
-boundary_core::impl_display_as_label!(MarroneDetector);
+/// The criterion: (M2) the smallest eigenvalue of `B_i`, then for a candidate (M3–M4) the
+/// scan region around its normal.
+impl SphCriterion for MarroneDetector {
+    const METHOD: &'static str = METHOD;
+    const MARGIN: bool = false;
 
-impl BoundaryDetector for MarroneDetector {
-    fn name(&self) -> &'static str {
-        METHOD
+    fn smoothing(&self) -> Smoothing {
+        Smoothing {
+            kernel: self.kernel,
+            h_over_r: self.h_over_r,
+        }
     }
 
-    fn params(&self) -> Params {
-        Params(vec![
+    fn classify<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Verdict {
+        let theta = self.cone_angle_deg.to_radians();
+        Verdict::label(self.is_free_surface(ctx, i, ctx.kernel().h(), theta))
+    }
+}
+
+impl SphMethod for MarroneDetector {
+    const RADII_REFUSAL: &'static str = "the renormalisation matrix and the scan cone (Marrone et al. 2010) assume one smoothing length";
+    const SOLID_REFUSAL: &'static str = "its renormalisation matrix and normal are kernel sums over particles, and a half-space is no particle; give the walls as particles (--walls), which enter the sums as in DualSPHysics";
+
+    fn param_list(&self) -> Params {
+        let mut list = vec![
             ParamInfo {
                 name: "lambda_surface",
                 value: self.lambda_surface.to_string(),
@@ -324,72 +331,30 @@ impl BoundaryDetector for MarroneDetector {
                 description: "half-angle in degrees of the scan cone around the normal; the ball \
                               of radius h around x + h n takes over at 2h cos(angle)",
             },
-            ParamInfo {
-                name: "kernel",
-                value: self.kernel.name().to_owned(),
-                default: Kernel::WendlandC2.name().to_owned(),
-                description: "SPH kernel: wendland (C2) or cubic (spline), support 2h",
-            },
-            ParamInfo {
-                name: "h_over_r",
-                value: self.h_over_r.to_string(),
-                default: DEFAULT_H_OVER_R.to_string(),
-                description: "smoothing length h in units of r",
-            },
-        ])
+        ];
+        list.extend(self.smoothing().param_infos());
+        Params(list)
     }
 
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+    fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        let mut smoothing = self.smoothing();
+        if smoothing.set_text(METHOD, key, value)? {
+            (self.kernel, self.h_over_r) = (smoothing.kernel, smoothing.h_over_r);
+            return Ok(());
+        }
         match key {
             "lambda_surface" => self.lambda_surface = LAMBDA_SURFACE.parse(value)?,
             "lambda_interior" => self.lambda_interior = LAMBDA_INTERIOR.parse(value)?,
             "cone_angle" => self.cone_angle_deg = CONE_ANGLE.parse(value)?,
-            "kernel" => {
-                self.kernel = value.parse().map_err(|e: boundary_sph::UnknownKernel| {
-                    ParamError::invalid(METHOD, key, value, e.to_string())
-                })?;
-            }
-            "h_over_r" => self.h_over_r = H_OVER_R.parse(value)?,
             _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
         }
         Ok(())
     }
-
-    fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        DetectError::check_uniform("marrone", NO_RADII, set.radii())?;
-        Ok(self.detect_first(set, set.len(), r)?)
-    }
-
-    fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        DetectError::check_uniform("marrone", NO_RADII, set.radii())?;
-        Ok(self.detect_first(set, set.len(), r)?)
-    }
-
-    /// Two kernel supports: the volumes of the neighbours within `2h` come from their own
-    /// neighbours within `2h`.
-    fn halo_width(&self, r: Radius) -> f64 {
-        2.0 * SUPPORT_FACTOR * self.h_over_r * r.get()
-    }
-
-    fn solid_refusal(&self) -> &'static str {
-        "its renormalisation matrix and normal are kernel sums over particles, and a half-space is no particle; give the walls as particles (--walls), which enter the sums as in DualSPHysics"
-    }
-
-    /// Classifies only the owned particles; the ghosts serve as neighbours and for volumes.
-    fn detect_owned(
-        &self,
-        set: &AnyParticleSet,
-        owned: usize,
-        r: Radius,
-    ) -> Result<Detection, DetectError> {
-        DetectError::check_uniform("marrone", NO_RADII, set.radii())?;
-        DetectError::check_owned(METHOD, owned, set.len())?;
-        Ok(match set {
-            AnyParticleSet::D2(s) => self.detect_first(s, owned, r)?,
-            AnyParticleSet::D3(s) => self.detect_first(s, owned, r)?,
-        })
-    }
 }
+
+// `Display` and `BoundaryDetector` (dispatch, radii refusal, owned particles, halo of two
+// kernel supports) from the SPH frame.
+boundary_sph::impl_sph_detector!(MarroneDetector);
 
 impl MarroneDetector {
     /// The smallest eigenvalue `λ_i` of the renormalisation matrix (M1–M2) of every particle,
@@ -399,33 +364,11 @@ impl MarroneDetector {
         set: &ParticleSet<D>,
         r: Radius,
     ) -> Result<Vec<f64>, CoreError> {
-        let ctx = SphContext::new(set, SphKernel::new(self.kernel, self.h_over_r * r.get()))?;
+        let ctx = SphContext::new(set, self.smoothing().kernel_at(r))?;
         Ok((0..set.len())
             .into_par_iter()
             .map(|i| SymmetricEigen::new(&ctx.local_sums(i).renormalisation).min_value())
             .collect())
-    }
-
-    /// Classifies the first `count` particles (all of them serve as neighbours).
-    fn detect_first<const D: usize>(
-        &self,
-        set: &ParticleSet<D>,
-        count: usize,
-        r: Radius,
-    ) -> Result<Detection, CoreError> {
-        let h = self.h_over_r * r.get();
-        let ctx = SphContext::new(set, SphKernel::new(self.kernel, h))?;
-        let theta = self.cone_angle_deg.to_radians();
-        let labels: Labels = (0..count)
-            .into_par_iter()
-            .map(|i| self.is_free_surface(&ctx, i, h, theta))
-            .collect::<Vec<bool>>()
-            .into_iter()
-            .collect();
-        Ok(Detection {
-            labels,
-            margin: None,
-        })
     }
 
     /// Both steps for particle `i`.
@@ -470,6 +413,7 @@ impl MarroneDetector {
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 mod tests {
     use super::*;
+    use boundary_core::BoundaryDetector;
 
     #[test]
     fn parameters_round_trip_and_are_validated() {

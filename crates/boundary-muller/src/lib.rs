@@ -54,7 +54,7 @@
 //! | `kernel` | `wendland` | `wendland` (C2) or `cubic` (spline), support `2h` |
 //! | `h_over_r` | 1 | smoothing length `h` in units of the resolution `r` |
 //!
-//! The margin of a [`Detection`] is `|∇c_i|·h − threshold` (positive leans boundary).
+//! The margin of a [`Detection`](boundary_core::Detection) is `|∇c_i|·h − threshold` (positive leans boundary).
 //!
 //! # Policy: duplicates, degenerate input
 //! - An isolated particle has `∇c = 0`: it is labelled *interior*, a known failure of the
@@ -107,21 +107,16 @@
 //! }
 //! ```
 
-use boundary_core::{
-    AnyParticleSet, BoundaryDetector, CoreError, DetectError, Detection, Labels, ParamError,
-    ParamInfo, Params, ParticleSet, Radius,
-};
-use boundary_sph::{Kernel, SphContext, SphKernel, SUPPORT_FACTOR};
+use boundary_core::{CoreError, ParamError, ParamInfo, Params, ParticleSet, Radius};
+use boundary_sph::frame::DEFAULT_H_OVER_R as FRAME_H_OVER_R;
+use boundary_sph::{Kernel, Smoothing, SphContext, SphCriterion, SphMethod, Verdict};
 use rayon::prelude::*;
-
-/// Why `muller` rejects per-particle radii ([`DetectError::PerParticleRadii`]).
-const NO_RADII: &str = "the colour field (Müller et al. 2003) assumes one smoothing length";
 
 /// Default dimensionless threshold on `|∇c|·h` (see the crate documentation for how it was
 /// chosen).
 pub const DEFAULT_THRESHOLD: f64 = 0.375;
 /// Default smoothing length in units of `r`.
-pub const DEFAULT_H_OVER_R: f64 = 1.0;
+pub const DEFAULT_H_OVER_R: f64 = FRAME_H_OVER_R;
 
 const METHOD: &str = "muller";
 const KEYS: [&str; 3] = ["threshold", "kernel", "h_over_r"];
@@ -150,30 +145,30 @@ impl Default for MullerDetector {
     }
 }
 
-/// `threshold`: finite, `>= 0`.
+/// `threshold`: finite, `>= 0`; else the error for the text `shown`.
 fn check_threshold(v: f64, shown: &str) -> Result<f64, ParamError> {
-    check_in("threshold", v, shown, |v| v >= 0.0, "a number >= 0")
-}
-
-/// `h_over_r`: in `(0, 100]`.
-fn check_h_over_r(v: f64, shown: &str) -> Result<f64, ParamError> {
-    check_in(
-        "h_over_r",
-        v,
-        shown,
-        |v| v > 0.0 && v <= 100.0,
-        "in (0, 100]",
-    )
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(ParamError::invalid(
+            METHOD,
+            "threshold",
+            shown,
+            "must be a number >= 0",
+        ))
+    }
 }
 
 impl MullerDetector {
     /// The detector with the given parameters, each checked as `set_param` checks it
     /// (`threshold` finite and `>= 0`, `h_over_r` in `(0, 100]`).
     pub fn new(threshold: f64, kernel: Kernel, h_over_r: f64) -> Result<Self, ParamError> {
+        let threshold = check_threshold(threshold, &threshold.to_string())?;
+        let smoothing = Smoothing::try_new(METHOD, kernel, h_over_r)?;
         Ok(MullerDetector {
-            threshold: check_threshold(threshold, &threshold.to_string())?,
-            kernel,
-            h_over_r: check_h_over_r(h_over_r, &h_over_r.to_string())?,
+            threshold,
+            kernel: smoothing.kernel,
+            h_over_r: smoothing.h_over_r,
         })
     }
 
@@ -210,7 +205,7 @@ impl MullerDetector {
 
     /// Sets `h / r` (in `(0, 100]`); on error the detector is unchanged.
     pub fn set_h_over_r(&mut self, h_over_r: f64) -> Result<(), ParamError> {
-        self.h_over_r = check_h_over_r(h_over_r, &h_over_r.to_string())?;
+        self.h_over_r = Smoothing::check_h_over_r(METHOD, h_over_r, &h_over_r.to_string())?;
         Ok(())
     }
 
@@ -221,161 +216,80 @@ impl MullerDetector {
         set: &ParticleSet<D>,
         r: Radius,
     ) -> Result<Vec<f64>, CoreError> {
-        self.magnitudes_first(set, set.len(), r)
-    }
-
-    fn magnitudes_first<const D: usize>(
-        &self,
-        set: &ParticleSet<D>,
-        count: usize,
-        r: Radius,
-    ) -> Result<Vec<f64>, CoreError> {
-        let h = self.h_over_r * r.get();
-        let ctx = SphContext::new(set, SphKernel::new(self.kernel, h))?;
-        Ok((0..count)
+        let ctx = SphContext::new(set, self.smoothing().kernel_at(r))?;
+        Ok((0..set.len())
             .into_par_iter()
             .map(|i| ctx.local_sums(i).gradient_h.norm())
             .collect())
     }
+}
 
-    fn detect_first<const D: usize>(
-        &self,
-        set: &ParticleSet<D>,
-        count: usize,
-        r: Radius,
-    ) -> Result<Detection, CoreError> {
-        let margin: Vec<f64> = self
-            .magnitudes_first(set, count, r)?
-            .into_iter()
-            .map(|g| g - self.threshold)
-            .collect();
-        let labels: Labels = margin.iter().map(|&m| m > 0.0).collect();
-        Ok(Detection {
-            labels,
-            margin: Some(margin),
-        })
+/// The criterion: `|∇c_i|·h > threshold`, margin `|∇c_i|·h − threshold`.
+impl SphCriterion for MullerDetector {
+    const METHOD: &'static str = METHOD;
+    const MARGIN: bool = true;
+
+    fn smoothing(&self) -> Smoothing {
+        Smoothing {
+            kernel: self.kernel,
+            h_over_r: self.h_over_r,
+        }
+    }
+
+    fn classify<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Verdict {
+        let margin = ctx.local_sums(i).gradient_h.norm() - self.threshold;
+        Verdict {
+            boundary: margin > 0.0,
+            margin,
+        }
     }
 }
 
-/// `v` if finite and `ok`, else the error `set_param` gives for the text `shown`.
-fn check_in(
-    key: &str,
-    v: f64,
-    shown: &str,
-    ok: impl Fn(f64) -> bool,
-    expected: &str,
-) -> Result<f64, ParamError> {
-    if v.is_finite() && ok(v) {
-        Ok(v)
-    } else {
-        Err(ParamError::invalid(
-            METHOD,
-            key,
-            shown,
-            format!("must be {expected}"),
-        ))
-    }
-}
+impl SphMethod for MullerDetector {
+    const RADII_REFUSAL: &'static str =
+        "the colour field (Müller et al. 2003) assumes one smoothing length";
+    const SOLID_REFUSAL: &'static str = "its density and colour-field gradient are kernel sums over particles, and a half-space is no particle; give the walls as particles (--walls), which enter the sums";
 
-/// Parses `value` as a number (an unparsable one gets the same message as a bad number).
-fn parse_number(key: &str, value: &str, expected: &str) -> Result<f64, ParamError> {
-    value
-        .trim()
-        .parse::<f64>()
-        .map_err(|_| ParamError::invalid(METHOD, key, value, format!("must be {expected}")))
-}
-
-// `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
-boundary_core::impl_display_as_label!(MullerDetector);
-
-impl BoundaryDetector for MullerDetector {
-    fn name(&self) -> &'static str {
-        METHOD
+    fn param_list(&self) -> Params {
+        let mut list = vec![ParamInfo {
+            name: "threshold",
+            value: self.threshold.to_string(),
+            default: DEFAULT_THRESHOLD.to_string(),
+            description: "boundary iff the colour-field gradient magnitude times h exceeds \
+                          it (Mueller et al. 2003, Sec. 4.4; dimensionless)",
+        }];
+        list.extend(self.smoothing().param_infos());
+        Params(list)
     }
 
-    fn params(&self) -> Params {
-        Params(vec![
-            ParamInfo {
-                name: "threshold",
-                value: self.threshold.to_string(),
-                default: DEFAULT_THRESHOLD.to_string(),
-                description: "boundary iff the colour-field gradient magnitude times h exceeds \
-                              it (Mueller et al. 2003, Sec. 4.4; dimensionless)",
-            },
-            ParamInfo {
-                name: "kernel",
-                value: self.kernel.name().to_owned(),
-                default: Kernel::WendlandC2.name().to_owned(),
-                description: "SPH kernel: wendland (C2) or cubic (spline), support 2h",
-            },
-            ParamInfo {
-                name: "h_over_r",
-                value: self.h_over_r.to_string(),
-                default: DEFAULT_H_OVER_R.to_string(),
-                description: "smoothing length h in units of r",
-            },
-        ])
-    }
-
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+    fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        let mut smoothing = self.smoothing();
+        if smoothing.set_text(METHOD, key, value)? {
+            (self.kernel, self.h_over_r) = (smoothing.kernel, smoothing.h_over_r);
+            return Ok(());
+        }
         match key {
             "threshold" => {
-                self.threshold =
-                    check_threshold(parse_number(key, value, "a number >= 0")?, value)?;
-            }
-            "kernel" => {
-                self.kernel = value.parse().map_err(|e: boundary_sph::UnknownKernel| {
-                    ParamError::invalid(METHOD, key, value, e.to_string())
+                let v = value.trim().parse::<f64>().map_err(|_| {
+                    ParamError::invalid(METHOD, key, value, "must be a number >= 0")
                 })?;
+                self.threshold = check_threshold(v, value)?;
+                Ok(())
             }
-            "h_over_r" => {
-                self.h_over_r = check_h_over_r(parse_number(key, value, "in (0, 100]")?, value)?;
-            }
-            _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
+            _ => Err(ParamError::unknown(METHOD, key, &KEYS)),
         }
-        Ok(())
-    }
-
-    fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        DetectError::check_uniform("muller", NO_RADII, set.radii())?;
-        Ok(self.detect_first(set, set.len(), r)?)
-    }
-
-    fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        DetectError::check_uniform("muller", NO_RADII, set.radii())?;
-        Ok(self.detect_first(set, set.len(), r)?)
-    }
-
-    /// Two kernel supports: the volumes of the neighbours within `2h` come from their own
-    /// neighbours within `2h`.
-    fn halo_width(&self, r: Radius) -> f64 {
-        2.0 * SUPPORT_FACTOR * self.h_over_r * r.get()
-    }
-
-    fn solid_refusal(&self) -> &'static str {
-        "its density and colour-field gradient are kernel sums over particles, and a half-space is no particle; give the walls as particles (--walls), which enter the sums"
-    }
-
-    /// Classifies only the owned particles; the ghosts serve as neighbours and for volumes.
-    fn detect_owned(
-        &self,
-        set: &AnyParticleSet,
-        owned: usize,
-        r: Radius,
-    ) -> Result<Detection, DetectError> {
-        DetectError::check_uniform("muller", NO_RADII, set.radii())?;
-        DetectError::check_owned(METHOD, owned, set.len())?;
-        Ok(match set {
-            AnyParticleSet::D2(s) => self.detect_first(s, owned, r)?,
-            AnyParticleSet::D3(s) => self.detect_first(s, owned, r)?,
-        })
     }
 }
+
+// `Display` and `BoundaryDetector` (dispatch, radii refusal, owned particles, halo of two
+// kernel supports) from the SPH frame.
+boundary_sph::impl_sph_detector!(MullerDetector);
 
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 mod tests {
     use super::*;
+    use boundary_core::BoundaryDetector;
 
     #[test]
     fn parameters_round_trip_and_are_validated() {

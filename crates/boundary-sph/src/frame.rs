@@ -4,10 +4,10 @@
 //! A method crate holds only its criterion: a type implementing [`SphCriterion`] (its sums
 //! and thresholds, per particle) and [`SphMethod`] (its name, its parameter listing, why it
 //! refuses per-particle radii and solids). [`impl_sph_detector!`](crate::impl_sph_detector)
-//! then writes its [`BoundaryDetector`] implementation: the 2D/3D dispatch, the radii refusal,
+//! then writes its [`BoundaryDetector`](boundary_core::BoundaryDetector) implementation: the 2D/3D dispatch, the radii refusal,
 //! the kernel and smoothing length from [`Smoothing`], the [`SphContext`] (grid and
 //! summation-density volumes), the parallel loop over the classified particles, the owned
-//! particles of [`BoundaryDetector::detect_owned`] (so walls and periodic images of a
+//! particles of [`BoundaryDetector::detect_owned`](boundary_core::BoundaryDetector::detect_owned) (so walls and periodic images of a
 //! [`boundary_core::Domain`] enter the sums as ghosts) and the halo of two kernel supports.
 //!
 //! The parameters the frame reads, `kernel` and `h_over_r`, are checked by
@@ -106,7 +106,7 @@ impl Smoothing {
         Ok(true)
     }
 
-    /// The listing of `kernel` and `h_over_r` for [`BoundaryDetector::params`].
+    /// The listing of `kernel` and `h_over_r` for [`BoundaryDetector::params`](boundary_core::BoundaryDetector::params).
     pub fn param_infos(&self) -> [ParamInfo; 2] {
         [
             ParamInfo {
@@ -190,10 +190,10 @@ pub trait SphCriterion: Sync {
 pub trait SphMethod: SphCriterion + std::fmt::Debug + Send {
     /// Why the method rejects per-particle radii ([`DetectError::PerParticleRadii`]).
     const RADII_REFUSAL: &'static str;
-    /// Why it cannot honour solid half-spaces ([`BoundaryDetector::solid_refusal`]).
+    /// Why it cannot honour solid half-spaces ([`BoundaryDetector::solid_refusal`](boundary_core::BoundaryDetector::solid_refusal)).
     const SOLID_REFUSAL: &'static str;
 
-    /// The parameters with their current values ([`BoundaryDetector::params`]).
+    /// The parameters with their current values ([`BoundaryDetector::params`](boundary_core::BoundaryDetector::params)).
     fn param_list(&self) -> Params;
 
     /// Sets a parameter from text, as `--set KEY=VALUE` gives it; on error `self` is
@@ -222,7 +222,7 @@ pub fn classify_first<C: SphCriterion, const D: usize>(
     })
 }
 
-/// [`BoundaryDetector::detect_2d`] / `detect_3d` of an SPH method: refuses per-particle
+/// [`BoundaryDetector::detect_2d`](boundary_core::BoundaryDetector::detect_2d) / `detect_3d` of an SPH method: refuses per-particle
 /// radii, classifies every particle.
 pub fn detect_all<M: SphMethod, const D: usize>(
     method: &M,
@@ -233,7 +233,7 @@ pub fn detect_all<M: SphMethod, const D: usize>(
     Ok(classify_first(method, set, set.len(), r)?)
 }
 
-/// [`BoundaryDetector::detect_owned`] of an SPH method: classifies the first `owned`
+/// [`BoundaryDetector::detect_owned`](boundary_core::BoundaryDetector::detect_owned) of an SPH method: classifies the first `owned`
 /// particles; the others (ghosts: a halo, walls, periodic images) are neighbours and have
 /// volumes.
 pub fn detect_owned<M: SphMethod>(
@@ -250,12 +250,11 @@ pub fn detect_owned<M: SphMethod>(
     })
 }
 
-/// [`BoundaryDetector::halo_width`] of an SPH method: two kernel supports (the volumes of the
+/// [`BoundaryDetector::halo_width`](boundary_core::BoundaryDetector::halo_width) of an SPH method: two kernel supports (the volumes of the
 /// neighbours within `2h` come from their own neighbours within `2h`), plus
 /// [`SphCriterion::extra_reach_h`].
 pub fn halo_width<C: SphCriterion>(criterion: &C, r: Radius) -> f64 {
-    let s = criterion.smoothing();
-    (2.0 * SUPPORT_FACTOR + criterion.extra_reach_h()) * s.h(r)
+    (2.0 * SUPPORT_FACTOR + criterion.extra_reach_h()) * criterion.smoothing().h_over_r * r.get()
 }
 
 /// Flags every classified particle (`i < labels.len()`) within `reach` (closed) of a

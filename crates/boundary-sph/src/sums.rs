@@ -194,6 +194,29 @@ impl<'a, const D: usize> SphContext<'a, D> {
     }
 }
 
+impl<const D: usize> SphContext<'_, D> {
+    /// The divergence of position `∇·r_i = Σ_{j≠i} V_j (x_j − x_i)·∇_i W_ij` of particle `i`
+    /// (dimensionless; the trace of [`LocalSums::renormalisation`], about `D` inside a full
+    /// neighbourhood) and the number of other particles within the support (duplicates of
+    /// `x_i` included; they add nothing to the sum). One neighbour pass without the matrix:
+    /// `Σ_j (V_j/h^D) · σ_D (−f'(q)/q) · q²` with `q = |x_j − x_i|/h`.
+    pub fn divergence_of_position(&self, i: usize) -> (f64, usize) {
+        let kernel = &self.kernel;
+        let inv_h = 1.0 / kernel.h();
+        let p = self.positions[i];
+        let mut sum = 0.0;
+        let mut neighbours = 0;
+        self.grid.for_each_within(&p, kernel.support(), |j, _| {
+            if j != i {
+                let q2 = ((self.positions[j] - p) * inv_h).norm_squared();
+                sum += self.reduced_volumes[j] * kernel.reduced_gradient_weight(q2.sqrt()) * q2;
+                neighbours += 1;
+            }
+        });
+        (sum, neighbours)
+    }
+}
+
 /// Outward unit normals from the colour-field gradient (Müller et al., SCA 2003, Sec. 5):
 /// `n_i = −∇c_i / |∇c_i|` with `∇c_i = Σ_j V_j ∇W_ij`, the gradient of unity of
 /// [`LocalSums`] (it points into the fluid, so its negation points out), Wendland C2 at `h`.
@@ -240,6 +263,30 @@ mod tests {
     use crate::kernel::Kernel;
 
     #[test]
+    fn the_divergence_of_position_is_the_trace_of_the_renormalisation_matrix() {
+        let rows: Vec<[f64; 3]> = (0..216)
+            .map(|k| {
+                let j = (k * 7919 % 1000) as f64 * 1e-4;
+                [
+                    (k % 6) as f64 + j,
+                    (k / 6 % 6) as f64 - j,
+                    (k / 36) as f64 + 0.5 * j,
+                ]
+            })
+            .collect();
+        let set = ParticleSet::from_rows(&rows).unwrap();
+        for kernel in Kernel::ALL {
+            let ctx = SphContext::new(&set, SphKernel::new(kernel, 1.3)).unwrap();
+            for i in 0..set.len() {
+                let sums = ctx.local_sums(i);
+                let (divr, n) = ctx.divergence_of_position(i);
+                assert_eq!(n, sums.neighbours);
+                assert!((divr - sums.renormalisation.trace()).abs() < 1e-12, "{i}");
+            }
+        }
+    }
+
+    #[test]
     fn isolated_particles_and_duplicates_get_the_stated_volumes_and_sums() {
         let set =
             ParticleSet::from_rows(&[[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [9.0, 9.0, 9.0]]).unwrap();
@@ -257,6 +304,8 @@ mod tests {
         assert_eq!(dup.renormalisation, SMatrix::<f64, 3, 3>::zeros());
         assert!((dup.shepard - 1.0).abs() < 1e-15);
         let rho = summation_density(ctx.positions(), ctx.grid(), &kernel, 2.0);
+        assert_eq!(ctx.divergence_of_position(2), (0.0, 0));
+        assert_eq!(ctx.divergence_of_position(0), (0.0, 1));
         assert!((rho[0] - 4.0 * w0).abs() < 1e-12);
     }
 }

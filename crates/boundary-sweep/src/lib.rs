@@ -75,9 +75,11 @@ impl MethodConfig {
 /// Parameter grids swept besides the defaults: depth 1..8 for the interval methods (the JCP
 /// paper's Fig. 7 / thesis Fig. 27), a gamma grid, no cavity viewpoints, two viewpoint
 /// grids and the 2D protrusion tolerance everywhere for the visibility method, thresholds
-/// around the default 0.375 for the colour field of `muller` (how sensitive M is to it), three
-/// `asymmetry` thresholds, a `mu` grid for `randles` ([`RANDLES_MU_GRID`]), Bubbles' 2D `delta`
-/// for `lnm`, and the `svm` cascades `refine=exact|ge`.
+/// around the default 0.375 for the colour field of `muller` (how sensitive M is to it), the
+/// published thresholds of `divr` (DualSPHysics by default, SPHinXsys with and without its
+/// second layer, Chrono::FSI), three `asymmetry` thresholds, a `mu` grid for `randles`
+/// ([`RANDLES_MU_GRID`]), Bubbles' 2D `delta` for `lnm`, and the `svm` cascades
+/// `refine=exact|ge`.
 pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
     let mut out = Vec::new();
     for &m in methods {
@@ -106,6 +108,20 @@ pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
                 for threshold in ["0.1", "0.2", "0.3", "0.5", "0.6"] {
                     out.push(MethodConfig::with(m, "threshold", threshold));
                 }
+            }
+            // Every code's published threshold (the default is DualSPHysics'), and SPHinXsys'
+            // with its second layer: what each code's default costs against exact.
+            "divr" => {
+                for threshold in ["sphinxsys", "chrono"] {
+                    out.push(MethodConfig::with(m, "threshold", threshold));
+                }
+                out.push(MethodConfig {
+                    method: m.to_owned(),
+                    params: vec![
+                        ("threshold".to_owned(), "sphinxsys".to_owned()),
+                        ("layers".to_owned(), "1".to_owned()),
+                    ],
+                });
             }
             // The asymmetry threshold's best value grows with r/dx (boundary-asymmetry docs).
             "asymmetry" => {

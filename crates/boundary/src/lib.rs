@@ -9,7 +9,8 @@
 //! the neighbour grid, the metrics) and holds the **registry**: every method compiled in (one
 //! cargo feature per method crate) can be created by its name, with parameters given as
 //! `key=value` strings, exactly as on the command line (`boundary detect --method ge --set
-//! depth=4`).
+//! depth=4`). Any method's labels widen to a narrow band with [`Labels::widen`] (the
+//! command line's `--band K`: every particle within `K·r` of a boundary particle).
 //!
 //! # Example
 //! ```
@@ -37,6 +38,8 @@ pub use boundary_core::*;
 pub use boundary_asymmetry::AsymmetryDetector;
 #[cfg(feature = "dilts")]
 pub use boundary_dilts::DiltsDetector;
+#[cfg(feature = "divr")]
+pub use boundary_divr::DivrDetector;
 #[cfg(feature = "exact")]
 pub use boundary_exact::ExactDetector;
 #[cfg(feature = "ge")]
@@ -121,6 +124,13 @@ const REGISTRY: &[Entry] = &[
         summary:
             "SPH colour-field gradient |grad c| h above a threshold (Mueller et al., SCA 2003)",
         make: || Box::new(MullerDetector::default()),
+    },
+    #[cfg(feature = "divr")]
+    Entry {
+        name: "divr",
+        summary: "SPH divergence of position below a threshold: DualSPHysics, SPHinXsys or \
+                  Chrono::FSI's value by name (Lind et al., JCP 2012)",
+        make: || Box::new(DivrDetector::default()),
     },
     #[cfg(feature = "asymmetry")]
     Entry {

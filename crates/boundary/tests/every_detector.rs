@@ -155,6 +155,8 @@ fn isolated_label(method: &str) -> Option<bool> {
         "randles" => Some(true),
         // boundary-lnm: "An isolated particle's cell has empty neighbours: L1, boundary".
         "lnm" => Some(true),
+        // boundary-divr: "An isolated particle has ∇·r = 0: boundary, and isolated."
+        "divr" => Some(true),
         // boundary-svm: "a particle with at most D neighbours within 2r ... is boundary".
         "svm" => Some(true),
         _ => None,
@@ -524,7 +526,7 @@ proptest! {
     ) {
         let sph: Vec<&str> = methods()
             .into_iter()
-            .filter(|m| ["marrone", "muller", "asymmetry", "randles"].contains(m))
+            .filter(|m| ["marrone", "muller", "divr", "asymmetry", "randles"].contains(m))
             .collect();
         for name in sph {
             if let Err(e) = case3.check(name) {

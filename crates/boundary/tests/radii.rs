@@ -15,6 +15,7 @@
     feature = "asymmetry",
     feature = "randles",
     feature = "lnm",
+    feature = "divr",
     feature = "svm"
 ))]
 
@@ -388,6 +389,7 @@ fn methods_without_support_refuse_radii_by_name() {
         "hpr",
         "marrone",
         "muller",
+        "divr",
         "asymmetry",
         "randles",
         "lnm",
