@@ -23,6 +23,7 @@ mod manifest;
 pub mod mesh;
 mod shared;
 pub mod solids;
+pub mod tuning;
 
 pub use generate::{
     all_scenes, block_in_tank, enright, enright_sphere, fill, jittered_lattice_ball,

@@ -78,7 +78,9 @@ impl MethodConfig {
 /// grids and the 2D protrusion tolerance everywhere for the visibility method, thresholds
 /// around the default 0.375 for the colour field of `muller` (how sensitive M is to it), the
 /// published thresholds of `divr` (DualSPHysics by default, SPHinXsys with and without its
-/// second layer, Chrono::FSI), and the `svm` cascades `refine=exact|ge`.
+/// second layer, Chrono::FSI), three `asymmetry` thresholds, a `mu` grid for `randles`
+/// ([`RANDLES_MU_GRID`]), Bubbles' 2D `delta` for `lnm`, and the `svm` cascades
+/// `refine=exact|ge`.
 pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
     let mut out = Vec::new();
     for &m in methods {
@@ -122,6 +124,27 @@ pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
                     ],
                 });
             }
+            // The asymmetry threshold's best value grows with r/dx (boundary-asymmetry docs).
+            "asymmetry" => {
+                for threshold in ["0.075", "0.2", "0.3"] {
+                    out.push(MethodConfig::with(m, "threshold", threshold));
+                }
+            }
+            // One mu for both dimensions per row: the report's Randles–Doring section compares
+            // how M depends on mu in 2D and in 3D (Bubbles' 0.45 and Marrone's 0.75 included).
+            "randles" => {
+                for mu in RANDLES_MU_GRID {
+                    out.push(MethodConfig {
+                        method: m.to_owned(),
+                        params: vec![
+                            ("mu_2d".to_owned(), mu.to_owned()),
+                            ("mu_3d".to_owned(), mu.to_owned()),
+                        ],
+                    });
+                }
+            }
+            // Bubbles' 2D rule (delta one below the count of a full cell).
+            "lnm" => out.push(MethodConfig::with(m, "delta", "3")),
             // The cascades of thesis Sec. 3.4: the SVM's boundary particles re-tested.
             "svm" => {
                 for refine in ["exact", "ge"] {
@@ -133,6 +156,9 @@ pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
     }
     out
 }
+
+/// The `mu` values swept for `randles` (both dimensions), besides its defaults.
+pub const RANDLES_MU_GRID: [&str; 6] = ["0.45", "0.5", "0.55", "0.65", "0.7", "0.75"];
 
 /// One (scene, method, parameters) result.
 #[derive(Debug, Clone)]

@@ -220,6 +220,7 @@ pub fn report_md(outcome: &Outcome, header: &str) -> String {
     }
 
     md.push_str(&divr_md(&outcome.rows));
+    md.push_str(&randles_md(&outcome.rows));
 
     let swept: Vec<&Row> = outcome.rows.iter().filter(|r| !r.is_default).collect();
     if !swept.is_empty() {
@@ -306,6 +307,127 @@ fn divr_md(rows: &[Row]) -> String {
             None => row.error.clone().unwrap_or_default(),
         };
         let _ = writeln!(md, "| `{}` | {threshold}{layers} | {cells} |", row.scene);
+    }
+    md
+}
+
+/// The `mu` a `randles` row used on its scene: `mu_2d` or `mu_3d` of its parameters.
+fn randles_mu(row: &Row) -> Option<f64> {
+    let key = if row.dim == 2 { "mu_2d=" } else { "mu_3d=" };
+    row.params
+        .split(", ")
+        .find_map(|kv| kv.strip_prefix(key))
+        .and_then(|v| v.parse().ok())
+}
+
+/// The Randles–Doring section: per dimension, mean M over the scenes for every `mu` run, the
+/// best `mu` of each scene, and the mean loss of M at the best common `mu` against each
+/// scene's own best. This is the measurement behind "could not find a suitable μ for 3D"
+/// (Bubbles): a criterion unstable in 3D would show per-scene optima far apart and a large
+/// loss. Empty without `randles` rows.
+pub fn randles_md(rows: &[Row]) -> String {
+    let mut md = String::new();
+    // (dim, scene) -> [(mu, M)].
+    type SceneRuns = ((usize, String), Vec<(f64, f64)>);
+    let mut by_scene: Vec<SceneRuns> = Vec::new();
+    for row in rows.iter().filter(|r| r.method == "randles") {
+        let (Some(mu), Some(c)) = (randles_mu(row), row.confusion) else {
+            continue;
+        };
+        let key = (row.dim, row.scene.clone());
+        match by_scene.iter_mut().find(|(k, _)| *k == key) {
+            Some((_, v)) => v.push((mu, c.m())),
+            None => by_scene.push((key, vec![(mu, c.m())])),
+        }
+    }
+    if by_scene.is_empty() {
+        return md;
+    }
+    let _ = writeln!(
+        md,
+        "\n## Randles–Doring (`randles`) by dimension\n\nM against `exact` for each `mu` run \
+         (free surface iff the smallest eigenvalue of the renormalisation matrix is at most \
+         `mu`). The defaults were tuned on generated scenes disjoint from these \
+         (boundary-randles' `tests/threshold.rs`).\n"
+    );
+    let _ = writeln!(
+        md,
+        "| dim | scenes | best common mu | its mean M | per-scene best mu | mean loss of M at the common mu | mean M at 0.45 (Bubbles, 2D) | mean M at 0.75 (Marrone's interior cut) |\n|---|---|---|---|---|---|---|---|"
+    );
+    let mut verdicts = Vec::new();
+    for dim in [2, 3] {
+        let scenes: Vec<&Vec<(f64, f64)>> = by_scene
+            .iter()
+            .filter(|((d, _), _)| *d == dim)
+            .map(|(_, v)| v)
+            .collect();
+        if scenes.is_empty() {
+            continue;
+        }
+        // The mus every scene ran, in increasing order.
+        let mut mus: Vec<f64> = scenes[0].iter().map(|&(mu, _)| mu).collect();
+        mus.retain(|mu| scenes.iter().all(|v| v.iter().any(|(m, _)| m == mu)));
+        mus.sort_by(f64::total_cmp);
+        mus.dedup();
+        let m_at = |v: &Vec<(f64, f64)>, mu: f64| {
+            v.iter().find(|(m, _)| *m == mu).map_or(0.0, |&(_, x)| x)
+        };
+        let mean_at =
+            |mu: f64| scenes.iter().map(|v| m_at(v, mu)).sum::<f64>() / scenes.len() as f64;
+        let Some(&common) = mus.iter().fold(None, |b: Option<&f64>, mu| match b {
+            Some(b) if mean_at(*b) >= mean_at(*mu) => Some(b),
+            _ => Some(mu),
+        }) else {
+            continue;
+        };
+        let best_of = |v: &Vec<(f64, f64)>| {
+            v.iter().filter(|(m, _)| mus.contains(m)).fold(
+                (0.0, f64::NEG_INFINITY),
+                |b, &(m, x)| if x > b.1 { (m, x) } else { b },
+            )
+        };
+        let lo = scenes
+            .iter()
+            .map(|v| best_of(v).0)
+            .fold(f64::INFINITY, f64::min);
+        let hi = scenes.iter().map(|v| best_of(v).0).fold(0.0, f64::max);
+        let loss = scenes
+            .iter()
+            .map(|v| best_of(v).1 - m_at(v, common))
+            .sum::<f64>()
+            / scenes.len() as f64;
+        let at = |mu: f64| {
+            if mus.contains(&mu) {
+                format!("{:.4}", mean_at(mu))
+            } else {
+                "–".to_owned()
+            }
+        };
+        let _ = writeln!(
+            md,
+            "| {dim}D | {} | {common} | {:.4} | {lo} to {hi} | {loss:.4} | {} | {} |",
+            scenes.len(),
+            mean_at(common),
+            at(0.45),
+            at(0.75)
+        );
+        verdicts.push((dim, loss, hi - lo));
+    }
+    if let (Some(&(_, loss2, spread2)), Some(&(_, loss3, spread3))) = (
+        verdicts.iter().find(|v| v.0 == 2),
+        verdicts.iter().find(|v| v.0 == 3),
+    ) {
+        let stable = loss3 <= 2.0 * loss2.max(0.01) && spread3 <= 2.0 * spread2.max(0.05);
+        let _ = writeln!(
+            md,
+            "\n{} One `mu` costs the 3D scenes {loss3:.4} of M on average against their own best \
+             (2D: {loss2:.4}); their best `mu` spread over {spread3:.3} (2D: {spread2:.3}).",
+            if stable {
+                "**Not unstable in 3D on these scenes:** a suitable `mu` exists."
+            } else {
+                "**Unstable in 3D on these scenes:** no single `mu` serves them as one does in 2D."
+            }
+        );
     }
     md
 }
@@ -876,6 +998,53 @@ mod tests {
             interface: None,
             interface_confusion: None,
         }
+    }
+
+    /// The Randles–Doring section reads the `mu` of each row's dimension, finds the best
+    /// common `mu` per dimension and the per-scene optima, and says whether 3D is unstable.
+    #[test]
+    fn randles_section_measures_each_dimension() {
+        let mut rows = Vec::new();
+        // 2D: two scenes, both best at 0.6. 3D: best at 0.5 and 0.7, M 0.9 there, 0.5 at the
+        // other: the common mu loses 0.4 on one scene of two, 0.2 on average.
+        for (dim, scene, mu, tp) in [
+            (2, "a", 0.6, 9),
+            (2, "a", 0.45, 5),
+            (2, "b", 0.6, 9),
+            (2, "b", 0.45, 4),
+            (3, "c", 0.5, 9),
+            (3, "c", 0.7, 5),
+            (3, "d", 0.5, 5),
+            (3, "d", 0.7, 9),
+        ] {
+            let c = Confusion {
+                tp,
+                tn: 10,
+                fp: 0,
+                fn_: 10 - tp,
+            };
+            let mut r = row(
+                "randles",
+                &format!("mu_2d={mu}, mu_3d={mu}, kernel=wendland, h_over_r=1"),
+                c,
+                0.1,
+                0.1,
+            );
+            r.dim = dim;
+            r.scene = scene.into();
+            rows.push(r);
+        }
+        let md = randles_md(&rows);
+        assert!(
+            md.contains("| 2D | 2 | 0.6 | 0.9000 | 0.6 to 0.6 | 0.0000 | 0.4500 | – |"),
+            "{md}"
+        );
+        assert!(
+            md.contains("| 3D | 2 | 0.5 | 0.7000 | 0.5 to 0.7 | 0.2000 | – | – |"),
+            "{md}"
+        );
+        assert!(md.contains("**Unstable in 3D"), "{md}");
+        assert!(randles_md(&rows[..0]).is_empty());
     }
 
     fn sample() -> Outcome {

@@ -34,6 +34,8 @@
 
 pub use boundary_core::*;
 
+#[cfg(feature = "asymmetry")]
+pub use boundary_asymmetry::AsymmetryDetector;
 #[cfg(feature = "dilts")]
 pub use boundary_dilts::DiltsDetector;
 #[cfg(feature = "divr")]
@@ -46,10 +48,14 @@ pub use boundary_ge::GeDetector;
 pub use boundary_hpr::HprDetector;
 #[cfg(feature = "ia")]
 pub use boundary_ia::IaDetector;
+#[cfg(feature = "lnm")]
+pub use boundary_lnm::LnmDetector;
 #[cfg(feature = "marrone")]
 pub use boundary_marrone::MarroneDetector;
 #[cfg(feature = "muller")]
 pub use boundary_muller::MullerDetector;
+#[cfg(feature = "randles")]
+pub use boundary_randles::RandlesDetector;
 #[cfg(feature = "svm")]
 pub use boundary_svm::SvmDetector;
 
@@ -125,6 +131,27 @@ const REGISTRY: &[Entry] = &[
         summary: "SPH divergence of position below a threshold: DualSPHysics, SPHinXsys or \
                   Chrono::FSI's value by name (Lind et al., JCP 2012)",
         make: || Box::new(DivrDetector::default()),
+    },
+    #[cfg(feature = "asymmetry")]
+    Entry {
+        name: "asymmetry",
+        summary: "distance to the kernel-weighted mean of the neighbourhood, or a low density \
+                  (He et al., ACM TOG 2012)",
+        make: || Box::new(AsymmetryDetector::default()),
+    },
+    #[cfg(feature = "randles")]
+    Entry {
+        name: "randles",
+        summary: "smallest eigenvalue of the SPH renormalisation matrix at most mu \
+                  (Randles-Doring; Marrone et al., JCP 2010, first step)",
+        make: || Box::new(RandlesDetector::default()),
+    },
+    #[cfg(feature = "lnm")]
+    Entry {
+        name: "lnm",
+        summary: "layered neighbourhood: voxel cells beside an empty cell, and beside a sparse \
+                  one of those (Oliveira & Paiva, CGF 2022)",
+        make: || Box::new(LnmDetector::default()),
     },
     #[cfg(feature = "hpr")]
     Entry {

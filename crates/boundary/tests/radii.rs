@@ -12,6 +12,9 @@
     feature = "hpr",
     feature = "marrone",
     feature = "muller",
+    feature = "asymmetry",
+    feature = "randles",
+    feature = "lnm",
     feature = "divr",
     feature = "svm"
 ))]
@@ -382,7 +385,16 @@ fn methods_without_support_refuse_radii_by_name() {
         .with_radii(vec![1.0, 2.0])
         .unwrap()
         .to_any();
-    for method in ["hpr", "marrone", "muller", "divr", "svm"] {
+    for method in [
+        "hpr",
+        "marrone",
+        "muller",
+        "divr",
+        "asymmetry",
+        "randles",
+        "lnm",
+        "svm",
+    ] {
         let d = detector_by_name(method).unwrap();
         let err = d.detect(&set, Radius::new(1.0).unwrap()).unwrap_err();
         assert!(
