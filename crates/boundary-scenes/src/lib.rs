@@ -24,7 +24,7 @@ mod shared;
 pub mod solids;
 
 pub use generate::{
-    all_scenes, block_in_tank, enright, enright_sphere, fill, jittered_lattice_ball,
+    all_scenes, block_in_tank, enright, enright_sequence, enright_sphere, fill, jittered_lattice_ball,
     jittered_lattice_disc, rk4, single_vortex, Scene,
 };
 pub use manifest::{

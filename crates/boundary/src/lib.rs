@@ -36,7 +36,7 @@ pub use boundary_core::*;
 #[cfg(feature = "dilts")]
 pub use boundary_dilts::DiltsDetector;
 #[cfg(feature = "exact")]
-pub use boundary_exact::ExactDetector;
+pub use boundary_exact::{ExactDetector, Tracker};
 #[cfg(feature = "ge")]
 pub use boundary_ge::GeDetector;
 #[cfg(feature = "hpr")]
