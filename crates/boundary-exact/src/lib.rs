@@ -598,6 +598,9 @@ struct FloatCell {
     tau: f64,
     /// A clip was near-degenerate (see `cell::ConvexCell::degenerate`): no bound.
     degenerate: bool,
+    /// How many neighbours were taken (the first `used` of the list, sorted nearest first):
+    /// the exact cell of the bound is clipped by exactly their planes.
+    used: usize,
 }
 
 /// Classifies the first `count` particles of `set` (all of them are neighbours): Voronoi cells
@@ -1149,6 +1152,7 @@ fn cell_margin<const D: usize, C: Clipper<D>>(
         margin: reach - 1.0,
         tau: float_bound(clips, rho0, reach),
         degenerate: cell.degenerate(),
+        used: k,
     }
 }
 

@@ -42,10 +42,22 @@
 //! the cell's farthest point; otherwise `b_i = 0`). No cell topology is trusted here: only
 //! the distances from one point.
 //!
-//! *Bookkeeping.* `sup_j |Δp_j|` since particle `i`'s evaluation is bounded by the sum, over
-//! the steps since, of each step's largest displacement (fluid and walls; triangle
-//! inequality); `|Δp_i|` is the distance from the position at the evaluation. A particle is
-//! recomputed when that sum reaches its budget.
+//! *Interior: only the cell's neighbours, relative to `i`.* The bound above holds with `g`
+//! over any subset `J` of the particles whose cell (with the box) reaches within `ρ`: the
+//! float cell uses exactly such a `J`, its first neighbours nearest first (those it took
+//! before no bisector could reach it). With `G_J` the same maximum over `J` only, `G_i <= G_J`
+//! (fewer balls cover less; a particle that comes to coincide with `p_i` leaves the cover,
+//! which `G_J` never counted), and `G_J` depends only on the offsets `q_j = p_j − p_i`, each
+//! term moving by at most `|Δq_j|`: `G_J` moves by at most `max_{j ∈ J} |Δq_j|`, the largest
+//! movement of a cell neighbour *relative to `i`*, and no other particle matters. In a smooth
+//! flow that is the velocity gradient times the distance, far below the displacement itself.
+//! (The cap `m_i` keeps the members of `J` off `p_i`.)
+//!
+//! *Bookkeeping.* Per interior particle, the sum over the steps since its evaluation of
+//! `max_{j ∈ J} |Δq_j|` for the step (triangle inequality); per boundary particle, its own
+//! displacement since the evaluation plus the sum of each step's largest displacement
+//! (fluid and walls), which bounds `sup_j |Δp_j|`. A particle is recomputed when that
+//! reaches its budget.
 //!
 //! *Rounding.* Every quantity compared above carries a relative rounding error of a few `u`
 //! (`u = 2^-53`): distances, the running sum (rounded up at each step), the budgets' formula.
@@ -61,8 +73,10 @@
 //!   start over (every particle evaluated). Without stable ids the tracker cannot follow
 //!   inflow and outflow: a new count starts over.
 //! - A large step: when more than 60 % of the particles would be recomputed, the step runs a
-//!   full detection instead (the budgets are then stale, and the tracker evaluates everything
-//!   again once a step is small against the median budget of its last full evaluation).
+//!   full detection instead. The budgets are then spent: the next 1, 2, 4, … 32 steps (doubling
+//!   at each fallback in a row) run full detections, then every particle is evaluated again.
+//!   An evaluation costs about 1.5 times a particle of a full detection, so a sequence of
+//!   large steps costs at most about 2 % more than full detections.
 //! - Walls ([`Domain::with_walls`]) cover like particles: they may move
 //!   ([`Tracker::move_walls`]), and their movement counts in the step's largest displacement.
 //! - Solids, periodic axes, phases, solid meshes and per-particle radii are honoured by a full
@@ -71,6 +85,11 @@
 
 use crate::cell::{Clipper, ConvexCell, Polygon, Polyhedron};
 use crate::{cell_margin, classify, detect_with, Near, Neighbours, Scratch, NEAR_SLACK, U};
+
+/// The neighbours within `FIRST_REACH·r` are gathered first (units of `r`): an interior cell
+/// clipped to the end reaches about `0.6r` on a jittered lattice at `r = 1.5` spacings, within
+/// half of it, so it needs no other neighbour.
+const FIRST_REACH: f64 = 1.6;
 use boundary_core::{
     domain, AnyParticleSet, DetectError, Domain, Labels, NeighbourGrid, ParticleSet, Point,
     Radius,
@@ -85,8 +104,14 @@ const ROUNDING: f64 = 1e-9;
 /// is at most `(WITNESS_REACH − 1)·r`.
 const WITNESS_REACH: f64 = 1.5;
 
-/// More than this fraction of particles to recompute: a full detection is cheaper.
+/// More than this fraction of particles to recompute: a full detection is cheaper (an
+/// evaluation costs about 1.5 times a particle of a full detection: the cell is clipped to
+/// the end, and the witness needs one more query).
 const FULL_FRACTION: f64 = 0.6;
+
+/// At most this many full detections in a row before the tracker evaluates every particle
+/// again (the amortised cost of a retry: `0.5/MAX_BACKOFF` of a detection per step).
+const MAX_BACKOFF: u32 = 32;
 
 /// Incremental `exact` detection over the time steps of one particle set (module docs).
 ///
@@ -144,13 +169,21 @@ struct Track<const D: usize> {
     budget: Vec<f64>,
     /// Per fluid particle: the running sum `sum` at its last evaluation.
     sum_eval: Vec<f64>,
+    /// Per interior particle: the neighbours whose cell proved it interior (input indices of
+    /// fluid and walls); empty for the others, which count the global movement.
+    cell_of: Vec<Box<[u32]>>,
+    /// Per interior particle: the running sum of the steps' largest movement of a neighbour
+    /// of `cell_of` relative to the particle, rounded up (reset at each evaluation).
+    relative: Vec<f64>,
     /// Running sum of the steps' largest displacements, rounded up.
     sum: f64,
     labels: Vec<bool>,
-    /// Budgets are all 0 after a full detection: evaluate everything again once a step is
-    /// below half of `median_budget`.
-    stale: bool,
-    median_budget: f64,
+    /// Budgets are all 0 after a full detection: `stale` more steps run full detections,
+    /// then every particle is evaluated again.
+    stale: u32,
+    /// The number of full detections after the next fallback: doubled at each fallback (up
+    /// to [`MAX_BACKOFF`]), back to 1 after a step that recomputes few particles.
+    backoff: u32,
 }
 
 impl Tracker {
@@ -307,52 +340,81 @@ impl<const D: usize> Track<D> {
                 eval: fluid.to_vec(),
                 budget: vec![0.0; count],
                 sum_eval: vec![0.0; count],
+                cell_of: vec![Box::default(); count],
+                relative: vec![0.0; count],
                 sum: 0.0,
                 labels: vec![false; count],
-                stale: false,
-                median_budget: 0.0,
+                stale: 0,
+                backoff: 1,
             };
             let all: Vec<usize> = (0..count).collect();
             track.evaluate::<C>(&set, &all, r.get())?;
             return Ok((track, count));
         };
-        // The step's largest displacement, rounded up (module docs, "Rounding").
-        let step = set
+        // The step's movements, and the largest, rounded up (module docs, "Rounding").
+        let moves: Vec<Point<D>> = set
             .positions()
             .par_iter()
             .zip(&track.prev)
-            .map(|(a, b)| dist(a, b))
-            .reduce(|| 0.0, f64::max);
+            .map(|(a, b)| a - b)
+            .collect();
+        let step = moves.par_iter().map(|m| m.norm()).reduce(|| 0.0, f64::max);
         track.sum = (track.sum + step * (1.0 + ROUNDING)) * (1.0 + 4.0 * U);
         track.prev.clear();
         track.prev.extend_from_slice(set.positions());
+        // Interior particles: the largest movement of a neighbour of their cell relative to
+        // them; `16u·step` covers the rounding of the differences.
+        let slack = 16.0 * U * step;
+        track
+            .relative
+            .par_iter_mut()
+            .zip(&track.cell_of)
+            .enumerate()
+            .for_each(|(i, (rel, cell))| {
+                if !cell.is_empty() {
+                    let mi = moves[i];
+                    let most = cell
+                        .iter()
+                        .map(|&j| (moves[j as usize] - mi).norm())
+                        .fold(0.0, f64::max);
+                    *rel = (*rel + (most * (1.0 + ROUNDING) + slack)) * (1.0 + 4.0 * U);
+                }
+            });
 
-        let recompute: Vec<usize> = if track.stale {
-            if 2.0 * step < track.median_budget {
-                (0..count).collect()
-            } else {
-                vec![]
-            }
+        let recompute: Option<Vec<usize>> = if track.stale > 0 {
+            track.stale -= 1;
+            (track.stale == 0).then(|| (0..count).collect())
         } else {
             let sum = track.sum;
-            (0..count)
+            let list: Vec<usize> = (0..count)
                 .into_par_iter()
                 .filter(|&i| {
-                    let moved = dist(&fluid[i], &track.eval[i]) + (sum - track.sum_eval[i]);
+                    let moved = if track.cell_of[i].is_empty() {
+                        dist(&fluid[i], &track.eval[i]) + (sum - track.sum_eval[i])
+                    } else {
+                        track.relative[i]
+                    };
                     moved * (1.0 + ROUNDING) >= track.budget[i]
                 })
-                .collect()
+                .collect();
+            if list.len() as f64 > FULL_FRACTION * count as f64 {
+                track.stale = track.backoff;
+                track.backoff = (2 * track.backoff).min(MAX_BACKOFF);
+                None
+            } else {
+                if (list.len() as f64) < 0.5 * FULL_FRACTION * count as f64 {
+                    track.backoff = 1;
+                }
+                Some(list)
+            }
         };
-        let full = (track.stale && recompute.is_empty())
-            || (!track.stale && recompute.len() as f64 > FULL_FRACTION * count as f64);
-        if full {
+        let Some(recompute) = recompute else {
             let (detection, _) = detect_with::<D, C>(&set, count, r, 0.0)?;
             track.labels = detection.labels.as_slice().to_vec();
             track.budget.iter_mut().for_each(|b| *b = 0.0);
-            track.stale = true;
+            track.cell_of.iter_mut().for_each(|c| *c = Box::default());
             return Ok((track, count));
-        }
-        track.stale = false;
+        };
         track.evaluate::<C>(&set, &recompute, r.get())?;
         Ok((track, recompute.len()))
     }
@@ -368,28 +430,26 @@ impl<const D: usize> Track<D> {
         let grid = NeighbourGrid::new(set, r * crate::GRID_CELL)?;
         let positions = set.positions();
         let sorted = grid.cell_sorted_positions();
-        let results: Vec<(bool, f64)> = which
+        let results: Vec<(bool, f64, Box<[u32]>)> = which
             .par_iter()
             .map_init(Scratch::<D, C>::default, |scratch, &i| {
                 evaluate_one(&grid, positions, sorted, i, r, scratch)
             })
             .collect();
-        for (&i, (label, budget)) in which.iter().zip(results) {
+        for (&i, (label, budget, cell)) in which.iter().zip(results) {
             self.labels[i] = label;
             self.budget[i] = budget;
+            self.cell_of[i] = cell;
+            self.relative[i] = 0.0;
             self.eval[i] = positions[i];
             self.sum_eval[i] = self.sum;
-        }
-        if which.len() == self.count {
-            let mut budgets = self.budget.clone();
-            let mid = budgets.len() / 2;
-            self.median_budget = *budgets.select_nth_unstable_by(mid, f64::total_cmp).1;
         }
         Ok(())
     }
 }
 
-/// The label of particle `i` and its budget (module docs).
+/// The label of particle `i`, its budget (module docs) and, for an interior particle, the
+/// neighbours its budget depends on (its cell's; empty: the budget counts every particle).
 fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
     grid: &NeighbourGrid<D>,
     positions: &[Point<D>],
@@ -397,17 +457,22 @@ fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
     i: usize,
     r: f64,
     scratch: &mut Scratch<D, C>,
-) -> (bool, f64) {
+) -> (bool, f64, Box<[u32]>) {
     let p = positions[i];
     let key = |j: usize, slot: usize, d2: f64| (d2.to_bits(), j as u32, slot as u32);
+    // The neighbours within FIRST_REACH·r first; the cell gathers the rest (up to 2r) when
+    // it reaches beyond half of that (every other bisector lies farther).
     scratch.near.clear();
-    grid.gather_within(&p, 2.0 * r * (1.0 + NEAR_SLACK), &mut scratch.near, key);
+    grid.gather_within(&p, FIRST_REACH * r, &mut scratch.near, key);
     // `i` itself has d2 = 0; any other zero is an exact duplicate (module docs).
     let duplicated = scratch.near.iter().filter(|x| x.0 == 0).count() > 1;
     scratch.near.retain(|x| x.0 != 0);
-    scratch.beyond = f64::INFINITY;
-    let nearest = scratch.near.iter().map(|x| x.0).min().map(f64::from_bits);
-    let no_gather = |_: &mut Vec<Near>| {};
+    scratch.beyond = 0.5 * FIRST_REACH * (1.0 - 1e-9);
+    let gather_all = |near: &mut Vec<Near>| {
+        near.clear();
+        grid.gather_within(&p, 2.0 * r * (1.0 + NEAR_SLACK), near, key);
+        near.retain(|x| x.0 != 0);
+    };
 
     // The float cell, clipped to the end; the fast cell first where there is one.
     let mut decided = None;
@@ -415,55 +480,65 @@ fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
         let near = Neighbours {
             list: &mut scratch.near,
             beyond: &mut scratch.beyond,
-            gather_all: &no_gather,
+            gather_all: &gather_all,
         };
         let cell = cell_margin(&p, sorted, r, near, &mut scratch.fast, true, false);
         if !cell.degenerate && cell.margin.abs() > cell.tau {
-            decided = Some((cell.margin, cell.tau, scratch.fast.farthest()));
+            decided = Some((cell, scratch.fast.farthest()));
         }
     }
     if decided.is_none() {
         let near = Neighbours {
             list: &mut scratch.near,
             beyond: &mut scratch.beyond,
-            gather_all: &no_gather,
+            gather_all: &gather_all,
         };
         let cell = cell_margin(&p, sorted, r, near, &mut scratch.cell, false, false);
         if !cell.degenerate && cell.margin.abs() > cell.tau {
-            decided = Some((cell.margin, cell.tau, scratch.cell.farthest()));
+            decided = Some((cell, scratch.cell.farthest()));
         }
     }
-    let Some((margin, tau, far)) = decided else {
+    let Some((cell, far)) = decided else {
         // Certificates and the exact predicate: the label of a full detection, no budget.
-        let (_, label, _) = classify(&p, sorted, r, 0.0, scratch, &no_gather);
-        return (label, 0.0);
+        let (_, label, _) = classify(&p, sorted, r, 0.0, scratch, &gather_all);
+        return (label, 0.0, Box::default());
     };
+    let boundary = cell.margin > 0.0;
     if duplicated {
-        return (margin > 0.0, 0.0);
+        return (boundary, 0.0, Box::default());
     }
-    // The nearest neighbour (or `2r`, if none is within it) caps every budget.
-    let m = nearest.map_or(2.0 * r, |d2| d2.sqrt().min(2.0 * r));
-    let budget = if margin < 0.0 {
-        // Interior: b = m²(r − ρ)/(2rρ), ρ = (1 + margin + τ)·r.
-        let rho = 1.0 + margin + tau;
-        if rho < 1.0 {
-            let mh = m / r;
-            r * mh * mh * (1.0 - rho) / (2.0 * rho)
-        } else {
-            0.0
-        }
-    } else {
-        // Boundary: the witness x on S_i toward the farthest vertex.
-        let norm = far.iter().map(|a| a * a).sum::<f64>().sqrt();
-        let x = Point::<D>::from_fn(|k, _| p[k] + r * (far[k] / norm));
-        let mut d2min = (WITNESS_REACH * r).powi(2);
-        grid.for_each_within(&x, WITNESS_REACH * r, |j, d2| {
-            if j != i {
-                d2min = d2min.min(d2);
-            }
-        });
-        let pmax = p.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-        d2min.sqrt() - r - (1e-12 * r + 1e-14 * pmax)
+    // The nearest neighbour, first of the sorted list (or `2r`, if none is within it), caps
+    // every budget.
+    let m = match scratch.near.first() {
+        Some(x) if cell.used > 0 => f64::from_bits(x.0).sqrt().min(2.0 * r),
+        _ => 2.0 * r,
     };
-    (margin > 0.0, budget.min(m).max(0.0) * (1.0 - ROUNDING))
+    if !boundary {
+        // Interior: b = m²(r − ρ)/(2rρ), ρ = (1 + margin + τ)·r, over the neighbours the cell
+        // took (the first `used` of the sorted list).
+        let rho = 1.0 + cell.margin + cell.tau;
+        if rho >= 1.0 || cell.used == 0 {
+            return (false, 0.0, Box::default());
+        }
+        let mh = m / r;
+        let budget = r * mh * mh * (1.0 - rho) / (2.0 * rho);
+        let neighbours: Box<[u32]> = scratch.near[..cell.used].iter().map(|x| x.1).collect();
+        return (false, budget.min(m) * (1.0 - ROUNDING), neighbours);
+    }
+    // Boundary: the witness x on S_i toward the farthest vertex.
+    let norm = far.iter().map(|a| a * a).sum::<f64>().sqrt();
+    let x = Point::<D>::from_fn(|k, _| p[k] + r * (far[k] / norm));
+    let mut d2min = (WITNESS_REACH * r).powi(2);
+    grid.for_each_within(&x, WITNESS_REACH * r, |j, d2| {
+        if j != i {
+            d2min = d2min.min(d2);
+        }
+    });
+    let pmax = p.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let budget = d2min.sqrt() - r - (1e-12 * r + 1e-14 * pmax);
+    (
+        true,
+        budget.min(m).max(0.0) * (1.0 - ROUNDING),
+        Box::default(),
+    )
 }

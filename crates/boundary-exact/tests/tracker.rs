@@ -137,23 +137,32 @@ fn lattice_drifting_through_its_tie_flips_exactly_there() {
     }
 }
 
-/// Random jumps of up to 0.5 spacing of random particles, mixed with quiet steps.
+/// Random jumps of up to 0.5 spacing: a few particles at most steps (the others drift a
+/// little), every particle at some; both the incremental path and the fallback run.
 #[test]
 fn random_jumps_of_half_a_spacing_match_full_detection() {
     let mut rng = Rng(7);
     let mut points = jittered_square(20, 0.3, &mut rng);
     let mut frames = vec![set2(&points)];
-    for step in 0..15 {
+    for step in 0..24 {
+        let chance = if step % 8 == 7 { 1.0 } else { 0.01 };
         for p in points.iter_mut() {
-            let chance = if step % 3 == 0 { 1.0 } else { 0.05 };
             if rng.next() < chance {
-                p[0] += 0.5 * (rng.next() - 0.5) * 2.0;
-                p[1] += 0.5 * (rng.next() - 0.5) * 2.0;
+                p[0] += (rng.next() - 0.5) * 1.0;
+                p[1] += (rng.next() - 0.5) * 1.0;
+            } else {
+                p[0] += 1e-3 * (rng.next() - 0.5);
             }
         }
         frames.push(set2(&points));
     }
-    check_sequence(&frames, 0.9, Domain::new());
+    let counts = check_sequence(&frames, 0.9, Domain::new());
+    let n = points.len();
+    // Before the first jump of everything the steps are incremental; after it the set is
+    // disordered, most particles are boundary, and a boundary particle counts the largest
+    // displacement anywhere: each 0.5 jump spends its budget, and full detections run.
+    assert!(counts[1..8].iter().all(|&c| c < n / 2), "{counts:?}");
+    assert!(counts.iter().filter(|&&c| c == n).count() >= 4, "{counts:?}");
 }
 
 /// A block of particles leaves the set's neighbourhood and comes back, while the rest drifts.
@@ -326,4 +335,48 @@ fn crossing_streams_in_3d_match_full_detection() {
         })
         .collect();
     check_sequence(&frames, 1.0, Domain::new());
+}
+
+/// A jittered lattice near its tie radius, stretched a little at every step: interior
+/// particles turn boundary one by one, on the incremental path (2D and 3D).
+#[test]
+fn slow_stretch_turns_particles_boundary_one_by_one() {
+    let mut rng = Rng(13);
+    let base = jittered_square(30, 0.1, &mut rng);
+    let frames: Vec<AnyParticleSet> = (0..30)
+        .map(|s| {
+            let f = 1.0 + 0.002 * s as f64;
+            set2(&base.iter().map(|p| [p[0] * f, p[1]]).collect::<Vec<_>>())
+        })
+        .collect();
+    let counts = check_sequence(&frames, 0.74, Domain::new());
+    let r = Radius::new(0.74).unwrap();
+    let boundary = |f: &AnyParticleSet| ExactDetector.detect(f, r).unwrap().labels.boundary_count();
+    let (first, last) = (boundary(&frames[0]), boundary(&frames[29]));
+    assert!(last > first + 50, "{first} -> {last}");
+    assert!(counts[1..10].iter().all(|&c| c < base.len() / 4), "{counts:?}");
+    // Backwards: compressed, boundary particles turn interior one by one.
+    let backwards: Vec<AnyParticleSet> = frames.iter().rev().cloned().collect();
+    check_sequence(&backwards, 0.74, Domain::new());
+
+    let base: Vec<Point<3>> = (0..512)
+        .map(|k| {
+            Point::<3>::new(
+                (k % 8) as f64 + 0.1 * rng.next(),
+                (k / 8 % 8) as f64 + 0.1 * rng.next(),
+                (k / 64) as f64 + 0.1 * rng.next(),
+            )
+        })
+        .collect();
+    let frames: Vec<AnyParticleSet> = (0..20)
+        .map(|s| {
+            let f = 1.0 + 0.004 * s as f64;
+            let points = base.iter().map(|p| Point::<3>::new(p[0] * f, p[1], p[2])).collect();
+            ParticleSet::new(points).unwrap().to_any()
+        })
+        .collect();
+    check_sequence(&frames, 0.88, Domain::new());
+    let r = Radius::new(0.88).unwrap();
+    let boundary = |f: &AnyParticleSet| ExactDetector.detect(f, r).unwrap().labels.boundary_count();
+    assert!(boundary(&frames[19]) > boundary(&frames[0]) + 10);
 }
