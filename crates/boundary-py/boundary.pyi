@@ -238,6 +238,31 @@ def detect(
     """
 
 @overload
+class Tracker:
+    """Labels the particles of successive time steps, each as `detect(points, r)` would,
+    recomputing only the particles whose label may have changed since the previous step.
+
+    r: the particle resolution (> 0); method: "exact" (the only method with a tracker);
+    threads: worker threads (default: all cores); **params: the method's parameters (exact:
+    tie must stay 0). Raises ValueError for another method, a tie, r <= 0 or bad points.
+    """
+
+    recomputed: int
+    """How many particles the last update recomputed."""
+
+    def __init__(
+        self,
+        r: float,
+        method: str = "exact",
+        threads: Optional[int] = None,
+        **params: _Param,
+    ) -> None: ...
+    def update(self, points: ArrayLike) -> NDArray[np.bool_]:
+        """The labels (True = boundary) of this step's positions, an (n, 2) or (n, 3)
+        array-like: the same particles in the same order as before (another count starts
+        over)."""
+        ...
+
 def score(
     points: ArrayLike,
     r: float,

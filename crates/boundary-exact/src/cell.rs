@@ -755,13 +755,7 @@ impl Clipper<3> for SimplePolyhedron {
 
     fn farthest(&self) -> [f64; 3] {
         // Dead slots hold the origin (norm2 0): never the farthest of a non-empty cell.
-        let best = (0..self.len).fold(0, |b, v| {
-            if self.norm2[v] > self.norm2[b] {
-                v
-            } else {
-                b
-            }
-        });
+        let best = (0..self.len).fold(0, |b, v| if self.norm2[v] > self.norm2[b] { v } else { b });
         self.vertex(best as u8)
     }
 

@@ -91,8 +91,7 @@ use crate::{cell_margin, classify, detect_with, Near, Neighbours, Scratch, NEAR_
 /// half of it, so it needs no other neighbour.
 const FIRST_REACH: f64 = 1.6;
 use boundary_core::{
-    domain, AnyParticleSet, DetectError, Domain, Labels, NeighbourGrid, ParticleSet, Point,
-    Radius,
+    domain, AnyParticleSet, DetectError, Domain, Labels, NeighbourGrid, ParticleSet, Point, Radius,
 };
 use rayon::prelude::*;
 
@@ -420,7 +419,12 @@ impl<const D: usize> Track<D> {
     }
 
     /// Evaluates the fluid particles `which` (ascending) of `set`: their labels and budgets.
-    fn evaluate<C>(&mut self, set: &ParticleSet<D>, which: &[usize], r: f64) -> Result<(), DetectError>
+    fn evaluate<C>(
+        &mut self,
+        set: &ParticleSet<D>,
+        which: &[usize],
+        r: f64,
+    ) -> Result<(), DetectError>
     where
         C: ConvexCell<D> + Default + Send + Clone,
     {

@@ -1,5 +1,7 @@
 //! The tracker's labels equal a full `exact` detection at every step, bit for bit.
 
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
 use boundary_core::{
     domain, AnyParticleSet, BoundaryDetector, Domain, HalfSpace, Labels, ParticleSet, Periodic,
     Point, Radius,
@@ -69,10 +71,7 @@ fn enright_sequence_matches_full_detection() {
         assert_eq!(recomputed[0], n);
         if displacement <= 0.01 {
             let later: usize = recomputed[1..].iter().sum();
-            assert!(
-                later < 12 * n / 4,
-                "{displacement}: {recomputed:?} of {n}"
-            );
+            assert!(later < 12 * n / 4, "{displacement}: {recomputed:?} of {n}");
         }
     }
 }
@@ -126,10 +125,18 @@ fn lattice_drifting_through_its_tie_flips_exactly_there() {
     for j in -2i32..=2 {
         let a = 2.0 + j as f64 * 2f64.powi(-30);
         let rows: Vec<[f64; 3]> = (0..125)
-            .map(|k| [(k % 5) as f64 * a, (k / 5 % 5) as f64 * 3.0, (k / 25) as f64 * 6.0])
+            .map(|k| {
+                [
+                    (k % 5) as f64 * a,
+                    (k / 5 % 5) as f64 * 3.0,
+                    (k / 25) as f64 * 6.0,
+                ]
+            })
             .collect();
         let set = ParticleSet::from_rows(&rows).unwrap().to_any();
-        let full = ExactDetector.detect(&set, Radius::new(3.5).unwrap()).unwrap();
+        let full = ExactDetector
+            .detect(&set, Radius::new(3.5).unwrap())
+            .unwrap();
         let labels = tracker.update(&set).unwrap();
         assert_eq!(first_difference(labels, &full.labels), None, "δ = {j}");
         // The centre particle (2, 2, 2).
@@ -162,7 +169,10 @@ fn random_jumps_of_half_a_spacing_match_full_detection() {
     // disordered, most particles are boundary, and a boundary particle counts the largest
     // displacement anywhere: each 0.5 jump spends its budget, and full detections run.
     assert!(counts[1..8].iter().all(|&c| c < n / 2), "{counts:?}");
-    assert!(counts.iter().filter(|&&c| c == n).count() >= 4, "{counts:?}");
+    assert!(
+        counts.iter().filter(|&&c| c == n).count() >= 4,
+        "{counts:?}"
+    );
 }
 
 /// A block of particles leaves the set's neighbourhood and comes back, while the rest drifts.
@@ -241,7 +251,11 @@ fn domains_and_radii_match_full_detection() {
         let domain = Domain::new().with_walls(walls);
         let full = domain::detect_in(&ExactDetector, set, &domain, radius).unwrap();
         let labels = tracker.update(set).unwrap();
-        assert_eq!(first_difference(labels, &full.detection.labels), None, "walls, step {s}");
+        assert_eq!(
+            first_difference(labels, &full.detection.labels),
+            None,
+            "walls, step {s}"
+        );
         saved += set.len() - tracker.recomputed();
     }
     assert!(saved > 0, "moving walls: nothing saved");
@@ -354,7 +368,10 @@ fn slow_stretch_turns_particles_boundary_one_by_one() {
     let boundary = |f: &AnyParticleSet| ExactDetector.detect(f, r).unwrap().labels.boundary_count();
     let (first, last) = (boundary(&frames[0]), boundary(&frames[29]));
     assert!(last > first + 50, "{first} -> {last}");
-    assert!(counts[1..10].iter().all(|&c| c < base.len() / 4), "{counts:?}");
+    assert!(
+        counts[1..10].iter().all(|&c| c < base.len() / 4),
+        "{counts:?}"
+    );
     // Backwards: compressed, boundary particles turn interior one by one.
     let backwards: Vec<AnyParticleSet> = frames.iter().rev().cloned().collect();
     check_sequence(&backwards, 0.74, Domain::new());
@@ -371,7 +388,10 @@ fn slow_stretch_turns_particles_boundary_one_by_one() {
     let frames: Vec<AnyParticleSet> = (0..20)
         .map(|s| {
             let f = 1.0 + 0.004 * s as f64;
-            let points = base.iter().map(|p| Point::<3>::new(p[0] * f, p[1], p[2])).collect();
+            let points = base
+                .iter()
+                .map(|p| Point::<3>::new(p[0] * f, p[1], p[2]))
+                .collect();
             ParticleSet::new(points).unwrap().to_any()
         })
         .collect();

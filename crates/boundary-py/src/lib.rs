@@ -53,6 +53,8 @@ use std::path::PathBuf;
 use std::sync::mpsc::{self, RecvTimeoutError};
 use std::time::{Duration, Instant};
 
+mod tracker;
+
 /// How long the calling thread waits for the worker between two signal checks.
 const SIGNAL_POLL: Duration = Duration::from_millis(50);
 
@@ -994,6 +996,7 @@ fn boundary_py(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(detect, m)?)?;
+    m.add_class::<tracker::PyTracker>()?;
     m.add_function(wrap_pyfunction!(score, m)?)?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
     m.add_function(wrap_pyfunction!(read, m)?)?;

@@ -632,11 +632,7 @@ pub fn jittered_lattice_disc(radius: f64, jitter: f64, seed: u64) -> ParticleSet
 /// [`enright`] (T = 3), each step's `dt` chosen so that the fastest particle moves
 /// `displacement·h` (to first order: `dt = displacement·h / max |v|`, then 4 RK4 substeps).
 /// Returns the `steps + 1` frames and `h`; the scenes use `r = 1.5h`.
-pub fn enright_sequence(
-    n: usize,
-    displacement: f64,
-    steps: usize,
-) -> (Vec<ParticleSet<3>>, f64) {
+pub fn enright_sequence(n: usize, displacement: f64, steps: usize) -> (Vec<ParticleSet<3>>, f64) {
     use rayon::prelude::*;
     let period = 3.0;
     let (first, h) = enright_sphere(n, 0.5, 0.01);
@@ -648,7 +644,11 @@ pub fn enright_sequence(
             .par_iter()
             .map(|p| enright(p, t, period).norm())
             .reduce(|| 0.0, f64::max);
-        let dt = if vmax > 0.0 { displacement * h / vmax } else { 0.0 };
+        let dt = if vmax > 0.0 {
+            displacement * h / vmax
+        } else {
+            0.0
+        };
         points = points
             .into_par_iter()
             .map(|p| rk4(p, t, t + dt, 4, |q, s| enright(q, s, period)))
