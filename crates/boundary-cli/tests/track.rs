@@ -80,10 +80,15 @@ fn track_gives_the_labels_of_exact_and_the_recomputed_counts() {
         .map(|l| l.split(',').map(str::to_owned).collect())
         .collect();
     assert_eq!(rows.len(), 6);
-    let counts: Vec<usize> = rows.iter().map(|r| r[recomputed].parse().unwrap()).collect();
+    let counts: Vec<usize> = rows
+        .iter()
+        .map(|r| r[recomputed].parse().unwrap())
+        .collect();
     assert_eq!(counts[0], 400, "{counts:?}");
     assert!(counts[1..].iter().all(|&c| c < 200), "{counts:?}");
-    assert!(rows.iter().all(|r| r[seconds].parse::<f64>().unwrap() >= 0.0));
+    assert!(rows
+        .iter()
+        .all(|r| r[seconds].parse::<f64>().unwrap() >= 0.0));
 }
 
 #[test]
@@ -93,7 +98,9 @@ fn track_refuses_what_it_cannot_follow() {
     std::fs::write(&file, "x,y\n0,0\n1,0\n").unwrap();
     let pattern = dir.path().join("f_*.csv");
     let pattern = pattern.to_str().unwrap();
-    let o = boundary(&["detect", pattern, "--radius", "1", "--track", "--method", "ge"]);
+    let o = boundary(&[
+        "detect", pattern, "--radius", "1", "--track", "--method", "ge",
+    ]);
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("--method exact"));
     let o = boundary(&[
