@@ -35,7 +35,7 @@ def test_tracker_refuses_what_it_cannot_do():
         boundary.Tracker(1.0, tie=1e-9)
     with pytest.raises(ValueError):
         boundary.Tracker(0.0)
-    with pytest.raises(ValueError, match="unknown"):
+    with pytest.raises(ValueError, match="no parameter .bogus."):
         boundary.Tracker(1.0, bogus=1)
     tracker = boundary.Tracker(1.0)
     with pytest.raises(ValueError, match="shape"):
