@@ -124,6 +124,12 @@ typedef struct boundary_confusion {
   double f1;
 } boundary_confusion;
 
+/**
+ * An incremental `exact` tracker over the time steps of one particle set. Opaque: create with
+ * `boundary_tracker_new`, release with `boundary_tracker_free`.
+ */
+typedef struct boundary_tracker boundary_tracker;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -370,6 +376,45 @@ int boundary_confusion_from_labels(const uint8_t *predicted,
                                    struct boundary_confusion *out,
                                    char *err,
                                    size_t err_len);
+
+/**
+ * Creates a tracker at resolution `r` on `threads` worker threads (0: all cores). Returns NULL
+ * on error (`r` not positive and finite, threads that cannot start), with the message in
+ * `err`. Release it with `boundary_tracker_free`.
+ *
+ * # Safety
+ * `err` is NULL or valid for writes of `err_len` bytes.
+ */
+struct boundary_tracker *boundary_tracker_new(double r, size_t threads, char *err, size_t err_len);
+
+/**
+ * Labels this step's positions of the `n` particles at `xyz` (as `boundary_detect` with
+ * `"exact"`: 1 boundary, 0 interior, into `out_labels[0..n]`); the same particles in the same
+ * order as at the previous step (another `n` or `dim` starts over). When `out_recomputed`
+ * is not NULL, writes there how many particles this update recomputed.
+ *
+ * # Safety
+ * `handle` comes from `boundary_tracker_new` and is not freed nor used by another thread
+ * during the call; `xyz` is valid for reads of `n * dim` doubles (may be NULL when `n == 0`);
+ * `out_labels` valid for writes of `n` bytes; `out_recomputed` NULL or valid for one write;
+ * `err` NULL or valid for writes of `err_len` bytes.
+ */
+int boundary_tracker_update(struct boundary_tracker *handle,
+                            const double *xyz,
+                            size_t n,
+                            int dim,
+                            uint8_t *out_labels,
+                            size_t *out_recomputed,
+                            char *err,
+                            size_t err_len);
+
+/**
+ * Releases a tracker from `boundary_tracker_new`; NULL is ignored.
+ *
+ * # Safety
+ * `handle` is NULL or comes from `boundary_tracker_new` and is not used afterwards.
+ */
+void boundary_tracker_free(struct boundary_tracker *handle);
 
 #ifdef __cplusplus
 }  // extern "C"

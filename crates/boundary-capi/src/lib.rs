@@ -65,6 +65,11 @@ use std::ffi::{c_char, c_int, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::{Arc, Mutex};
 
+mod tracker;
+pub use tracker::{
+    boundary_tracker, boundary_tracker_free, boundary_tracker_new, boundary_tracker_update,
+};
+
 /// Success.
 pub const BOUNDARY_OK: c_int = 0;
 /// A required pointer argument is NULL.

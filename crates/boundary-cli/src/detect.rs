@@ -9,7 +9,9 @@ use crate::domain::{DomainArgs, DomainSetup};
 use crate::error::CliError;
 use crate::interrupt::Interrupt;
 use crate::output::{errln, outln};
-use boundary::{detector_with_params, AnyParticleSet, BoundaryDetector};
+use boundary::{
+    detector_with_params, AnyParticleSet, BoundaryDetector, Detection, Domain, Tracker,
+};
 use boundary_io::{read_particle_file, write_particles, Column, Format, ReadOptions};
 use clap::Args;
 use serde_json::json;
@@ -59,7 +61,18 @@ pub(crate) struct DetectArgs {
     /// result is that of a run never stopped.
     #[arg(long)]
     resume: bool,
+    /// With several frames of the same particles (same count, same order): label them in
+    /// order with the incremental tracker, which recomputes only the particles whose label
+    /// may have changed since the previous frame; the labels are those of `exact`. Needs
+    /// --method exact (default parameters), a uniform --radius and no domain options; the
+    /// summary gets a `recomputed` column.
+    #[arg(long, conflicts_with_all = ["resume", "margin"])]
+    track: bool,
 }
+
+/// A frame's output: `Some((path, format))`, `None` (no output), or the input whose format
+/// is unknown.
+type Output = Result<Option<(PathBuf, Format)>, PathBuf>;
 
 /// What became of one frame of a run.
 #[derive(Debug)]
@@ -91,6 +104,8 @@ struct FrameOutcome {
     /// The wall rows of the input (`--wall-attribute`).
     wall_rows: Option<usize>,
     seconds: f64,
+    /// With `--track`: the particles the tracker recomputed for this frame.
+    recomputed: Option<usize>,
     /// Attributes of the input not written back, with the reason.
     skipped: Vec<String>,
 }
@@ -126,6 +141,8 @@ struct FrameJob<'a> {
     /// `--band K`.
     band: Option<f64>,
     pool: &'a rayon::ThreadPool,
+    /// With `--track`: the tracker, created at the first frame (frames run in order).
+    tracker: Option<&'a std::sync::Mutex<Option<Tracker>>>,
 }
 
 impl FrameJob<'_> {
@@ -174,12 +191,37 @@ impl FrameJob<'_> {
                 interface: None,
                 wall_rows: None,
                 seconds: 0.0,
+                recomputed: None,
                 skipped: Vec::new(),
             };
             return self.run_in(setup, file, input, outcome, output);
         }
         let set = &file.set;
-        let (mut detection, seconds) = run_timed(self.pool, self.detector, set, r)?;
+        let (mut detection, seconds, recomputed) = match self.tracker {
+            None => {
+                let (detection, seconds) = run_timed(self.pool, self.detector, set, r)?;
+                (detection, seconds, None)
+            }
+            Some(tracker) => {
+                let mut guard = tracker
+                    .lock()
+                    .map_err(|_| CliError::Usage("the tracker was lost to a failed frame"))?;
+                let tracker = match guard.as_mut() {
+                    Some(t) => t,
+                    None => guard.insert(Tracker::new(r, None, Domain::new())?),
+                };
+                let (labels, seconds) = self.pool.install(|| {
+                    let start = std::time::Instant::now();
+                    let labels = tracker.update(set).cloned();
+                    (labels, start.elapsed().as_secs_f64())
+                });
+                let detection = Detection {
+                    labels: labels?,
+                    margin: None,
+                };
+                (detection, seconds, Some(tracker.recomputed()))
+            }
+        };
         self.widen(&mut detection, set, r_value)?;
         if let Some((path, format)) = output {
             let flags: Vec<i64> = detection
@@ -212,6 +254,7 @@ impl FrameJob<'_> {
             interface: None,
             wall_rows: None,
             seconds,
+            recomputed,
             skipped: file.skipped,
         })
     }
@@ -385,6 +428,31 @@ fn parse_band(text: &str) -> Result<f64, String> {
     }
 }
 
+/// `--track` labels as `exact` does, at one radius, on a bare cloud.
+fn check_track(
+    detector: &dyn BoundaryDetector,
+    mode: &RadiusMode,
+    domain: bool,
+) -> Result<(), CliError> {
+    if detector.name() != "exact" || detector.params().0.iter().any(|p| p.value != p.default) {
+        return Err(CliError::Usage(
+            "--track gives the labels of exact at its default parameters: use --method exact \
+             without --set",
+        ));
+    }
+    if !matches!(mode, RadiusMode::Uniform(_)) {
+        return Err(CliError::Usage(
+            "--track needs a uniform --radius (not --radius-attribute)",
+        ));
+    }
+    if domain {
+        return Err(CliError::Usage(
+            "--track takes no walls, solids, periodic axes or phases; run without --track",
+        ));
+    }
+    Ok(())
+}
+
 /// `--normals` smooth over one length h = r: not defined with a radius per particle.
 fn check_normals(normals: bool, mode: &RadiusMode) -> Result<(), CliError> {
     if normals && matches!(mode, RadiusMode::PerParticle { .. }) {
@@ -426,6 +494,7 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
         normals: args.normals,
         band: args.band,
         pool: &pool,
+        tracker: None,
     };
     let output = args.output.as_deref().zip(output_format);
     let outcome = job.run(&args.input.input, &radius_mode, output)?;
@@ -583,7 +652,7 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
     let options = read_options(&args.input);
     // Output path and format of each frame (`Err(frame)` for the frames whose format is
     // unknown).
-    let mut outputs: Vec<Result<Option<(PathBuf, Format)>, PathBuf>> = Vec::new();
+    let mut outputs: Vec<Output> = Vec::new();
     if let Some(dir) = &args.output_dir {
         std::fs::create_dir_all(dir).map_err(|source| CliError::CreateDir {
             path: dir.clone(),
@@ -642,7 +711,11 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
         other => other,
     };
     let setup = DomainSetup::new(&args.domain, &args.input, &radius_mode)?;
+    if args.track {
+        check_track(detector, &radius_mode, setup.is_some())?;
+    }
     let pool = pool(args.input.threads)?;
+    let tracker = std::sync::Mutex::new(None);
     let job = FrameJob {
         detector,
         domain: setup.as_ref(),
@@ -651,6 +724,7 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
         normals: args.normals,
         band: args.band,
         pool: &pool,
+        tracker: args.track.then_some(&tracker),
     };
     let bar = if args.input.json {
         indicatif::ProgressBar::hidden()
@@ -665,7 +739,7 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
     );
     let total = paths.len();
     let per_particle = matches!(radius_mode, RadiusMode::PerParticle { .. });
-    let header = summary_header(per_particle, setup.is_some());
+    let header = summary_header(per_particle, setup.is_some(), args.track);
     // `--resume`: the frames done before, each with its summary row (when there is a summary).
     let kept: Vec<Option<Option<String>>> = if args.resume {
         resumable(args, &paths, &outputs, &header)?
@@ -683,76 +757,92 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
     // not be kept.
     let summary_error: std::sync::Mutex<Option<CliError>> = std::sync::Mutex::new(None);
     let interrupt = Interrupt::install()?;
-    let results: Vec<FrameResult> = pool.install(|| {
-        use rayon::prelude::*;
+    let process = |(k, (path, output)): (usize, (&PathBuf, &Output))| {
+        if kept[k].is_some() {
+            if !args.input.json {
+                bar.suspend(|| {
+                    errln!(
+                        "frame {}/{total} {}: done before, kept",
+                        k + 1,
+                        path.display()
+                    );
+                });
+            }
+            bar.inc(1);
+            return FrameResult::Kept;
+        }
+        let stopped = summary_error.lock().map_or(true, |e| e.is_some());
+        if stopped || interrupt.received().is_some() {
+            return FrameResult::NotRun;
+        }
+        let result = match output {
+            Ok(out) => job.run(
+                path,
+                &radius_mode,
+                out.as_ref().map(|(p, f)| (p.as_path(), *f)),
+            ),
+            Err(frame) => Err(CliError::UnknownFrameFormat(frame.clone())),
+        };
+        // The frame's row is on the disk before its line is printed.
+        if let Some(summary) = &summary {
+            let row = summary_row(
+                path,
+                output,
+                &result,
+                (per_particle, setup.is_some(), args.track),
+            );
+            let saved = match summary.lock() {
+                Ok(mut summary) => {
+                    summary.rows[k] = Some(row);
+                    summary.save()
+                }
+                Err(_) => Ok(()),
+            };
+            if let (Err(e), Ok(mut first)) = (saved, summary_error.lock()) {
+                first.get_or_insert(e);
+            }
+        }
+        if !args.input.json {
+            let line = match &result {
+                Ok(o) => format!(
+                    "frame {}/{total} {}: {} of {} particles boundary ({:.1}%){}, {:.3} s",
+                    k + 1,
+                    path.display(),
+                    o.boundary,
+                    o.n,
+                    percent(o.boundary, o.n),
+                    o.domain_facts(),
+                    o.seconds
+                ),
+                Err(e) => format!("frame {}/{total}: skipped: {e}", k + 1),
+            };
+            bar.suspend(|| errln!("{line}"));
+        }
+        bar.inc(1);
+        match result {
+            Ok(o) => FrameResult::Done(o),
+            Err(e) => FrameResult::Failed(e),
+        }
+    };
+    let results: Vec<FrameResult> = if args.track {
+        // The tracker follows the frames in order, one after another.
         paths
-            .par_iter()
+            .iter()
             .zip(&outputs)
             .enumerate()
-            .map(|(k, (path, output))| {
-                if kept[k].is_some() {
-                    if !args.input.json {
-                        bar.suspend(|| {
-                            errln!(
-                                "frame {}/{total} {}: done before, kept",
-                                k + 1,
-                                path.display()
-                            );
-                        });
-                    }
-                    bar.inc(1);
-                    return FrameResult::Kept;
-                }
-                let stopped = summary_error.lock().map_or(true, |e| e.is_some());
-                if stopped || interrupt.received().is_some() {
-                    return FrameResult::NotRun;
-                }
-                let result = match output {
-                    Ok(out) => job.run(
-                        path,
-                        &radius_mode,
-                        out.as_ref().map(|(p, f)| (p.as_path(), *f)),
-                    ),
-                    Err(frame) => Err(CliError::UnknownFrameFormat(frame.clone())),
-                };
-                // The frame's row is on the disk before its line is printed.
-                if let Some(summary) = &summary {
-                    let row = summary_row(path, output, &result, per_particle, setup.is_some());
-                    let saved = match summary.lock() {
-                        Ok(mut summary) => {
-                            summary.rows[k] = Some(row);
-                            summary.save()
-                        }
-                        Err(_) => Ok(()),
-                    };
-                    if let (Err(e), Ok(mut first)) = (saved, summary_error.lock()) {
-                        first.get_or_insert(e);
-                    }
-                }
-                if !args.input.json {
-                    let line = match &result {
-                        Ok(o) => format!(
-                            "frame {}/{total} {}: {} of {} particles boundary ({:.1}%){}, {:.3} s",
-                            k + 1,
-                            path.display(),
-                            o.boundary,
-                            o.n,
-                            percent(o.boundary, o.n),
-                            o.domain_facts(),
-                            o.seconds
-                        ),
-                        Err(e) => format!("frame {}/{total}: skipped: {e}", k + 1),
-                    };
-                    bar.suspend(|| errln!("{line}"));
-                }
-                bar.inc(1);
-                match result {
-                    Ok(o) => FrameResult::Done(o),
-                    Err(e) => FrameResult::Failed(e),
-                }
-            })
+            .map(process)
             .collect()
-    });
+    } else {
+        pool.install(|| {
+            use rayon::prelude::*;
+            paths
+                .par_iter()
+                .zip(&outputs)
+                .enumerate()
+                .map(process)
+                .collect()
+        })
+    };
     bar.finish_and_clear();
     let done = results
         .iter()
@@ -1071,13 +1161,16 @@ impl Summary {
 }
 
 /// The summary's header (without its newline).
-fn summary_header(per_particle: bool, domain: bool) -> String {
+fn summary_header(per_particle: bool, domain: bool, track: bool) -> String {
     let mut text = String::from("frame,input,output,n,dim,radius,boundary,seconds,");
     if per_particle {
         text += "radius_min,radius_max,";
     }
     if domain {
         text += "walls,interface,";
+    }
+    if track {
+        text += "recomputed,";
     }
     text += "error";
     text
@@ -1089,8 +1182,7 @@ fn summary_row(
     input: &Path,
     output: &Result<Option<(PathBuf, Format)>, PathBuf>,
     result: &Result<FrameOutcome, CliError>,
-    per_particle: bool,
-    domain: bool,
+    (per_particle, domain, track): (bool, bool, bool),
 ) -> String {
     let output = match output {
         Ok(Some((p, _))) => p.display().to_string(),
@@ -1110,15 +1202,21 @@ fn summary_row(
             } else {
                 String::new()
             };
+            let recomputed = match (o.recomputed, track) {
+                (Some(c), true) => format!("{c},"),
+                (None, true) => ",".to_owned(),
+                _ => String::new(),
+            };
             format!(
-                "{input},{output},{},{},{},{},{:.6},{radii}{facts}",
+                "{input},{output},{},{},{},{},{:.6},{radii}{facts}{recomputed}",
                 o.n, o.dim, o.radius, o.boundary, o.seconds
             )
         }
         Err(e) => format!(
-            "{input},{output},,,,,,{}{}{}",
+            "{input},{output},,,,,,{}{}{}{}",
             if per_particle { ",," } else { "" },
             if domain { ",," } else { "" },
+            if track { "," } else { "" },
             csv_field(&e.to_string())
         ),
     }

@@ -24,6 +24,8 @@ pub(crate) trait Clipper<const D: usize> {
     fn clip(&mut self, n: &[f64; D], offset: f64);
     /// Largest squared distance of a vertex from the origin.
     fn max_norm2(&self) -> f64;
+    /// A vertex farthest from the origin (the tracker's witness direction).
+    fn farthest(&self) -> [f64; D];
     /// Whether a clip since the last reset was near-degenerate: it cut the cell while a vertex
     /// lay within [`PLANE_EPS`] of the plane, or (3D) it merged cap points or met two cap
     /// points at nearly the same angle. The error bound of the crate docs assumes no such clip;
@@ -140,6 +142,14 @@ impl Clipper<2> for Polygon {
 
     fn max_norm2(&self) -> f64 {
         self.verts.iter().map(norm2).fold(0.0, f64::max)
+    }
+
+    fn farthest(&self) -> [f64; 2] {
+        self.verts
+            .iter()
+            .copied()
+            .max_by(|a, b| norm2(a).total_cmp(&norm2(b)))
+            .unwrap_or_default()
     }
 
     fn degenerate(&self) -> bool {
@@ -353,6 +363,14 @@ impl Clipper<3> for Polyhedron {
 
     fn max_norm2(&self) -> f64 {
         self.verts.iter().map(norm2).fold(0.0, f64::max)
+    }
+
+    fn farthest(&self) -> [f64; 3] {
+        self.verts
+            .iter()
+            .copied()
+            .max_by(|a, b| norm2(a).total_cmp(&norm2(b)))
+            .unwrap_or_default()
     }
 
     fn degenerate(&self) -> bool {
@@ -733,6 +751,12 @@ impl Clipper<3> for SimplePolyhedron {
 
     fn max_norm2(&self) -> f64 {
         self.max2
+    }
+
+    fn farthest(&self) -> [f64; 3] {
+        // Dead slots hold the origin (norm2 0): never the farthest of a non-empty cell.
+        let best = (0..self.len).fold(0, |b, v| if self.norm2[v] > self.norm2[b] { v } else { b });
+        self.vertex(best as u8)
     }
 
     fn degenerate(&self) -> bool {

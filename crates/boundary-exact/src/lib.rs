@@ -228,6 +228,13 @@
 //! - Tested against the same solids as half-spaces (box meshes) and against a dense-sampling
 //!   oracle around an icosphere obstacle (`tests/mesh.rs`).
 //!
+//! # Time steps: the incremental tracker
+//! [`Tracker`] follows one particle set over the time steps of a simulation and returns at
+//! every step the labels a full detection gives, bit for bit, recomputing only the particles
+//! whose label may have changed: a coverage depth that moves by at most twice the largest
+//! displacement, bounded below at each particle's last evaluation from its float cell (module
+//! [`tracker`], with the proof).
+//!
 //! # Policy: ties, duplicates, degenerate input
 //! - **Ties.** A cell that reaches exactly to `r` touches `S_i` only at points equidistant from
 //!   `p_i` and another particle, which the closed ball of that particle covers: a tie is
@@ -286,6 +293,9 @@
 mod cell;
 mod mesh;
 mod power;
+pub mod tracker;
+
+pub use tracker::Tracker;
 
 use boundary_core::exact_cover;
 use boundary_core::{
@@ -592,6 +602,9 @@ struct FloatCell {
     tau: f64,
     /// A clip was near-degenerate (see `cell::ConvexCell::degenerate`): no bound.
     degenerate: bool,
+    /// How many neighbours were taken (the first `used` of the list, sorted nearest first):
+    /// the exact cell of the bound is clipped by exactly their planes.
+    used: usize,
 }
 
 /// Classifies the first `count` particles of `set` (all of them are neighbours): Voronoi cells
@@ -714,7 +727,7 @@ fn classify<const D: usize, C: ConvexCell<D> + Clone>(
             beyond: &mut scratch.beyond,
             gather_all,
         };
-        let fast = cell_margin(p, positions, r, near, &mut scratch.fast, true);
+        let fast = cell_margin(p, positions, r, near, &mut scratch.fast, true, true);
         if !fast.degenerate && (tie > 0.0 || fast.margin.abs() > fast.tau) {
             let margin = fast.margin * r;
             let label = if tie > 0.0 {
@@ -730,7 +743,7 @@ fn classify<const D: usize, C: ConvexCell<D> + Clone>(
         beyond: &mut scratch.beyond,
         gather_all,
     };
-    let cell = cell_margin(p, positions, r, near, &mut scratch.cell, false);
+    let cell = cell_margin(p, positions, r, near, &mut scratch.cell, false, true);
     let margin = cell.margin * r;
     if tie > 0.0 {
         return (margin, margin > tie * r, false);
@@ -1080,6 +1093,7 @@ fn cell_margin<const D: usize, C: Clipper<D>>(
     near: Neighbours<'_>,
     cell: &mut C,
     stop_if_degenerate: bool,
+    settle: bool,
 ) -> FloatCell {
     let neighbours = near.list;
     let mut first = FIRST_BATCH.min(neighbours.len());
@@ -1090,7 +1104,12 @@ fn cell_margin<const D: usize, C: Clipper<D>>(
 
     cell.reset_box();
     let mut reach = (D as f64).sqrt();
-    let settled = 1.0 - INTERIOR_BAND;
+    // Without `settle` (the tracker), clipping goes on to the final cell.
+    let settled = if settle {
+        1.0 - INTERIOR_BAND
+    } else {
+        f64::NEG_INFINITY
+    };
     // ρ0: a ball around the origin inside every used half-space (the box has inradius 1).
     let mut rho0 = 1.0f64;
     let mut clips = 0usize;
@@ -1139,6 +1158,7 @@ fn cell_margin<const D: usize, C: Clipper<D>>(
         margin: reach - 1.0,
         tau: float_bound(clips, rho0, reach),
         degenerate: cell.degenerate(),
+        used: k,
     }
 }
 
@@ -1223,7 +1243,7 @@ mod tests {
                     beyond: &mut beyond,
                     gather_all: &|_| {},
                 };
-                cell_margin(p, positions, r, near, &mut cell, false).margin * r
+                cell_margin(p, positions, r, near, &mut cell, false, true).margin * r
             })
             .collect()
     }

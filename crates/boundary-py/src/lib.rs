@@ -54,6 +54,8 @@ use std::sync::mpsc::{self, RecvTimeoutError};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+mod tracker;
+
 /// How long the calling thread waits for the workers between two signal checks.
 const SIGNAL_POLL: Duration = Duration::from_millis(50);
 
@@ -1159,6 +1161,7 @@ fn boundary_py(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<Detector>()?;
     m.add_function(wrap_pyfunction!(confusion, m)?)?;
+    m.add_class::<tracker::PyTracker>()?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
     m.add_function(wrap_pyfunction!(read, m)?)?;
     m.add_function(wrap_pyfunction!(write, m)?)?;

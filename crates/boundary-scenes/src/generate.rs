@@ -627,6 +627,38 @@ pub fn jittered_lattice_disc(radius: f64, jitter: f64, seed: u64) -> ParticleSet
     ParticleSet::new(points).expect("generated coordinates are finite")
 }
 
+/// A time sequence for incremental detection: the jittered sphere of [`enright_sphere`]
+/// (about `n` particles, spacing `h`) at `t = 0.5`, then `steps` more frames advected by
+/// [`enright`] (T = 3), each step's `dt` chosen so that the fastest particle moves
+/// `displacement·h` (to first order: `dt = displacement·h / max |v|`, then 4 RK4 substeps).
+/// Returns the `steps + 1` frames and `h`; the scenes use `r = 1.5h`.
+pub fn enright_sequence(n: usize, displacement: f64, steps: usize) -> (Vec<ParticleSet<3>>, f64) {
+    use rayon::prelude::*;
+    let period = 3.0;
+    let (first, h) = enright_sphere(n, 0.5, 0.01);
+    let mut t = 0.5;
+    let mut points = first.into_positions();
+    let mut frames = vec![ParticleSet::new(points.clone()).expect("finite")];
+    for _ in 0..steps {
+        let vmax = points
+            .par_iter()
+            .map(|p| enright(p, t, period).norm())
+            .reduce(|| 0.0, f64::max);
+        let dt = if vmax > 0.0 {
+            displacement * h / vmax
+        } else {
+            0.0
+        };
+        points = points
+            .into_par_iter()
+            .map(|p| rk4(p, t, t + dt, 4, |q, s| enright(q, s, period)))
+            .collect();
+        t += dt;
+        frames.push(ParticleSet::new(points.clone()).expect("finite"));
+    }
+    (frames, h)
+}
+
 /// The scale-tier analogue of the JCP Enright test (JCP Fig. 14, Table 3): the sphere of radius
 /// 0.15 at (0.35, 0.35, 0.35) of the `enright3d_*` scenes, filled with about `n` particles (the
 /// spacing `h` chosen from the sphere's volume, jitter ±0.05h, seed 3) and advected by

@@ -26,8 +26,8 @@ pub mod solids;
 pub mod tuning;
 
 pub use generate::{
-    all_scenes, block_in_tank, enright, enright_sphere, fill, jittered_lattice_ball,
-    jittered_lattice_disc, rk4, single_vortex, Scene,
+    all_scenes, block_in_tank, enright, enright_sequence, enright_sphere, fill,
+    jittered_lattice_ball, jittered_lattice_disc, rk4, single_vortex, Scene,
 };
 pub use manifest::{
     load_scene, Manifest, Origin, SceneDomain, SceneEntry, SceneError, SHARED_SCENES,

@@ -13,6 +13,7 @@ pub mod plots;
 pub mod published;
 pub mod report;
 pub mod scale;
+pub mod sequence;
 
 use boundary::{
     AnyParticleSet, BoundaryDetector, Confusion, DetectError, Domain, Labels, NeighbourGrid,

@@ -4,7 +4,9 @@
 //! `cargo xtask sweep`, which builds it in release mode and asks for both pages on a full run.
 
 use boundary_sweep::benchmarks::{self, Provenance};
-use boundary_sweep::{default_configs, plots, report, run, scale, Options, Progress, SceneSpec};
+use boundary_sweep::{
+    default_configs, plots, report, run, scale, sequence, Options, Progress, SceneSpec,
+};
 use clap::Parser;
 use peakmem_alloc::PeakMemAllocTrait;
 use std::io::{IsTerminal, Write};
@@ -65,6 +67,14 @@ struct Args {
     /// Also draw the exact labels of the scene `vortex2d_t4` into this PNG file.
     #[arg(long)]
     frame_picture: Option<PathBuf>,
+    /// Skip the sequence tier (the incremental tracker against full detections over 12 time
+    /// steps of an advected sphere; on by default, about 10 s; with --scale also the 10^6
+    /// sphere at 0.01 spacing per step).
+    #[arg(long)]
+    no_sequence: bool,
+    /// Sequence tier: particles of the sphere.
+    #[arg(long, default_value_t = sequence::DEFAULT_PARTICLES)]
+    sequence_n: usize,
 }
 
 /// Counts the heap for the scale tier's peak memory (two atomic updates per allocation).
@@ -206,6 +216,30 @@ fn real_main() -> Result<(), String> {
     }
     skipped.append(&mut outcome.skipped);
     outcome.skipped = skipped;
+    let mut sequence_points = Vec::new();
+    if !(args.no_sequence || args.quick) {
+        let mut seq_progress = |what: &str| {
+            progress_line(
+                tty,
+                &format!(
+                    "[sequence] {:>7.1} s  {what}",
+                    start.elapsed().as_secs_f64()
+                ),
+            );
+        };
+        sequence_points =
+            sequence::run_sequence(args.sequence_n, &sequence::DISPLACEMENTS, &mut seq_progress)?;
+        if scale_asked {
+            sequence_points.extend(sequence::run_sequence(
+                1_000_000,
+                &[0.01],
+                &mut seq_progress,
+            )?);
+        }
+        if tty {
+            eprintln!();
+        }
+    }
 
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
@@ -232,7 +266,15 @@ fn real_main() -> Result<(), String> {
             ""
         }
     );
-    written.push(write("report.md", report::report_md(&outcome, &header))?);
+    let mut report_text = report::report_md(&outcome, &header);
+    if !sequence_points.is_empty() {
+        written.push(write(
+            "sequence.csv",
+            sequence::sequence_csv(&sequence_points),
+        )?);
+        report_text += &sequence::sequence_md(&sequence_points);
+    }
+    written.push(write("report.md", report_text)?);
     plots::register_font()?;
     written.extend(plots::write_all(&outcome, &args.out)?);
     if let (Some(path), Some(provenance)) = (&args.benchmarks, &provenance) {
@@ -259,6 +301,7 @@ fn real_main() -> Result<(), String> {
         plots::write_frame(pic, path)?;
         written.push(path.clone());
     }
+    written.extend(sequence::write_plot(&sequence_points, &args.out)?);
     for path in &written {
         println!("{}", path.display());
     }

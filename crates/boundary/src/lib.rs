@@ -41,7 +41,7 @@ pub use boundary_dilts::DiltsDetector;
 #[cfg(feature = "divr")]
 pub use boundary_divr::DivrDetector;
 #[cfg(feature = "exact")]
-pub use boundary_exact::ExactDetector;
+pub use boundary_exact::{ExactDetector, Tracker};
 #[cfg(feature = "ge")]
 pub use boundary_ge::GeDetector;
 #[cfg(feature = "hpr")]

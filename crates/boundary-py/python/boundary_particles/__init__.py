@@ -66,6 +66,7 @@ __all__ = [
     "Detector",
     "MethodInfo",
     "ParamInfo",
+    "Tracker",
     "auto_radius",
     "confusion",
     "detect",
@@ -474,6 +475,85 @@ def detect(
         points, r, margin, radii, walls, wall_radii, solids, periodic, phases, dim
     )
     return out  # type: ignore[no-any-return]
+
+
+class Tracker:
+    """Labels the successive time steps of one particle set, each exactly as
+    ``detect(points, r)`` would, recomputing only the particles whose label may have changed.
+
+    Between two solver steps a particle moves by a small fraction of the spacing; a particle
+    far enough inside (or outside) the covering keeps its label, and the tracker proves it
+    from the previous step's cells instead of recomputing them. The labels are those of a full
+    ``exact`` detection, bit for bit, at every step.
+
+    Parameters
+    ----------
+    r : float
+        The resolution (positive, finite), the same at every step.
+    method : str, default "exact"
+        Only ``exact`` has a tracker.
+    threads : int, optional
+        Worker threads of each update (default: all cores).
+    **params : str, int, float or bool
+        The method's parameters; ``exact``'s ``tie`` must stay 0 (the exact labels).
+
+    Raises
+    ------
+    ValueError
+        Another method, ``tie`` other than 0, ``r`` not positive and finite, ``threads=0``.
+
+    Examples
+    --------
+    >>> import numpy as np, boundary_particles as bp
+    >>> points = np.random.default_rng(2).random((3000, 3))
+    >>> tracker = bp.Tracker(r=0.06)
+    >>> first = tracker.update(points)
+    >>> moved = points + 1e-4
+    >>> bool((tracker.update(moved) == bp.detect(moved, r=0.06)).all())
+    True
+    >>> tracker.recomputed < len(points)
+    True
+    """
+
+    def __init__(
+        self,
+        r: float,
+        method: str = "exact",
+        *,
+        threads: Optional[int] = None,
+        **params: Param,
+    ) -> None:
+        self._native = _native.Tracker(r, method, threads, **params)
+
+    @property
+    def recomputed(self) -> int:
+        """How many particles the last :meth:`update` recomputed (all of them at the first
+        step, after a change of the particle count, and on a step that fell back to a full
+        detection)."""
+        return self._native.recomputed
+
+    def update(self, points: ArrayLike) -> Labels:
+        """The labels of this step's positions.
+
+        Parameters
+        ----------
+        points : array_like, shape (n, 2) or (n, 3)
+            The same particles in the same order as at the previous step; another count
+            starts over with a full detection.
+
+        Returns
+        -------
+        numpy.ndarray of bool, shape (n,)
+            True on the boundary.
+
+        Raises
+        ------
+        ValueError
+            Positions that are not finite reals (naming the particle).
+        KeyboardInterrupt
+            On Ctrl-C, after the workers have stopped; the next update starts over.
+        """
+        return self._native.update(points)
 
 
 def auto_radius(points: ArrayLike, dim: Optional[int] = None) -> float:

@@ -11,6 +11,7 @@ from numpy.typing import NDArray
 __all__ = [
     "Detector",
     "FEATURES",
+    "Tracker",
     "__version__",
     "_points_address",
     "auto_radius_of",
@@ -53,6 +54,19 @@ class Detector:
         dim: Optional[int] = None,
     ) -> Any: ...
     def _detect_timed(self, points: Any, r: float) -> Tuple[NDArray[np.bool_], float]: ...
+
+@final
+class Tracker:
+    def __new__(
+        cls,
+        r: float,
+        method: str = "exact",
+        threads: Optional[int] = None,
+        **params: Any,
+    ) -> Tracker: ...
+    @property
+    def recomputed(self) -> int: ...
+    def update(self, points: Any) -> NDArray[np.bool_]: ...
 
 def auto_radius_of(points: Any, dim: Optional[int] = None) -> float: ...
 def _points_address(points: Any) -> int: ...

@@ -1,0 +1,549 @@
+//! Incremental `exact` labels over time steps: [`Tracker`].
+//!
+//! A solver calls detection every time step, while each particle moves a small fraction of the
+//! spacing. [`Tracker::update`] returns, at every step, the labels of a full `exact` detection
+//! of that step, bit for bit, and recomputes only the particles whose label may have changed.
+//!
+//! # The certificate: a coverage depth that is Lipschitz in the positions
+//! Uniform radius `r`, particle `i`, the other particles `p_j` (walls included). Let
+//! `d(x) = min_{j≠i} |x − p_j|` and `G_i = max_{x ∈ S_i} d(x)`. When no particle coincides
+//! with `p_i`, a point `x` of `S_i` is uncovered iff `d(x) > r`, so `i` is **boundary iff
+//! `G_i > r`** (coincident particles are excluded by the definition; see below).
+//!
+//! *Lipschitz.* Each `|p_i + r·u − p_j|` (`u` a unit vector) moves by at most
+//! `|Δp_i| + |Δp_j|` when the particles move by `Δ`; a minimum over `j` and a maximum over `u`
+//! keep that bound, so `|ΔG_i| <= |Δp_i| + sup_j |Δp_j|`, between any two configurations,
+//! whatever happened in between and whichever particles entered or left the neighbourhood
+//! (the index set is all particles, fixed). So if at the last evaluation `|G_i − r| >= b_i`
+//! (the **budget**) and since then `|Δp_i| + sup_j |Δp_j| < b_i`, the sign of `G_i − r`, hence
+//! the label, has not changed, provided no particle coincides with `p_i` at either time.
+//!
+//! *Coincidence.* At the evaluation, a particle with an exact duplicate gets budget 0 (it is
+//! recomputed at every step). Otherwise its nearest neighbour lies at `m_i > 0` (or beyond
+//! `2r`), and no particle can coincide with it while the movement stays below `m_i`: the
+//! budget is capped at `min(m_i, 2r)`.
+//!
+//! *Interior budget* (the float cell proves `G_i <= r`). Let `g(x) = min_j (|x − p_j|² −
+//! |x − p_i|²)` over the neighbours within `2r` (a subset of all particles, so on `S_i`
+//! `d(x)² − r² <= g(x)`). `g` is concave (a minimum of affine functions), `g(p_i) = m_i²`, and
+//! `{g >= 0}` is the Voronoi cell `V` of `p_i` among its neighbours. Let `ρ < r` bound the reach
+//! of `V` within the box `[p_i − r, p_i + r]^D` (which holds `S_i`). Along the segment from
+//! `p_i` to `x ∈ S_i` (inside the box), `g` falls from `m_i²` to `0` at some `s <= ρ`; by
+//! concavity beyond `s` it stays below the chord's extension: `g(x) <= −m_i²(r − s)/s <=
+//! −m_i²(r − ρ)/ρ =: −κ`. So `G_i² <= r² − κ` and `r − G_i >= r − √(r² − κ) >= κ/(2r)`:
+//! **`b_i = m_i²(r − ρ)/(2rρ)`**. `ρ` is the float cell's reach plus its proven error bound `τ`
+//! (crate docs, "Exactness": the exact reach lies within `τ` of the float reach), with the
+//! cell clipped to the end (not stopped at `1 − 1e-6`, as a single detection does).
+//!
+//! *Boundary budget* (the float cell proves `G_i > r`): a witness. `x` is the point of `S_i`
+//! in the direction of the float cell's farthest vertex, and `G_i >= d(x)`, where `d(x)` is
+//! computed from the particles within `1.5r` of `x` (every other particle is farther):
+//! **`b_i = min(d(x), 1.5r) − r`**, positive when `x` is uncovered (it usually is, being near
+//! the cell's farthest point; otherwise `b_i = 0`). No cell topology is trusted here: only
+//! the distances from one point.
+//!
+//! *Interior: only the cell's neighbours, relative to `i`.* The bound above holds with `g`
+//! over any subset `J` of the particles whose cell (with the box) reaches within `ρ`: the
+//! float cell uses exactly such a `J`, its first neighbours nearest first (those it took
+//! before no bisector could reach it). With `G_J` the same maximum over `J` only, `G_i <= G_J`
+//! (fewer balls cover less; a particle that comes to coincide with `p_i` leaves the cover,
+//! which `G_J` never counted), and `G_J` depends only on the offsets `q_j = p_j − p_i`, each
+//! term moving by at most `|Δq_j|`: `G_J` moves by at most `max_{j ∈ J} |Δq_j|`, the largest
+//! movement of a cell neighbour *relative to `i`*, and no other particle matters. In a smooth
+//! flow that is the velocity gradient times the distance, far below the displacement itself.
+//! (The cap `m_i` keeps the members of `J` off `p_i`.)
+//!
+//! *Bookkeeping.* Per interior particle, the sum over the steps since its evaluation of
+//! `max_{j ∈ J} |Δq_j|` for the step (triangle inequality); per boundary particle, its own
+//! displacement since the evaluation plus the sum of each step's largest displacement
+//! (fluid and walls), which bounds `sup_j |Δp_j|`. A particle is recomputed when that
+//! reaches its budget.
+//!
+//! *Rounding.* Every quantity compared above carries a relative rounding error of a few `u`
+//! (`u = 2^-53`): distances, the running sum (rounded up at each step), the budgets' formula.
+//! Budgets are shrunk by the factor `1 − 1e-9` and movements grown by `1 + 1e-9`, and the
+//! witness loses `1e-12·r + 1e-14·|p_i|_∞` for the rounding of `x` itself (its distance from
+//! `S_i` is below `4u·(r + √D·|p_i|_∞)`). Particles whose float cell does not decide within
+//! its bound (near-ties, near-degenerate clips, perfect lattices) get the label of the full
+//! decision (certificates, exact predicate) and budget 0: they are recomputed at every step.
+//! So every label is the exact label of the step, as a full detection gives it.
+//!
+//! # Fallbacks and scope
+//! - The first update, a change of the particle count, the dimension or the number of walls
+//!   start over (every particle evaluated). Without stable ids the tracker cannot follow
+//!   inflow and outflow: a new count starts over.
+//! - A large step: when more than 60 % of the particles would be recomputed, the step runs a
+//!   full detection instead. The budgets are then spent: the next 1, 2, 4, … 32 steps (doubling
+//!   at each fallback in a row) run full detections, then every particle is evaluated again.
+//!   An evaluation costs about 1.5 times a particle of a full detection, so a sequence of
+//!   large steps costs a few percent more than full detections (the sweep's sequence tier
+//!   measures it at 0.5 spacing per step).
+//! - Walls ([`Domain::with_walls`]) cover like particles: they may move
+//!   ([`Tracker::move_walls`]), and their movement counts in the step's largest displacement.
+//! - Solids, periodic axes, phases, solid meshes and per-particle radii are honoured by a full
+//!   detection in the domain at every step ([`Tracker::recomputed`] then reports every
+//!   particle): labels as a single detection, without the saving.
+
+use crate::cell::{Clipper, ConvexCell, Polygon, Polyhedron};
+use crate::{cell_margin, classify, detect_with, Near, Neighbours, Scratch, NEAR_SLACK, U};
+
+/// The neighbours within `FIRST_REACH·r` are gathered first (units of `r`): an interior cell
+/// clipped to the end reaches about `0.6r` on a jittered lattice at `r = 1.5` spacings, within
+/// half of it, so it needs no other neighbour.
+const FIRST_REACH: f64 = 1.6;
+use boundary_core::{
+    domain, AnyParticleSet, DetectError, Domain, Labels, NeighbourGrid, ParticleSet, Point, Radius,
+};
+use rayon::prelude::*;
+
+/// Budgets shrink and movements grow by this relative amount: far above the few `u` of
+/// relative rounding in the distances, sums and formulas compared (module docs).
+const ROUNDING: f64 = 1e-9;
+
+/// The witness looks for particles within `WITNESS_REACH·r` of its point: the boundary budget
+/// is at most `(WITNESS_REACH − 1)·r`.
+const WITNESS_REACH: f64 = 1.5;
+
+/// More than this fraction of particles to recompute: a full detection is cheaper (an
+/// evaluation costs about 1.5 times a particle of a full detection: the cell is clipped to
+/// the end, and the witness needs one more query).
+const FULL_FRACTION: f64 = 0.6;
+
+/// At most this many full detections in a row before the tracker evaluates every particle
+/// again (the amortised cost of a retry: `0.5/MAX_BACKOFF` of a detection per step).
+const MAX_BACKOFF: u32 = 32;
+
+/// Incremental `exact` detection over the time steps of one particle set (module docs).
+///
+/// ```
+/// use boundary_core::{Domain, ParticleSet, Radius};
+/// use boundary_exact::Tracker;
+///
+/// let rows: Vec<[f64; 2]> = (0..100).map(|k| [(k % 10) as f64, (k / 10) as f64]).collect();
+/// let mut tracker = Tracker::new(Radius::new(0.8).unwrap(), Some(1), Domain::new()).unwrap();
+/// let set = ParticleSet::from_rows(&rows).unwrap().to_any();
+/// assert_eq!(tracker.update(&set).unwrap().boundary_count(), 36);
+/// assert_eq!(tracker.recomputed(), 100);
+/// // A small drift of everything: the labels stay, almost nothing is recomputed.
+/// let moved: Vec<[f64; 2]> = rows.iter().map(|p| [p[0] + 0.01, p[1] - 0.005]).collect();
+/// let set = ParticleSet::from_rows(&moved).unwrap().to_any();
+/// assert_eq!(tracker.update(&set).unwrap().boundary_count(), 36);
+/// assert!(tracker.recomputed() < 100);
+/// ```
+pub struct Tracker {
+    r: Radius,
+    pool: Option<rayon::ThreadPool>,
+    domain: Domain,
+    /// Walls as given (moved by [`Tracker::move_walls`]).
+    walls: Option<AnyParticleSet>,
+    state: State,
+    labels: Labels,
+    recomputed: usize,
+}
+
+impl std::fmt::Debug for Tracker {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Tracker")
+            .field("r", &self.r)
+            .field("domain", &self.domain)
+            .field("recomputed", &self.recomputed)
+            .finish_non_exhaustive()
+    }
+}
+
+enum State {
+    Empty,
+    D2(Track<2>),
+    D3(Track<3>),
+}
+
+/// The state of the incremental path in `D` dimensions.
+struct Track<const D: usize> {
+    /// Fluid then wall positions of the last update.
+    prev: Vec<Point<D>>,
+    /// Number of fluid (classified) particles.
+    count: usize,
+    /// Per fluid particle: its position at its last evaluation.
+    eval: Vec<Point<D>>,
+    /// Per fluid particle: its budget (length units; 0 = recompute at the next step).
+    budget: Vec<f64>,
+    /// Per fluid particle: the running sum `sum` at its last evaluation.
+    sum_eval: Vec<f64>,
+    /// Per interior particle: the neighbours whose cell proved it interior (input indices of
+    /// fluid and walls); empty for the others, which count the global movement.
+    cell_of: Vec<Box<[u32]>>,
+    /// Per interior particle: the running sum of the steps' largest movement of a neighbour
+    /// of `cell_of` relative to the particle, rounded up (reset at each evaluation).
+    relative: Vec<f64>,
+    /// Running sum of the steps' largest displacements, rounded up.
+    sum: f64,
+    labels: Vec<bool>,
+    /// Budgets are all 0 after a full detection: `stale` more steps run full detections,
+    /// then every particle is evaluated again.
+    stale: u32,
+    /// The number of full detections after the next fallback: doubled at each fallback (up
+    /// to [`MAX_BACKOFF`]), back to 1 after a step that recomputes few particles.
+    backoff: u32,
+}
+
+impl Tracker {
+    /// A tracker at radius `r` on `threads` threads (`None`: the rayon pool it is called on) in `domain`
+    /// (walls, solids, periodic axes, phases; module docs, "Fallbacks and scope").
+    pub fn new(r: Radius, threads: Option<usize>, domain: Domain) -> Result<Tracker, DetectError> {
+        let pool = match threads {
+            None => None,
+            Some(t) => Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(t.max(1))
+                    .build()
+                    .map_err(|e| DetectError::Method {
+                        method: "exact",
+                        message: format!("tracker thread pool: {e}"),
+                    })?,
+            ),
+        };
+        let walls = domain.walls().cloned();
+        Ok(Tracker {
+            r,
+            pool,
+            domain,
+            walls,
+            state: State::Empty,
+            labels: Labels::new(Vec::new()),
+            recomputed: 0,
+        })
+    }
+
+    /// How many particles the last update recomputed (all of them on a full detection).
+    pub fn recomputed(&self) -> usize {
+        self.recomputed
+    }
+
+    /// The labels of the last update.
+    pub fn labels(&self) -> &Labels {
+        &self.labels
+    }
+
+    /// Moves the walls: the next update sees them at these positions. The same number of walls
+    /// keeps the tracker's state (their movement counts like the particles'); another number
+    /// starts over.
+    pub fn move_walls(&mut self, walls: AnyParticleSet) -> Result<(), DetectError> {
+        self.domain = std::mem::take(&mut self.domain).with_walls(walls.clone());
+        self.walls = Some(walls);
+        Ok(())
+    }
+
+    /// The labels of `set`, the particles' positions at this step (same order as before),
+    /// identical to a full `exact` detection of `set` in the tracker's domain.
+    pub fn update(&mut self, set: &AnyParticleSet) -> Result<&Labels, DetectError> {
+        let incremental = self.domain.solids().is_empty()
+            && self.domain.periodic().is_empty()
+            && self.domain.phases().is_none()
+            && set.radii().is_none()
+            && self.walls.as_ref().is_none_or(|w| w.radii().is_none());
+        if !incremental {
+            let detection = match &self.pool {
+                Some(pool) => pool.install(|| {
+                    domain::detect_in(&crate::ExactDetector, set, &self.domain, self.r)
+                }),
+                None => domain::detect_in(&crate::ExactDetector, set, &self.domain, self.r),
+            }?;
+            self.state = State::Empty;
+            self.recomputed = set.len();
+            self.labels = detection.detection.labels;
+            return Ok(&self.labels);
+        }
+        let r = self.r;
+        let walls = self.walls.as_ref();
+        if let Some(w) = walls {
+            if w.dim() != set.dim() {
+                return Err(DetectError::Method {
+                    method: "exact",
+                    message: format!(
+                        "tracker: the walls are {}D and the particles {}D",
+                        w.dim(),
+                        set.dim()
+                    ),
+                });
+            }
+        }
+        let state = std::mem::replace(&mut self.state, State::Empty);
+        let run = |state: State| -> Result<(State, usize), DetectError> {
+            Ok(match (set, walls) {
+                (AnyParticleSet::D2(s), w) => {
+                    let w = match w {
+                        Some(AnyParticleSet::D2(w)) => w.positions(),
+                        _ => &[],
+                    };
+                    let old = match state {
+                        State::D2(t) => Some(t),
+                        _ => None,
+                    };
+                    let (t, n) = Track::<2>::step::<Polygon>(old, s.positions(), w, r)?;
+                    (State::D2(t), n)
+                }
+                (AnyParticleSet::D3(s), w) => {
+                    let w = match w {
+                        Some(AnyParticleSet::D3(w)) => w.positions(),
+                        _ => &[],
+                    };
+                    let old = match state {
+                        State::D3(t) => Some(t),
+                        _ => None,
+                    };
+                    let (t, n) = Track::<3>::step::<Polyhedron>(old, s.positions(), w, r)?;
+                    (State::D3(t), n)
+                }
+            })
+        };
+        let (state, recomputed) = match &self.pool {
+            Some(pool) => pool.install(|| run(state))?,
+            None => run(state)?,
+        };
+        self.labels = match &state {
+            State::D2(t) => Labels::new(t.labels.clone()),
+            State::D3(t) => Labels::new(t.labels.clone()),
+            State::Empty => Labels::new(Vec::new()),
+        };
+        self.state = state;
+        self.recomputed = recomputed;
+        Ok(&self.labels)
+    }
+}
+
+/// `|a − b|`.
+fn dist<const D: usize>(a: &Point<D>, b: &Point<D>) -> f64 {
+    (a - b).norm()
+}
+
+impl<const D: usize> Track<D> {
+    /// One update: from the previous state (if it fits) to the labels of `fluid` among
+    /// `fluid` and `walls`; returns the new state and the number of particles recomputed.
+    fn step<C>(
+        old: Option<Track<D>>,
+        fluid: &[Point<D>],
+        walls: &[Point<D>],
+        r: Radius,
+    ) -> Result<(Track<D>, usize), DetectError>
+    where
+        C: ConvexCell<D> + Default + Send + Clone,
+    {
+        let count = fluid.len();
+        let all: Vec<Point<D>> = fluid.iter().chain(walls).copied().collect();
+        let set = ParticleSet::new(all)?;
+        let old = old.filter(|t| t.count == count && t.prev.len() == set.len());
+        let Some(mut track) = old else {
+            // Start over: every particle evaluated.
+            let mut track = Track {
+                prev: set.positions().to_vec(),
+                count,
+                eval: fluid.to_vec(),
+                budget: vec![0.0; count],
+                sum_eval: vec![0.0; count],
+                cell_of: vec![Box::default(); count],
+                relative: vec![0.0; count],
+                sum: 0.0,
+                labels: vec![false; count],
+                stale: 0,
+                backoff: 1,
+            };
+            let all: Vec<usize> = (0..count).collect();
+            track.evaluate::<C>(&set, &all, r.get())?;
+            return Ok((track, count));
+        };
+        // The step's movements, and the largest, rounded up (module docs, "Rounding").
+        let moves: Vec<Point<D>> = set
+            .positions()
+            .par_iter()
+            .zip(&track.prev)
+            .map(|(a, b)| a - b)
+            .collect();
+        let step = moves.par_iter().map(|m| m.norm()).reduce(|| 0.0, f64::max);
+        track.sum = (track.sum + step * (1.0 + ROUNDING)) * (1.0 + 4.0 * U);
+        track.prev.clear();
+        track.prev.extend_from_slice(set.positions());
+        // Interior particles: the largest movement of a neighbour of their cell relative to
+        // them; `16u·step` covers the rounding of the differences.
+        let slack = 16.0 * U * step;
+        track
+            .relative
+            .par_iter_mut()
+            .zip(&track.cell_of)
+            .enumerate()
+            .for_each(|(i, (rel, cell))| {
+                if !cell.is_empty() {
+                    let mi = moves[i];
+                    let most = cell
+                        .iter()
+                        .map(|&j| (moves[j as usize] - mi).norm())
+                        .fold(0.0, f64::max);
+                    *rel = (*rel + (most * (1.0 + ROUNDING) + slack)) * (1.0 + 4.0 * U);
+                }
+            });
+
+        let recompute: Option<Vec<usize>> = if track.stale > 0 {
+            track.stale -= 1;
+            (track.stale == 0).then(|| (0..count).collect())
+        } else {
+            let sum = track.sum;
+            let list: Vec<usize> = (0..count)
+                .into_par_iter()
+                .filter(|&i| {
+                    let moved = if track.cell_of[i].is_empty() {
+                        dist(&fluid[i], &track.eval[i]) + (sum - track.sum_eval[i])
+                    } else {
+                        track.relative[i]
+                    };
+                    moved * (1.0 + ROUNDING) >= track.budget[i]
+                })
+                .collect();
+            if list.len() as f64 > FULL_FRACTION * count as f64 {
+                track.stale = track.backoff;
+                track.backoff = (2 * track.backoff).min(MAX_BACKOFF);
+                None
+            } else {
+                if (list.len() as f64) < 0.5 * FULL_FRACTION * count as f64 {
+                    track.backoff = 1;
+                }
+                Some(list)
+            }
+        };
+        let Some(recompute) = recompute else {
+            let (detection, _) = detect_with::<D, C>(&set, count, r, 0.0)?;
+            track.labels = detection.labels.as_slice().to_vec();
+            track.budget.iter_mut().for_each(|b| *b = 0.0);
+            track.cell_of.iter_mut().for_each(|c| *c = Box::default());
+            return Ok((track, count));
+        };
+        track.evaluate::<C>(&set, &recompute, r.get())?;
+        Ok((track, recompute.len()))
+    }
+
+    /// Evaluates the fluid particles `which` (ascending) of `set`: their labels and budgets.
+    fn evaluate<C>(
+        &mut self,
+        set: &ParticleSet<D>,
+        which: &[usize],
+        r: f64,
+    ) -> Result<(), DetectError>
+    where
+        C: ConvexCell<D> + Default + Send + Clone,
+    {
+        if which.is_empty() {
+            return Ok(());
+        }
+        let grid = NeighbourGrid::new(set, r * crate::GRID_CELL)?;
+        let positions = set.positions();
+        let sorted = grid.cell_sorted_positions();
+        let results: Vec<(bool, f64, Box<[u32]>)> = which
+            .par_iter()
+            .map_init(Scratch::<D, C>::default, |scratch, &i| {
+                evaluate_one(&grid, positions, sorted, i, r, scratch)
+            })
+            .collect();
+        for (&i, (label, budget, cell)) in which.iter().zip(results) {
+            self.labels[i] = label;
+            self.budget[i] = budget;
+            self.cell_of[i] = cell;
+            self.relative[i] = 0.0;
+            self.eval[i] = positions[i];
+            self.sum_eval[i] = self.sum;
+        }
+        Ok(())
+    }
+}
+
+/// The label of particle `i`, its budget (module docs) and, for an interior particle, the
+/// neighbours its budget depends on (its cell's; empty: the budget counts every particle).
+fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
+    grid: &NeighbourGrid<D>,
+    positions: &[Point<D>],
+    sorted: &[Point<D>],
+    i: usize,
+    r: f64,
+    scratch: &mut Scratch<D, C>,
+) -> (bool, f64, Box<[u32]>) {
+    let p = positions[i];
+    let key = |j: usize, slot: usize, d2: f64| (d2.to_bits(), j as u32, slot as u32);
+    // The neighbours within FIRST_REACH·r first; the cell gathers the rest (up to 2r) when
+    // it reaches beyond half of that (every other bisector lies farther).
+    scratch.near.clear();
+    grid.gather_within(&p, FIRST_REACH * r, &mut scratch.near, key);
+    // `i` itself has d2 = 0; any other zero is an exact duplicate (module docs).
+    let duplicated = scratch.near.iter().filter(|x| x.0 == 0).count() > 1;
+    scratch.near.retain(|x| x.0 != 0);
+    scratch.beyond = 0.5 * FIRST_REACH * (1.0 - 1e-9);
+    let gather_all = |near: &mut Vec<Near>| {
+        near.clear();
+        grid.gather_within(&p, 2.0 * r * (1.0 + NEAR_SLACK), near, key);
+        near.retain(|x| x.0 != 0);
+    };
+
+    // The float cell, clipped to the end; the fast cell first where there is one.
+    let mut decided = None;
+    if C::HAS_FAST {
+        let near = Neighbours {
+            list: &mut scratch.near,
+            beyond: &mut scratch.beyond,
+            gather_all: &gather_all,
+        };
+        let cell = cell_margin(&p, sorted, r, near, &mut scratch.fast, true, false);
+        if !cell.degenerate && cell.margin.abs() > cell.tau {
+            decided = Some((cell, scratch.fast.farthest()));
+        }
+    }
+    if decided.is_none() {
+        let near = Neighbours {
+            list: &mut scratch.near,
+            beyond: &mut scratch.beyond,
+            gather_all: &gather_all,
+        };
+        let cell = cell_margin(&p, sorted, r, near, &mut scratch.cell, false, false);
+        if !cell.degenerate && cell.margin.abs() > cell.tau {
+            decided = Some((cell, scratch.cell.farthest()));
+        }
+    }
+    let Some((cell, far)) = decided else {
+        // Certificates and the exact predicate: the label of a full detection, no budget.
+        let (_, label, _) = classify(&p, sorted, r, 0.0, scratch, &gather_all);
+        return (label, 0.0, Box::default());
+    };
+    let boundary = cell.margin > 0.0;
+    if duplicated {
+        return (boundary, 0.0, Box::default());
+    }
+    // The nearest neighbour, first of the sorted list (or `2r`, if none is within it), caps
+    // every budget.
+    let m = match scratch.near.first() {
+        Some(x) if cell.used > 0 => f64::from_bits(x.0).sqrt().min(2.0 * r),
+        _ => 2.0 * r,
+    };
+    if !boundary {
+        // Interior: b = m²(r − ρ)/(2rρ), ρ = (1 + margin + τ)·r, over the neighbours the cell
+        // took (the first `used` of the sorted list).
+        let rho = 1.0 + cell.margin + cell.tau;
+        if rho >= 1.0 || cell.used == 0 {
+            return (false, 0.0, Box::default());
+        }
+        let mh = m / r;
+        let budget = r * mh * mh * (1.0 - rho) / (2.0 * rho);
+        let neighbours: Box<[u32]> = scratch.near[..cell.used].iter().map(|x| x.1).collect();
+        return (false, budget.min(m) * (1.0 - ROUNDING), neighbours);
+    }
+    // Boundary: the witness x on S_i toward the farthest vertex.
+    let norm = far.iter().map(|a| a * a).sum::<f64>().sqrt();
+    let x = Point::<D>::from_fn(|k, _| p[k] + r * (far[k] / norm));
+    let mut d2min = (WITNESS_REACH * r).powi(2);
+    grid.for_each_within(&x, WITNESS_REACH * r, |j, d2| {
+        if j != i {
+            d2min = d2min.min(d2);
+        }
+    });
+    let pmax = p.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let budget = d2min.sqrt() - r - (1e-12 * r + 1e-14 * pmax);
+    (
+        true,
+        budget.min(m).max(0.0) * (1.0 - ROUNDING),
+        Box::default(),
+    )
+}

@@ -1,0 +1,402 @@
+//! The tracker's labels equal a full `exact` detection at every step, bit for bit.
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+use boundary_core::{
+    domain, AnyParticleSet, BoundaryDetector, Domain, HalfSpace, Labels, ParticleSet, Periodic,
+    Point, Radius,
+};
+use boundary_exact::{ExactDetector, Tracker};
+use proptest::prelude::*;
+
+/// Runs the tracker over `frames` and checks every step against a full detection in `domain`;
+/// returns the number of particles recomputed at each step.
+fn check_sequence(frames: &[AnyParticleSet], r: f64, domain: Domain) -> Vec<usize> {
+    let r = Radius::new(r).unwrap();
+    let mut tracker = Tracker::new(r, Some(1), domain.clone()).unwrap();
+    let mut recomputed = vec![];
+    for (step, set) in frames.iter().enumerate() {
+        let full = domain::detect_in(&ExactDetector, set, &domain, r).unwrap();
+        let labels = tracker.update(set).unwrap().clone();
+        assert_eq!(
+            first_difference(&labels, &full.detection.labels),
+            None,
+            "step {step}"
+        );
+        recomputed.push(tracker.recomputed());
+    }
+    recomputed
+}
+
+fn first_difference(a: &Labels, b: &Labels) -> Option<usize> {
+    assert_eq!(a.len(), b.len());
+    (0..a.len()).find(|&i| a.is_boundary(i) != b.is_boundary(i))
+}
+
+fn set2(points: &[[f64; 2]]) -> AnyParticleSet {
+    ParticleSet::from_rows(points).unwrap().to_any()
+}
+
+/// A tiny deterministic generator (xorshift), uniform in [0, 1).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+fn jittered_square(side: usize, jitter: f64, rng: &mut Rng) -> Vec<[f64; 2]> {
+    (0..side * side)
+        .map(|k| {
+            [
+                (k % side) as f64 + jitter * (rng.next() - 0.5),
+                (k / side) as f64 + jitter * (rng.next() - 0.5),
+            ]
+        })
+        .collect()
+}
+
+/// The Enright-advected jittered sphere, 12 steps at several displacements per step: the
+/// labels of a full detection every step, and at small steps far fewer particles recomputed.
+#[test]
+fn enright_sequence_matches_full_detection() {
+    for displacement in [0.01, 0.05, 0.5] {
+        let (frames, h) = boundary_scenes::enright_sequence(4000, displacement, 12);
+        let frames: Vec<_> = frames.iter().map(|f| f.to_any()).collect();
+        let n = frames[0].len();
+        let recomputed = check_sequence(&frames, 1.5 * h, Domain::new());
+        assert_eq!(recomputed[0], n);
+        if displacement <= 0.01 {
+            let later: usize = recomputed[1..].iter().sum();
+            assert!(later < 12 * n / 4, "{displacement}: {recomputed:?} of {n}");
+        }
+    }
+}
+
+/// The thesis author's 200 vortex frames (2D, 1698 particles, the same particle on the same
+/// line): frames far apart in time, so most steps fall back to full detections.
+#[test]
+fn vortex_frames_match_full_detection() {
+    let data = boundary_scenes::SharedData::from_env();
+    let mut frames = vec![];
+    for k in 1..=200 {
+        let file = format!("sequences/sandim_vortex_spin/frame_{k:03}.csv");
+        let set = data
+            .set::<2>(&file)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .unwrap_or_else(|| panic!("{file} is missing"));
+        frames.push(set.to_any());
+    }
+    assert!(frames.iter().all(|f| f.len() == 1698));
+    check_sequence(&frames, 0.022105, Domain::new());
+}
+
+/// A perfect rectangular lattice whose cell diagonal passes through `2r`: spacing `(3 + δ, 4)`
+/// at `r = 2.5`, an exact tie at `δ = 0` (3-4-5), with `δ` stepping by `2^-30` (every
+/// coordinate exact). The inner particles are interior up to and at the tie, and boundary
+/// from the first step beyond it; the tracker flips them at exactly that step.
+#[test]
+fn lattice_drifting_through_its_tie_flips_exactly_there() {
+    let inner = |i: usize| (1..7).contains(&(i % 8)) && (1..7).contains(&(i / 8));
+    let mut frames = vec![];
+    for j in -3i32..=3 {
+        let a = 3.0 + j as f64 * 2f64.powi(-30);
+        let rows: Vec<[f64; 2]> = (0..64)
+            .map(|k| [(k % 8) as f64 * a + 0.25, (k / 8) as f64 * 4.0 - 0.5])
+            .collect();
+        frames.push(set2(&rows));
+    }
+    let r = Radius::new(2.5).unwrap();
+    let mut tracker = Tracker::new(r, Some(1), Domain::new()).unwrap();
+    for (step, set) in frames.iter().enumerate() {
+        let j = step as i32 - 3;
+        let full = ExactDetector.detect(set, r).unwrap();
+        let labels = tracker.update(set).unwrap();
+        assert_eq!(first_difference(labels, &full.labels), None, "step {step}");
+        for i in (0..64).filter(|&i| inner(i)) {
+            assert_eq!(labels.is_boundary(i), j > 0, "particle {i}, δ = {j}·2^-30");
+        }
+    }
+    // 3D: spacing (2 + δ, 3, 6) at r = 3.5 (2-3-6-7).
+    let mut tracker = Tracker::new(Radius::new(3.5).unwrap(), Some(1), Domain::new()).unwrap();
+    for j in -2i32..=2 {
+        let a = 2.0 + j as f64 * 2f64.powi(-30);
+        let rows: Vec<[f64; 3]> = (0..125)
+            .map(|k| {
+                [
+                    (k % 5) as f64 * a,
+                    (k / 5 % 5) as f64 * 3.0,
+                    (k / 25) as f64 * 6.0,
+                ]
+            })
+            .collect();
+        let set = ParticleSet::from_rows(&rows).unwrap().to_any();
+        let full = ExactDetector
+            .detect(&set, Radius::new(3.5).unwrap())
+            .unwrap();
+        let labels = tracker.update(&set).unwrap();
+        assert_eq!(first_difference(labels, &full.labels), None, "δ = {j}");
+        // The centre particle (2, 2, 2).
+        assert_eq!(labels.is_boundary(62), j > 0, "δ = {j}·2^-30");
+    }
+}
+
+/// Random jumps of up to 0.5 spacing: a few particles at most steps (the others drift a
+/// little), every particle at some; both the incremental path and the fallback run.
+#[test]
+fn random_jumps_of_half_a_spacing_match_full_detection() {
+    let mut rng = Rng(7);
+    let mut points = jittered_square(20, 0.3, &mut rng);
+    let mut frames = vec![set2(&points)];
+    for step in 0..24 {
+        let chance = if step % 8 == 7 { 1.0 } else { 0.01 };
+        for p in points.iter_mut() {
+            if rng.next() < chance {
+                p[0] += (rng.next() - 0.5) * 1.0;
+                p[1] += (rng.next() - 0.5) * 1.0;
+            } else {
+                p[0] += 1e-3 * (rng.next() - 0.5);
+            }
+        }
+        frames.push(set2(&points));
+    }
+    let counts = check_sequence(&frames, 0.9, Domain::new());
+    let n = points.len();
+    // Before the first jump of everything the steps are incremental; after it the set is
+    // disordered, most particles are boundary, and a boundary particle counts the largest
+    // displacement anywhere: each 0.5 jump spends its budget, and full detections run.
+    assert!(counts[1..8].iter().all(|&c| c < n / 2), "{counts:?}");
+    assert!(
+        counts.iter().filter(|&&c| c == n).count() >= 4,
+        "{counts:?}"
+    );
+}
+
+/// A block of particles leaves the set's neighbourhood and comes back, while the rest drifts.
+#[test]
+fn particles_leaving_and_coming_back_match_full_detection() {
+    let mut rng = Rng(11);
+    let base = jittered_square(16, 0.2, &mut rng);
+    let mut frames = vec![];
+    for step in 0..10 {
+        let away = match step {
+            0..=2 => 0.0,
+            3..=5 => 30.0 * (step - 2) as f64,
+            _ => 0.0,
+        };
+        let rows: Vec<[f64; 2]> = base
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let drift = 0.003 * step as f64;
+                if (i % 16) < 5 && (i / 16) < 5 {
+                    [p[0] + away + drift, p[1]]
+                } else {
+                    [p[0] + drift, p[1] - drift]
+                }
+            })
+            .collect();
+        frames.push(set2(&rows));
+    }
+    check_sequence(&frames, 0.8, Domain::new());
+}
+
+/// Exact duplicates appear and disappear: they never cover each other.
+#[test]
+fn duplicates_appearing_and_vanishing_match_full_detection() {
+    let mut rng = Rng(3);
+    let base = jittered_square(10, 0.2, &mut rng);
+    let mut frames = vec![];
+    for step in 0..6 {
+        let mut rows = base.clone();
+        if step % 2 == 1 {
+            rows[45] = rows[44];
+            rows[12] = rows[13];
+        }
+        frames.push(set2(&rows));
+    }
+    check_sequence(&frames, 0.75, Domain::new());
+}
+
+/// Moving walls, solids, periodic axes and per-particle radii: the labels of a full
+/// detection in the domain.
+#[test]
+fn domains_and_radii_match_full_detection() {
+    let mut rng = Rng(5);
+    let base = jittered_square(12, 0.2, &mut rng);
+    let frames: Vec<AnyParticleSet> = (0..6)
+        .map(|s| {
+            let rows: Vec<[f64; 2]> = base
+                .iter()
+                .map(|p| [p[0] + 0.01 * s as f64, p[1] + 1.0 - 0.004 * s as f64])
+                .collect();
+            set2(&rows)
+        })
+        .collect();
+    let r = 0.8;
+    let wall = |y: f64| -> AnyParticleSet {
+        let rows: Vec<[f64; 2]> = (0..14).map(|k| [k as f64 - 1.0, y]).collect();
+        set2(&rows)
+    };
+    // Walls that move: checked step by step against detect_in with the walls of the step.
+    let radius = Radius::new(r).unwrap();
+    let mut tracker = Tracker::new(radius, Some(1), Domain::new().with_walls(wall(0.0))).unwrap();
+    let mut saved = 0;
+    for (s, set) in frames.iter().enumerate() {
+        let walls = wall(0.02 * s as f64);
+        tracker.move_walls(walls.clone()).unwrap();
+        let domain = Domain::new().with_walls(walls);
+        let full = domain::detect_in(&ExactDetector, set, &domain, radius).unwrap();
+        let labels = tracker.update(set).unwrap();
+        assert_eq!(
+            first_difference(labels, &full.detection.labels),
+            None,
+            "walls, step {s}"
+        );
+        saved += set.len() - tracker.recomputed();
+    }
+    assert!(saved > 0, "moving walls: nothing saved");
+    let solid = Domain::new().with_solid(HalfSpace::parse("y<0.9").unwrap());
+    check_sequence(&frames, r, solid);
+    let periodic = Domain::new().with_periodic(Periodic::new(0, -0.5, 11.5).unwrap());
+    check_sequence(&frames, r, periodic);
+    let graded: Vec<AnyParticleSet> = frames
+        .iter()
+        .map(|f| {
+            let radii = (0..f.len()).map(|i| 1.0 + 0.3 * (i % 3) as f64).collect();
+            f.clone().with_radii(radii).unwrap()
+        })
+        .collect();
+    check_sequence(&graded, r, Domain::new());
+}
+
+/// A tracker refuses nothing a detection accepts, and errors name the problem.
+#[test]
+fn non_finite_positions_are_an_error() {
+    let mut tracker = Tracker::new(Radius::new(1.0).unwrap(), None, Domain::new()).unwrap();
+    let ok = set2(&[[0.0, 0.0], [1.0, 0.0]]);
+    assert_eq!(tracker.update(&ok).unwrap().boundary_count(), 2);
+    let err = ParticleSet::<2>::from_rows(&[[0.0, f64::NAN]]).unwrap_err();
+    assert!(err.to_string().contains('0'), "{err}");
+    // A change of dimension starts over.
+    let three = ParticleSet::from_rows(&[[0.0, 0.0, 0.0]]).unwrap().to_any();
+    assert_eq!(tracker.update(&three).unwrap().boundary_count(), 1);
+    assert_eq!(tracker.recomputed(), 1);
+}
+
+fn point_strategy() -> impl Strategy<Value = Vec<[f64; 2]>> {
+    prop::collection::vec([0.0..4.0f64, 0.0..4.0f64], 1..24)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    /// Random small sets and random sequences of moves (tiny, small, large; some particles
+    /// snapped onto others or onto a grid): the tracker equals a full detection every step.
+    #[test]
+    fn tracker_equals_full_detection_on_random_sequences(
+        start in point_strategy(),
+        moves in prop::collection::vec((0usize..4, any::<u64>()), 1..8),
+        r in 0.3..1.2f64,
+    ) {
+        let radius = Radius::new(r).unwrap();
+        let mut tracker = Tracker::new(radius, Some(1), Domain::new()).unwrap();
+        let mut points = start;
+        for (step, &(kind, seed)) in std::iter::once(&(0, 0)).chain(&moves).enumerate() {
+            let mut rng = Rng(seed | 1);
+            let scale = [0.0, 1e-3, 0.05, 0.5][kind];
+            for p in points.iter_mut() {
+                p[0] += scale * (rng.next() - 0.5);
+                p[1] += scale * (rng.next() - 0.5);
+                if rng.next() < 0.05 {
+                    p[0] = (p[0] * 2.0).round() / 2.0;
+                    p[1] = (p[1] * 2.0).round() / 2.0;
+                }
+            }
+            let set = set2(&points);
+            let full = ExactDetector.detect(&set, radius).unwrap();
+            let labels = tracker.update(&set).unwrap();
+            prop_assert_eq!(first_difference(labels, &full.labels), None, "step {}", step);
+        }
+    }
+}
+
+/// Particles pass by each other in 3D (a crossing stream), checked every step.
+#[test]
+fn crossing_streams_in_3d_match_full_detection() {
+    let mut rng = Rng(9);
+    let base: Vec<Point<3>> = (0..216)
+        .map(|k| {
+            Point::<3>::new(
+                (k % 6) as f64 + 0.2 * rng.next(),
+                (k / 6 % 6) as f64 + 0.2 * rng.next(),
+                (k / 36) as f64 + 0.2 * rng.next(),
+            )
+        })
+        .collect();
+    let frames: Vec<AnyParticleSet> = (0..8)
+        .map(|s| {
+            let points = base
+                .iter()
+                .map(|p| {
+                    let dir = if p[2] < 3.0 { 1.0 } else { -1.0 };
+                    Point::<3>::new(p[0] + dir * 0.07 * s as f64, p[1], p[2])
+                })
+                .collect();
+            ParticleSet::new(points).unwrap().to_any()
+        })
+        .collect();
+    check_sequence(&frames, 1.0, Domain::new());
+}
+
+/// A jittered lattice near its tie radius, stretched a little at every step: interior
+/// particles turn boundary one by one, on the incremental path (2D and 3D).
+#[test]
+fn slow_stretch_turns_particles_boundary_one_by_one() {
+    let mut rng = Rng(13);
+    let base = jittered_square(30, 0.1, &mut rng);
+    let frames: Vec<AnyParticleSet> = (0..30)
+        .map(|s| {
+            let f = 1.0 + 0.002 * s as f64;
+            set2(&base.iter().map(|p| [p[0] * f, p[1]]).collect::<Vec<_>>())
+        })
+        .collect();
+    let counts = check_sequence(&frames, 0.74, Domain::new());
+    let r = Radius::new(0.74).unwrap();
+    let boundary = |f: &AnyParticleSet| ExactDetector.detect(f, r).unwrap().labels.boundary_count();
+    let (first, last) = (boundary(&frames[0]), boundary(&frames[29]));
+    assert!(last > first + 50, "{first} -> {last}");
+    assert!(
+        counts[1..10].iter().all(|&c| c < base.len() / 4),
+        "{counts:?}"
+    );
+    // Backwards: compressed, boundary particles turn interior one by one.
+    let backwards: Vec<AnyParticleSet> = frames.iter().rev().cloned().collect();
+    check_sequence(&backwards, 0.74, Domain::new());
+
+    let base: Vec<Point<3>> = (0..512)
+        .map(|k| {
+            Point::<3>::new(
+                (k % 8) as f64 + 0.1 * rng.next(),
+                (k / 8 % 8) as f64 + 0.1 * rng.next(),
+                (k / 64) as f64 + 0.1 * rng.next(),
+            )
+        })
+        .collect();
+    let frames: Vec<AnyParticleSet> = (0..20)
+        .map(|s| {
+            let f = 1.0 + 0.004 * s as f64;
+            let points = base
+                .iter()
+                .map(|p| Point::<3>::new(p[0] * f, p[1], p[2]))
+                .collect();
+            ParticleSet::new(points).unwrap().to_any()
+        })
+        .collect();
+    check_sequence(&frames, 0.88, Domain::new());
+    let r = Radius::new(0.88).unwrap();
+    let boundary = |f: &AnyParticleSet| ExactDetector.detect(f, r).unwrap().labels.boundary_count();
+    assert!(boundary(&frames[19]) > boundary(&frames[0]) + 10);
+}
