@@ -234,7 +234,8 @@ unsafe fn make_detector(
     detector_with_params(method, &params).map_err(|e| {
         let code = match e {
             boundary::RegistryError::UnknownMethod { .. } => BOUNDARY_ERR_METHOD,
-            boundary::RegistryError::Param(_) => BOUNDARY_ERR_PARAM,
+            // A parameter error, or a kind of error added later: the parameters are at fault.
+            _ => BOUNDARY_ERR_PARAM,
         };
         Failure::new(code, e.to_string())
     })

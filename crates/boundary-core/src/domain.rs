@@ -42,12 +42,11 @@
 //!
 //! ```
 //! use boundary_core::{AnyParticleSet, Domain, HalfSpace, ParticleSet, Radius};
-//! # use boundary_core::{BoundaryDetector, Detection, DetectError, Labels, ParamError, Params, Solids};
+//! # use boundary_core::{BoundaryDetector, Detection, DetectError, Labels, Params};
 //! # #[derive(Debug)] struct Lonely;
 //! # impl BoundaryDetector for Lonely {
 //! #     fn name(&self) -> &'static str { "lonely" }
 //! #     fn params(&self) -> Params { Params::default() }
-//! #     fn set_param(&mut self, k: &str, _: &str) -> Result<(), ParamError> { Err(ParamError::unknown("lonely", k, &[])) }
 //! #     fn detect_2d(&self, s: &ParticleSet<2>, _: Radius) -> Result<Detection, DetectError> { Ok(Detection { labels: Labels::new(vec![true; s.len()]), margin: None }) }
 //! #     fn detect_3d(&self, s: &ParticleSet<3>, _: Radius) -> Result<Detection, DetectError> { Ok(Detection { labels: Labels::new(vec![true; s.len()]), margin: None }) }
 //! # }

@@ -19,8 +19,8 @@ fn both<const D: usize>(set: &ParticleSet<D>, r: f64) -> (Detection, Detection) 
     let r = Radius::new(r).unwrap();
     let any = set.clone().to_any();
     (
-        ExactDetector.detect(&any, r).unwrap(),
-        DiltsDetector.detect(&any, r).unwrap(),
+        ExactDetector::default().detect(&any, r).unwrap(),
+        DiltsDetector::default().detect(&any, r).unwrap(),
     )
 }
 

@@ -8,9 +8,13 @@
 use boundary_core::decompose::{morton_blocks, slabs};
 use boundary_core::{BoundaryDetector, Confusion, Labels, ParticleSet, Radius};
 use boundary_exact::ExactDetector;
-use boundary_marrone::MarroneDetector;
+use boundary_marrone::{MarroneDetector, MarroneParams};
 use boundary_scenes::{jittered_lattice_ball, jittered_lattice_disc, SharedData, SHARED_SCENES};
 use boundary_sph::Kernel;
+
+fn with(params: MarroneParams) -> MarroneDetector {
+    MarroneDetector::try_new(params).unwrap()
+}
 
 fn labels<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, r: f64) -> Labels {
     d.detect(&set.to_any(), Radius::new(r).unwrap())
@@ -24,7 +28,7 @@ fn labels<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, r: f64) -> 
 fn check_ball<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, radius: f64, r: f64) {
     let found = labels(d, set, r);
     let exact = labels_exact(set, r);
-    let h = d.h_over_r() * r;
+    let h = d.settings().h_over_r * r;
     for (i, p) in set.positions().iter().enumerate() {
         let depth = radius - p.norm();
         if depth < 0.3 {
@@ -45,7 +49,7 @@ fn check_ball<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, radius:
 }
 
 fn labels_exact<const D: usize>(set: &ParticleSet<D>, r: f64) -> Labels {
-    ExactDetector
+    ExactDetector::default()
         .detect(&set.to_any(), Radius::new(r).unwrap())
         .unwrap()
         .labels
@@ -58,9 +62,11 @@ fn lattice_balls_have_a_boundary_rim_and_an_interior_core() {
     let (ball, radius) = jittered_lattice_ball(8000, 0.15, 2);
     check_ball(&d, &ball, radius, 1.2);
     // The cubic spline and a larger h behave the same on these.
-    let mut cubic = MarroneDetector::default();
-    cubic.set_param("kernel", "cubic").unwrap();
-    cubic.set_param("h_over_r", "1.3").unwrap();
+    let cubic = with(MarroneParams {
+        kernel: Kernel::CubicSpline,
+        h_over_r: 1.3,
+        ..MarroneParams::default()
+    });
     check_ball(&cubic, &ball, radius, 1.2);
 }
 
@@ -70,18 +76,24 @@ fn the_scan_alone_finds_the_shell_and_the_lambda_cuts_bracket_the_default() {
     let r = 1.2;
     // Scan only: every particle with λ > 0 goes through the scan region, which alone still
     // finds the shell and leaves the core.
-    let mut scan_only = MarroneDetector::default();
-    scan_only.set_param("lambda_surface", "0").unwrap();
-    scan_only.set_param("lambda_interior", "1e9").unwrap();
+    let scan_only = with(MarroneParams {
+        lambda_surface: 0.0,
+        lambda_interior: 1e9,
+        ..MarroneParams::default()
+    });
     check_ball(&scan_only, &ball, radius, r);
     // λ only (no candidates): a coarser answer, a superset of the default's boundary on this
     // ball when the cut is at 0.75, and a subset when it is at 0.2.
     let default = labels(&MarroneDetector::default(), &ball, r);
-    let mut generous = MarroneDetector::default();
-    generous.set_param("lambda_surface", "0.75").unwrap();
+    let generous = with(MarroneParams {
+        lambda_surface: 0.75,
+        ..MarroneParams::default()
+    });
     let generous = labels(&generous, &ball, r);
-    let mut strict = MarroneDetector::default();
-    strict.set_param("lambda_interior", "0.2").unwrap();
+    let strict = with(MarroneParams {
+        lambda_interior: 0.2,
+        ..MarroneParams::default()
+    });
     let strict = labels(&strict, &ball, r);
     for i in 0..ball.len() {
         assert!(!default.is_boundary(i) || generous.is_boundary(i), "{i}");
@@ -166,7 +178,14 @@ fn labels_are_the_same_for_the_scene_scaled_across_the_supported_radius_range() 
     let (ball, _) = jittered_lattice_ball(1500, 0.2, 6);
     for d in [
         MarroneDetector::default(),
-        MarroneDetector::new(0.1, 0.9, 30.0, Kernel::CubicSpline, 1.3).unwrap(),
+        MarroneDetector::try_new(MarroneParams {
+            lambda_surface: 0.1,
+            lambda_interior: 0.9,
+            cone_angle: 30.0,
+            kernel: Kernel::CubicSpline,
+            h_over_r: 1.3,
+        })
+        .unwrap(),
     ] {
         check(&disc, 1.2, &d);
         check(&ball, 1.2, &d);

@@ -12,7 +12,7 @@
 //!    CSV file with an `index` column of global indices (`--per-rank-input`), which is then
 //!    kept as the decomposition.
 //! 2. **decompose** (rank-0 read only): rank 0 assigns owners by recursive coordinate
-//!    bisection or Morton blocks, balanced by count (`boundary::decompose`).
+//!    bisection or Morton blocks, balanced by count (`boundary::implement::decompose`).
 //! 3. **scatter**: rank 0 sends every rank its owned positions and global indices.
 //! 4. **halo**: ranks exchange boxes, send each other the strips within the halo width
 //!    `detector.halo_width(r)` and keep the exact ghosts (see the library docs).
@@ -27,7 +27,7 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use boundary::decompose::{morton_owners, rcb_owners};
+use boundary::implement::decompose::{morton_owners, rcb_owners};
 use boundary::{
     detector_with_params, parse_param, AnyParticleSet, BoundaryDetector, ParticleSet, Point, Radius,
 };

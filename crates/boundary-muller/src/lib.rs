@@ -47,8 +47,11 @@
 //! a thick layer (Rec up, FPR up); a high one misses the surface particles with neighbours on
 //! several sides (Rec down).
 //!
-//! # Parameters (`--set key=value`)
-//! | key | default | meaning |
+//! # Parameters
+//! [`MullerParams`], checked by [`MullerDetector::try_new`]; the `--set key=value` keys of
+//! the command line and the bindings are the field names.
+//!
+//! | field | default | meaning |
 //! |---|---|---|
 //! | `threshold` | [`DEFAULT_THRESHOLD`] | boundary iff `|∇c|·h` exceeds it |
 //! | `kernel` | `wendland` | `wendland` (C2) or `cubic` (spline), support `2h` |
@@ -107,11 +110,14 @@
 //! }
 //! ```
 
+/// The SPH kernel shapes of [`MullerParams::kernel`].
+pub use boundary_sph::Kernel;
+
 use boundary_core::{
     AnyParticleSet, BoundaryDetector, CoreError, DetectError, Detection, Labels, ParamError,
     ParamInfo, Params, ParticleSet, Radius,
 };
-use boundary_sph::{Kernel, SphContext, SphKernel, SUPPORT_FACTOR};
+use boundary_sph::{SphContext, SphKernel, SUPPORT_FACTOR};
 use rayon::prelude::*;
 
 /// Why `muller` rejects per-particle radii ([`DetectError::PerParticleRadii`]).
@@ -124,25 +130,22 @@ pub const DEFAULT_THRESHOLD: f64 = 0.375;
 pub const DEFAULT_H_OVER_R: f64 = 1.0;
 
 const METHOD: &str = "muller";
-const KEYS: [&str; 3] = ["threshold", "kernel", "h_over_r"];
 
-/// The colour-field detector of Müller et al. (2003) (`muller`). See the crate documentation.
-///
-/// The parameters are private and always valid: [`MullerDetector::new`] and the setters check
-/// them with the rules (and messages) of `set_param`.
+/// The parameters of `muller` (string form: the `--set` keys of the same names, see
+/// `boundary::registry`).
 #[derive(Debug, Clone, PartialEq)]
-pub struct MullerDetector {
-    /// Boundary iff `|∇c|·h > threshold`; finite, `>= 0`.
-    threshold: f64,
-    /// Kernel shape (support `2h`).
-    kernel: Kernel,
-    /// `h / r`, in `(0, 100]`.
-    h_over_r: f64,
+pub struct MullerParams {
+    /// Boundary iff `|∇c|·h` exceeds it; finite, `>= 0`; default [`DEFAULT_THRESHOLD`].
+    pub threshold: f64,
+    /// The kernel shape (support `2h`); default Wendland C2.
+    pub kernel: Kernel,
+    /// The smoothing length `h` in units of `r`, in `(0, 100]`; default [`DEFAULT_H_OVER_R`].
+    pub h_over_r: f64,
 }
 
-impl Default for MullerDetector {
+impl Default for MullerParams {
     fn default() -> Self {
-        MullerDetector {
+        MullerParams {
             threshold: DEFAULT_THRESHOLD,
             kernel: Kernel::WendlandC2,
             h_over_r: DEFAULT_H_OVER_R,
@@ -150,68 +153,32 @@ impl Default for MullerDetector {
     }
 }
 
-/// `threshold`: finite, `>= 0`.
-fn check_threshold(v: f64, shown: &str) -> Result<f64, ParamError> {
-    check_in("threshold", v, shown, |v| v >= 0.0, "a number >= 0")
-}
-
-/// `h_over_r`: in `(0, 100]`.
-fn check_h_over_r(v: f64, shown: &str) -> Result<f64, ParamError> {
-    check_in(
-        "h_over_r",
-        v,
-        shown,
-        |v| v > 0.0 && v <= 100.0,
-        "in (0, 100]",
-    )
+/// The colour-field detector of Müller et al. (2003) (`muller`). See the crate documentation.
+///
+/// Built from a checked [`MullerParams`] ([`MullerDetector::try_new`]), so a detector never
+/// holds an invalid value.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MullerDetector {
+    params: MullerParams,
 }
 
 impl MullerDetector {
-    /// The detector with the given parameters, each checked as `set_param` checks it
-    /// (`threshold` finite and `>= 0`, `h_over_r` in `(0, 100]`).
-    pub fn new(threshold: f64, kernel: Kernel, h_over_r: f64) -> Result<Self, ParamError> {
-        Ok(MullerDetector {
-            threshold: check_threshold(threshold, &threshold.to_string())?,
-            kernel,
-            h_over_r: check_h_over_r(h_over_r, &h_over_r.to_string())?,
-        })
+    /// The detector with `params`, checked (`threshold` finite and `>= 0`, `h_over_r` in
+    /// `(0, 100]`); the error ([`ParamError::Invalid`]) names the first field that fails.
+    pub fn try_new(params: MullerParams) -> Result<Self, ParamError> {
+        check_in("threshold", params.threshold, |v| v >= 0.0, "a number >= 0")?;
+        check_in(
+            "h_over_r",
+            params.h_over_r,
+            |v| v > 0.0 && v <= 100.0,
+            "in (0, 100]",
+        )?;
+        Ok(MullerDetector { params })
     }
 
-    /// The detector with the given threshold (checked), other parameters at their defaults.
-    pub fn with_threshold(threshold: f64) -> Result<Self, ParamError> {
-        Self::new(threshold, Kernel::WendlandC2, DEFAULT_H_OVER_R)
-    }
-
-    /// Boundary iff `|∇c|·h` exceeds it.
-    pub fn threshold(&self) -> f64 {
-        self.threshold
-    }
-
-    /// The kernel shape.
-    pub fn kernel(&self) -> Kernel {
-        self.kernel
-    }
-
-    /// `h / r`.
-    pub fn h_over_r(&self) -> f64 {
-        self.h_over_r
-    }
-
-    /// Sets the threshold (finite, `>= 0`); on error the detector is unchanged.
-    pub fn set_threshold(&mut self, threshold: f64) -> Result<(), ParamError> {
-        self.threshold = check_threshold(threshold, &threshold.to_string())?;
-        Ok(())
-    }
-
-    /// Sets the kernel shape.
-    pub fn set_kernel(&mut self, kernel: Kernel) {
-        self.kernel = kernel;
-    }
-
-    /// Sets `h / r` (in `(0, 100]`); on error the detector is unchanged.
-    pub fn set_h_over_r(&mut self, h_over_r: f64) -> Result<(), ParamError> {
-        self.h_over_r = check_h_over_r(h_over_r, &h_over_r.to_string())?;
-        Ok(())
+    /// The parameters.
+    pub fn settings(&self) -> &MullerParams {
+        &self.params
     }
 
     /// The dimensionless colour-field gradient magnitude `|∇c_i|·h` of every particle, in
@@ -230,8 +197,8 @@ impl MullerDetector {
         count: usize,
         r: Radius,
     ) -> Result<Vec<f64>, CoreError> {
-        let h = self.h_over_r * r.get();
-        let ctx = SphContext::new(set, SphKernel::new(self.kernel, h))?;
+        let h = self.params.h_over_r * r.get();
+        let ctx = SphContext::new(set, SphKernel::new(self.params.kernel, h))?;
         Ok((0..count)
             .into_par_iter()
             .map(|i| ctx.local_sums(i).gradient_h.norm())
@@ -247,7 +214,7 @@ impl MullerDetector {
         let margin: Vec<f64> = self
             .magnitudes_first(set, count, r)?
             .into_iter()
-            .map(|g| g - self.threshold)
+            .map(|g| g - self.params.threshold)
             .collect();
         let labels: Labels = margin.iter().map(|&m| m > 0.0).collect();
         Ok(Detection {
@@ -257,32 +224,18 @@ impl MullerDetector {
     }
 }
 
-/// `v` if finite and `ok`, else the error `set_param` gives for the text `shown`.
-fn check_in(
-    key: &str,
-    v: f64,
-    shown: &str,
-    ok: impl Fn(f64) -> bool,
-    expected: &str,
-) -> Result<f64, ParamError> {
+/// `Ok` if `v` is finite and `ok`, else the error naming `key` and the value.
+fn check_in(key: &str, v: f64, ok: impl Fn(f64) -> bool, expected: &str) -> Result<(), ParamError> {
     if v.is_finite() && ok(v) {
-        Ok(v)
+        Ok(())
     } else {
         Err(ParamError::invalid(
             METHOD,
             key,
-            shown,
+            &v.to_string(),
             format!("must be {expected}"),
         ))
     }
-}
-
-/// Parses `value` as a number (an unparsable one gets the same message as a bad number).
-fn parse_number(key: &str, value: &str, expected: &str) -> Result<f64, ParamError> {
-    value
-        .trim()
-        .parse::<f64>()
-        .map_err(|_| ParamError::invalid(METHOD, key, value, format!("must be {expected}")))
 }
 
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
@@ -297,43 +250,24 @@ impl BoundaryDetector for MullerDetector {
         Params(vec![
             ParamInfo {
                 name: "threshold",
-                value: self.threshold.to_string(),
+                value: self.params.threshold.to_string(),
                 default: DEFAULT_THRESHOLD.to_string(),
                 description: "boundary iff the colour-field gradient magnitude times h exceeds \
                               it (Mueller et al. 2003, Sec. 4.4; dimensionless)",
             },
             ParamInfo {
                 name: "kernel",
-                value: self.kernel.name().to_owned(),
+                value: self.params.kernel.name().to_owned(),
                 default: Kernel::WendlandC2.name().to_owned(),
                 description: "SPH kernel: wendland (C2) or cubic (spline), support 2h",
             },
             ParamInfo {
                 name: "h_over_r",
-                value: self.h_over_r.to_string(),
+                value: self.params.h_over_r.to_string(),
                 default: DEFAULT_H_OVER_R.to_string(),
                 description: "smoothing length h in units of r",
             },
         ])
-    }
-
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        match key {
-            "threshold" => {
-                self.threshold =
-                    check_threshold(parse_number(key, value, "a number >= 0")?, value)?;
-            }
-            "kernel" => {
-                self.kernel = value.parse().map_err(|e: boundary_sph::UnknownKernel| {
-                    ParamError::invalid(METHOD, key, value, e.to_string())
-                })?;
-            }
-            "h_over_r" => {
-                self.h_over_r = check_h_over_r(parse_number(key, value, "in (0, 100]")?, value)?;
-            }
-            _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
-        }
-        Ok(())
     }
 
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
@@ -349,7 +283,7 @@ impl BoundaryDetector for MullerDetector {
     /// Two kernel supports: the volumes of the neighbours within `2h` come from their own
     /// neighbours within `2h`.
     fn halo_width(&self, r: Radius) -> f64 {
-        2.0 * SUPPORT_FACTOR * self.h_over_r * r.get()
+        2.0 * SUPPORT_FACTOR * self.params.h_over_r * r.get()
     }
 
     fn solid_refusal(&self) -> &'static str {
@@ -378,67 +312,47 @@ mod tests {
     use super::*;
 
     #[test]
-    fn parameters_round_trip_and_are_validated() {
-        let mut d = MullerDetector::default();
+    fn parameters_are_checked_and_reported() {
+        let d = MullerDetector::default();
         assert_eq!(
             d.params().to_string(),
             format!("threshold={DEFAULT_THRESHOLD}, kernel=wendland, h_over_r=1")
         );
-        d.set_param("threshold", "0.45").unwrap();
-        d.set_param("kernel", "cubic").unwrap();
+        assert_eq!(d.settings(), &MullerParams::default());
+        let params = MullerParams {
+            threshold: 0.45,
+            kernel: Kernel::CubicSpline,
+            h_over_r: 100.0,
+        };
+        let d = MullerDetector::try_new(params.clone()).unwrap();
+        assert_eq!(d.settings(), &params);
         assert_eq!(
-            d,
-            MullerDetector::new(0.45, Kernel::CubicSpline, 1.0).unwrap()
+            d.params().to_string(),
+            "threshold=0.45, kernel=cubic, h_over_r=100"
         );
-        for (key, bad) in [
-            ("threshold", "-1"),
-            ("threshold", "nan"),
-            ("kernel", "poly6"),
-            ("h_over_r", "0"),
-        ] {
-            let err = d.set_param(key, bad).unwrap_err();
-            assert!(err.to_string().contains(bad), "{err}");
-        }
-        assert!(d.set_param("lambda", "1").is_err());
-        assert_eq!(d.threshold(), 0.45);
-    }
-
-    #[test]
-    fn constructor_and_setters_reject_what_set_param_rejects_with_its_messages() {
         for bad in [-1.0, f64::NAN, f64::INFINITY] {
-            let err = MullerDetector::with_threshold(bad).unwrap_err();
-            let via_text = MullerDetector::default()
-                .set_param("threshold", &bad.to_string())
-                .unwrap_err();
-            assert_eq!(err.to_string(), via_text.to_string());
-            assert!(MullerDetector::new(0.4, Kernel::WendlandC2, bad).is_err());
-        }
-        for bad in [0.0, -1.0, 100.5, f64::NAN] {
-            assert!(
-                MullerDetector::new(0.4, Kernel::WendlandC2, bad).is_err(),
-                "{bad}"
+            let err = MullerDetector::try_new(MullerParams {
+                threshold: bad,
+                ..MullerParams::default()
+            })
+            .unwrap_err();
+            assert_eq!(
+                err.to_string(),
+                format!(
+                    "method 'muller': invalid value '{bad}' for 'threshold': must be a number >= 0"
+                )
             );
         }
-        let mut d = MullerDetector::default();
-        assert!(d.set_threshold(f64::NAN).is_err());
-        assert!(d.set_h_over_r(0.0).is_err());
-        assert_eq!(
-            d,
-            MullerDetector::default(),
-            "a failed setter changes nothing"
-        );
-        d.set_threshold(0.3).unwrap();
-        d.set_h_over_r(100.0).unwrap();
-        d.set_kernel(Kernel::CubicSpline);
-        assert_eq!(
-            (d.threshold(), d.kernel(), d.h_over_r()),
-            (0.3, Kernel::CubicSpline, 100.0)
-        );
-        // The text path keeps its messages, naming the value as given.
-        let err = d.set_param("threshold", " nan").unwrap_err().to_string();
-        assert!(
-            err.contains("nan") && err.contains("must be a number >= 0"),
-            "{err}"
-        );
+        for bad in [0.0, -1.0, 100.5, f64::NAN] {
+            let err = MullerDetector::try_new(MullerParams {
+                h_over_r: bad,
+                ..MullerParams::default()
+            })
+            .unwrap_err();
+            assert!(
+                matches!(&err, ParamError::Invalid { key, .. } if key == "h_over_r"),
+                "{err}"
+            );
+        }
     }
 }

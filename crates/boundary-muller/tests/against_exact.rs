@@ -9,7 +9,7 @@
 use boundary_core::decompose::{morton_blocks, slabs};
 use boundary_core::{BoundaryDetector, Confusion, Detection, Labels, ParticleSet, Radius};
 use boundary_exact::ExactDetector;
-use boundary_muller::MullerDetector;
+use boundary_muller::{MullerDetector, MullerParams};
 use boundary_scenes::{jittered_lattice_ball, jittered_lattice_disc, SharedData, SHARED_SCENES};
 use boundary_sph::Kernel;
 
@@ -26,7 +26,7 @@ fn labels<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, r: f64) -> L
 fn check_ball<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, radius: f64, r: f64) {
     let found = labels(d, set, r);
     let exact = labels_exact(set, r);
-    let h = d.h_over_r() * r;
+    let h = d.settings().h_over_r * r;
     for (i, p) in set.positions().iter().enumerate() {
         let depth = radius - p.norm();
         if depth < 0.3 {
@@ -47,7 +47,7 @@ fn check_ball<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, radius: 
 }
 
 fn labels_exact<const D: usize>(set: &ParticleSet<D>, r: f64) -> Labels {
-    ExactDetector
+    ExactDetector::default()
         .detect(&set.to_any(), Radius::new(r).unwrap())
         .unwrap()
         .labels
@@ -60,9 +60,12 @@ fn lattice_balls_have_a_boundary_rim_and_an_interior_core() {
     let (ball, radius) = jittered_lattice_ball(8000, 0.15, 2);
     check_ball(&d, &ball, radius, 1.2);
     // The cubic spline and a larger h behave the same on these.
-    let mut cubic = MullerDetector::default();
-    cubic.set_param("kernel", "cubic").unwrap();
-    cubic.set_param("h_over_r", "1.3").unwrap();
+    let cubic = MullerDetector::try_new(MullerParams {
+        kernel: Kernel::CubicSpline,
+        h_over_r: 1.3,
+        ..MullerParams::default()
+    })
+    .unwrap();
     check_ball(&cubic, &ball, radius, 1.2);
 }
 
@@ -75,10 +78,13 @@ fn the_threshold_orders_the_labels_and_the_margin_is_the_scaled_gradient() {
         .unwrap();
     let mut previous: Option<Labels> = None;
     for t in [0.1, 0.2, 0.3, 0.4, 0.5, 0.6] {
-        let d = MullerDetector::with_threshold(t)
-            .unwrap()
-            .detect_3d(&ball, r)
-            .unwrap();
+        let d = MullerDetector::try_new(MullerParams {
+            threshold: t,
+            ..MullerParams::default()
+        })
+        .unwrap()
+        .detect_3d(&ball, r)
+        .unwrap();
         let margin = d.margin.unwrap();
         for i in 0..ball.len() {
             assert!((margin[i] - (g[i] - t)).abs() < 1e-12);
@@ -175,7 +181,12 @@ fn labels_are_the_same_for_the_scene_scaled_across_the_supported_radius_range() 
     let (ball, _) = jittered_lattice_ball(1500, 0.2, 6);
     for d in [
         MullerDetector::default(),
-        MullerDetector::new(0.3, Kernel::CubicSpline, 1.3).unwrap(),
+        MullerDetector::try_new(MullerParams {
+            threshold: 0.3,
+            kernel: Kernel::CubicSpline,
+            h_over_r: 1.3,
+        })
+        .unwrap(),
     ] {
         check(&disc, 1.2, &d);
         check(&ball, 1.2, &d);

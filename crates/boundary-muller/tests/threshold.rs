@@ -78,7 +78,10 @@ fn magnitudes_and_truth<const D: usize>(set: &ParticleSet<D>, r: f64) -> (Vec<f6
     let g = MullerDetector::default()
         .gradient_magnitudes(set, r)
         .unwrap();
-    let truth = ExactDetector.detect(&set.to_any(), r).unwrap().labels;
+    let truth = ExactDetector::default()
+        .detect(&set.to_any(), r)
+        .unwrap()
+        .labels;
     (g, truth.as_slice().to_vec())
 }
 

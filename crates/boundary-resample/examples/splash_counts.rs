@@ -23,7 +23,10 @@ fn read<const D: usize>(path: &PathBuf) -> ParticleSet<D> {
 
 fn report<const D: usize>(name: &str, set: &ParticleSet<D>, r: f64) {
     let radius = Radius::new(r).unwrap();
-    let labels = ExactDetector.detect(&set.to_any(), radius).unwrap().labels;
+    let labels = ExactDetector::default()
+        .detect(&set.to_any(), radius)
+        .unwrap()
+        .labels;
     let out = resample(set, radius, &labels, &ResampleConfig::default()).unwrap();
     let mut counts = [0usize; 4];
     let mut seen = vec![false; set.len()];

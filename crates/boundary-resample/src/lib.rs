@@ -112,6 +112,7 @@ impl Default for ResampleConfig {
 
 /// Why resampling could not run.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum ResampleError {
     /// Invalid core input.
     #[error(transparent)]

@@ -144,7 +144,7 @@ where
     let r = Radius::new(r).map_err(|e| format!("{name}: {e}"))?;
     let features = particle_features(&set, set.len(), r).map_err(|e| format!("{name}: {e}"))?;
     let any = AnyParticleSet::from(set);
-    let truth = ExactDetector
+    let truth = ExactDetector::default()
         .detect(&any, r)
         .map_err(|e| format!("{name}: {e}"))?
         .labels
@@ -507,7 +507,9 @@ fn timing(dim: usize) -> Result<Timing, String> {
             .collect();
             let tf = t.elapsed().as_secs_f64() / n;
             let t = Instant::now();
-            ExactDetector.detect(set, r).map_err(|e| e.to_string())?;
+            ExactDetector::default()
+                .detect(set, r)
+                .map_err(|e| e.to_string())?;
             let te = t.elapsed().as_secs_f64() / n;
             Ok((tf, te, f))
         };

@@ -20,7 +20,8 @@
 //! scene order on ties); its picture is drawn by [`crate::plots`].
 
 use crate::Row;
-use boundary::{AnyParticleSet, Labels, NeighbourGrid, ParticleSet, Radius};
+use boundary::implement::NeighbourGrid;
+use boundary::{AnyParticleSet, Labels, ParticleSet, Radius};
 use rayon::prelude::*;
 use std::fmt::Write as _;
 
