@@ -67,6 +67,7 @@ use crate::{
     AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, ParticleSet, Point, Radius,
     SolidMesh,
 };
+use crate::{Dim, SupportedDim};
 use std::fmt;
 use std::sync::Arc;
 
@@ -644,7 +645,10 @@ fn extend<const D: usize>(
     walls: Option<&ParticleSet<D>>,
     periodic: &[Periodic],
     reach: f64,
-) -> Result<ParticleSet<D>, DetectError> {
+) -> Result<ParticleSet<D>, DetectError>
+where
+    Dim<D>: SupportedDim,
+{
     let err = |message: String| DetectError::Domain(DomainError::new(message));
     for p in periodic {
         let a = p.axis;
@@ -747,7 +751,10 @@ fn finish<const D: usize>(
     positions: Vec<Point<D>>,
     radii: Vec<f64>,
     with_radii: bool,
-) -> Result<ParticleSet<D>, DetectError> {
+) -> Result<ParticleSet<D>, DetectError>
+where
+    Dim<D>: SupportedDim,
+{
     let out = ParticleSet::new(positions).map_err(DetectError::Core)?;
     if with_radii {
         out.with_radii(radii).map_err(DetectError::Core)

@@ -7,6 +7,7 @@
 use boundary_core::{
     BoundaryDetector, Detection, Domain, HalfSpace, ParticleSet, Point, Radius, Solids,
 };
+use boundary_core::{Dim, SupportedDim};
 use boundary_dilts::{DiltsDetector, DiltsParams};
 use boundary_exact::ExactDetector;
 use boundary_scenes::brute::solid_uncovered_by_enumeration;
@@ -27,7 +28,10 @@ impl Lcg {
 
 /// `counts[0]` × `counts[1]` (× `counts[2]`) particles of spacing 1, each moved by up to
 /// `jitter/2` per axis, the lowest layer at height 0.5 (the floor `y < 0` touches it).
-fn block<const D: usize>(counts: [usize; D], jitter: f64, seed: u64) -> ParticleSet<D> {
+fn block<const D: usize>(counts: [usize; D], jitter: f64, seed: u64) -> ParticleSet<D>
+where
+    Dim<D>: SupportedDim,
+{
     let mut rng = Lcg(seed);
     let total: usize = counts.iter().product();
     let points: Vec<Point<D>> = (0..total)
@@ -105,7 +109,10 @@ fn detect_in<const D: usize>(
     set: &ParticleSet<D>,
     r: f64,
     half_spaces: &[HalfSpace],
-) -> Detection {
+) -> Detection
+where
+    Dim<D>: SupportedDim,
+{
     let domain = half_spaces
         .iter()
         .fold(Domain::new(), |d, &h| d.with_solid(h));
@@ -120,7 +127,10 @@ fn labels<const D: usize>(
     set: &ParticleSet<D>,
     r: f64,
     half_spaces: &[HalfSpace],
-) -> Vec<bool> {
+) -> Vec<bool>
+where
+    Dim<D>: SupportedDim,
+{
     detect_in(detector, set, r, half_spaces).labels.into_vec()
 }
 
@@ -130,7 +140,10 @@ fn check<const D: usize>(
     set: &ParticleSet<D>,
     r: f64,
     half_spaces: &[HalfSpace],
-) -> Vec<bool> {
+) -> Vec<bool>
+where
+    Dim<D>: SupportedDim,
+{
     let dilts = labels(&DiltsDetector::default(), set, r, half_spaces);
     let expected = brute(set, r, half_spaces, D == 3);
     let wrong: Vec<usize> = (0..set.len())

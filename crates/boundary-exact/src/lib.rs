@@ -1130,6 +1130,7 @@ fn cell_margin<const D: usize, C: Clipper<D>>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use boundary_core::{Dim, SupportedDim};
 
     /// The interior certificate on the fast cell answers as the one on the full cell (or
     /// hands over) for every particle of perfect and slightly jittered cubic lattices, at
@@ -1213,7 +1214,10 @@ mod tests {
             .collect()
     }
 
-    fn jittered_lattice<const D: usize>(side: usize, jitter: f64, seed: u64) -> ParticleSet<D> {
+    fn jittered_lattice<const D: usize>(side: usize, jitter: f64, seed: u64) -> ParticleSet<D>
+    where
+        Dim<D>: SupportedDim,
+    {
         let mut state = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
         let mut uniform = move || {
             state ^= state << 13;

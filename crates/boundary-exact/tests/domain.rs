@@ -7,6 +7,7 @@
 use boundary_core::{
     AnyParticleSet, BoundaryDetector, Domain, HalfSpace, ParticleSet, Periodic, Point, Radius,
 };
+use boundary_core::{Dim, SupportedDim};
 use boundary_exact::ExactDetector;
 use boundary_scenes::brute::solid_uncovered_by_enumeration;
 
@@ -81,7 +82,10 @@ where
 
 /// A jittered block of `nx` × `ny` (× `nz`) particles of spacing 1, resting at height 0.5 on
 /// the floor `y = 0`: some particles pushed into the floor by the jitter.
-fn block<const D: usize>(counts: [usize; D], jitter: f64, seed: u64) -> ParticleSet<D> {
+fn block<const D: usize>(counts: [usize; D], jitter: f64, seed: u64) -> ParticleSet<D>
+where
+    Dim<D>: SupportedDim,
+{
     let mut rng = Lcg(seed);
     let total: usize = counts.iter().product();
     let mut points = Vec::with_capacity(total);

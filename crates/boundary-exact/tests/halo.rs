@@ -3,13 +3,17 @@
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
+use boundary_core::{Dim, SupportedDim};
 use boundary_scenes::shared_set;
 
 use boundary_core::decompose::{morton_blocks, rcb, slabs, Subdomain};
 use boundary_core::{BoundaryDetector, ParticleSet, Radius};
 use boundary_exact::ExactDetector;
 
-fn check<const D: usize>(set: &ParticleSet<D>, r: f64) {
+fn check<const D: usize>(set: &ParticleSet<D>, r: f64)
+where
+    Dim<D>: SupportedDim,
+{
     let radius = Radius::new(r).unwrap();
     let global = ExactDetector::default()
         .detect(&set.to_any(), radius)

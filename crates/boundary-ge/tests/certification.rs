@@ -36,7 +36,7 @@ fn every_scene_and_hard_case_depth_1_to_8() {
                 .labels
         },
         |case, depth| {
-            GeDetector::try_new(GeParams { depth: depth })
+            GeDetector::try_new(GeParams { depth })
                 .unwrap()
                 .detect(&case.set, radius(case))
                 .unwrap()
@@ -128,7 +128,7 @@ proptest! {
         let set = ParticleSet::from_rows(&pts).unwrap().to_any();
         let radius = Radius::new(r).unwrap();
         let exact = ExactDetector::default().detect(&set, radius).unwrap().labels;
-        let ge = GeDetector::try_new(GeParams { depth: depth }).unwrap().detect(&set, radius).unwrap().labels;
+        let ge = GeDetector::try_new(GeParams { depth }).unwrap().detect(&set, radius).unwrap().labels;
         for i in 0..pts.len() {
             prop_assert!(!exact.is_boundary(i) || ge.is_boundary(i), "particle {}", i);
         }
@@ -143,7 +143,7 @@ proptest! {
         let set = ParticleSet::from_rows(&pts).unwrap().to_any();
         let radius = Radius::new(r).unwrap();
         let exact = ExactDetector::default().detect(&set, radius).unwrap().labels;
-        let ge = GeDetector::try_new(GeParams { depth: depth }).unwrap().detect(&set, radius).unwrap().labels;
+        let ge = GeDetector::try_new(GeParams { depth }).unwrap().detect(&set, radius).unwrap().labels;
         for i in 0..pts.len() {
             prop_assert!(!exact.is_boundary(i) || ge.is_boundary(i), "particle {}", i);
         }

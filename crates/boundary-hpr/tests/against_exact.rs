@@ -11,6 +11,7 @@ use boundary_core::decompose::{morton_blocks, slabs};
 use boundary_core::{
     AnyParticleSet, BoundaryDetector, Confusion, Labels, ParticleSet, Point, Radius,
 };
+use boundary_core::{Dim, SupportedDim};
 use boundary_exact::ExactDetector;
 use boundary_hpr::{Grids, HprDetector, HprParams};
 use boundary_scenes::{
@@ -35,7 +36,10 @@ fn confusion(found: &Labels, truth: &Labels) -> Confusion {
 
 /// The rim (depth < 0.3 spacings) is all boundary, nothing deeper than `4r + 1` is, and the
 /// exact boundary is found with Rec >= `min_recall`.
-fn check_ball<const D: usize>(set: &ParticleSet<D>, radius: f64, r: f64, min_recall: f64) {
+fn check_ball<const D: usize>(set: &ParticleSet<D>, radius: f64, r: f64, min_recall: f64)
+where
+    Dim<D>: SupportedDim,
+{
     let d = HprDetector::default();
     let any = set.to_any();
     let found = labels(&d, &any, r);

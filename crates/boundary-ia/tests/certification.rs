@@ -37,7 +37,7 @@ fn every_scene_and_hard_case_depth_1_to_8() {
                 .labels
         },
         |case, depth| {
-            IaDetector::try_new(IaParams { depth: depth })
+            IaDetector::try_new(IaParams { depth })
                 .unwrap()
                 .detect(&case.set, radius(case))
                 .unwrap()
@@ -104,7 +104,7 @@ proptest! {
         let set = ParticleSet::from_rows(&pts).unwrap().to_any();
         let radius = Radius::new(r).unwrap();
         let exact = ExactDetector::default().detect(&set, radius).unwrap().labels;
-        let ia = IaDetector::try_new(IaParams { depth: depth }).unwrap().detect(&set, radius).unwrap().labels;
+        let ia = IaDetector::try_new(IaParams { depth }).unwrap().detect(&set, radius).unwrap().labels;
         for i in 0..pts.len() {
             prop_assert!(!exact.is_boundary(i) || ia.is_boundary(i), "particle {}", i);
         }

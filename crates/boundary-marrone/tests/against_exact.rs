@@ -7,6 +7,7 @@
 
 use boundary_core::decompose::{morton_blocks, slabs};
 use boundary_core::{BoundaryDetector, Confusion, Labels, ParticleSet, Radius};
+use boundary_core::{Dim, SupportedDim};
 use boundary_exact::ExactDetector;
 use boundary_marrone::{MarroneDetector, MarroneParams};
 use boundary_scenes::{jittered_lattice_ball, jittered_lattice_disc, SharedData, SHARED_SCENES};
@@ -16,7 +17,10 @@ fn with(params: MarroneParams) -> MarroneDetector {
     MarroneDetector::try_new(params).unwrap()
 }
 
-fn labels<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, r: f64) -> Labels {
+fn labels<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, r: f64) -> Labels
+where
+    Dim<D>: SupportedDim,
+{
     d.detect(&set.to_any(), Radius::new(r).unwrap())
         .unwrap()
         .labels
@@ -25,7 +29,10 @@ fn labels<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, r: f64) -> 
 /// The outermost particles (within 0.3 spacings of the rim) are all boundary, the particles
 /// deeper than one kernel support plus a spacing are all interior, and the exact boundary is
 /// found with Rec >= 0.95.
-fn check_ball<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, radius: f64, r: f64) {
+fn check_ball<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, radius: f64, r: f64)
+where
+    Dim<D>: SupportedDim,
+{
     let found = labels(d, set, r);
     let exact = labels_exact(set, r);
     let h = d.settings().h_over_r * r;
@@ -48,7 +55,10 @@ fn check_ball<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, radius:
     assert!(c.recall() >= 0.95, "{D}D: {c:?}");
 }
 
-fn labels_exact<const D: usize>(set: &ParticleSet<D>, r: f64) -> Labels {
+fn labels_exact<const D: usize>(set: &ParticleSet<D>, r: f64) -> Labels
+where
+    Dim<D>: SupportedDim,
+{
     ExactDetector::default()
         .detect(&set.to_any(), Radius::new(r).unwrap())
         .unwrap()
@@ -162,7 +172,10 @@ fn shared_scenes_keep_m_at_or_above_the_recorded_floors() {
 /// kernel's h^-D made every volume 0 or infinite at r = 1e150 in 3D).
 #[test]
 fn labels_are_the_same_for_the_scene_scaled_across_the_supported_radius_range() {
-    fn check<const D: usize>(set: &ParticleSet<D>, r: f64, d: &MarroneDetector) {
+    fn check<const D: usize>(set: &ParticleSet<D>, r: f64, d: &MarroneDetector)
+    where
+        Dim<D>: SupportedDim,
+    {
         let base = labels(d, set, r);
         let lambdas = d.lambdas(set, Radius::new(r).unwrap()).unwrap();
         for s in [1e-100, 1e-9, 1e-3, 0.37, 1e3, 1e9, 8e99] {

@@ -24,6 +24,7 @@
 
 use boundary::implement::NeighbourGrid;
 use boundary::{CoreError, ParticleSet, Point};
+use boundary::{Dim, SupportedDim};
 
 /// Relative slack on `w²` when choosing the strip sent to another rank. The strip only has to
 /// be a superset of the ghosts (the receiver keeps exactly those within `w`), and the box
@@ -79,7 +80,10 @@ pub fn keep_ghosts<const D: usize>(
     owned: &[Point<D>],
     candidates: &[Point<D>],
     w: f64,
-) -> Result<Vec<usize>, CoreError> {
+) -> Result<Vec<usize>, CoreError>
+where
+    Dim<D>: SupportedDim,
+{
     if owned.is_empty() || candidates.is_empty() {
         return Ok(Vec::new());
     }

@@ -24,6 +24,7 @@
 //! Errors that one rank meets are agreed on collectively (every rank stops at the same point);
 //! the rank that met it prints it.
 
+use boundary::{Dim, SupportedDim};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -380,6 +381,7 @@ impl Run<'_> {
     ) -> Result<(), Failure>
     where
         AnyParticleSet: From<ParticleSet<D>>,
+        Dim<D>: SupportedDim,
     {
         let world = self.world;
         let size = world.size() as usize;
@@ -559,7 +561,10 @@ impl Run<'_> {
         owned_index: &[u64],
         w: f64,
         stats: &mut Stats,
-    ) -> Result<(Vec<Point<D>>, Vec<u64>), Failure> {
+    ) -> Result<(Vec<Point<D>>, Vec<u64>), Failure>
+    where
+        Dim<D>: SupportedDim,
+    {
         let world = self.world;
         let size = world.size() as usize;
         let me = world.rank() as usize;
@@ -638,7 +643,10 @@ impl Run<'_> {
         labels: &[u8],
         with_positions: bool,
         n: usize,
-    ) -> Result<Option<(Vec<u8>, Option<ParticleSet<D>>)>, Failure> {
+    ) -> Result<Option<(Vec<u8>, Option<ParticleSet<D>>)>, Failure>
+    where
+        Dim<D>: SupportedDim,
+    {
         let world = self.world;
         let size = world.size() as usize;
         let root = world.process_at_rank(0);

@@ -8,12 +8,16 @@
 
 use boundary_core::decompose::{morton_blocks, slabs};
 use boundary_core::{BoundaryDetector, Confusion, Detection, Labels, ParticleSet, Radius};
+use boundary_core::{Dim, SupportedDim};
 use boundary_exact::ExactDetector;
 use boundary_muller::{MullerDetector, MullerParams};
 use boundary_scenes::{jittered_lattice_ball, jittered_lattice_disc, SharedData, SHARED_SCENES};
 use boundary_sph::Kernel;
 
-fn labels<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, r: f64) -> Labels {
+fn labels<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, r: f64) -> Labels
+where
+    Dim<D>: SupportedDim,
+{
     d.detect(&set.to_any(), Radius::new(r).unwrap())
         .unwrap()
         .labels
@@ -23,7 +27,10 @@ fn labels<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, r: f64) -> L
 /// deeper than one kernel support plus a spacing are all interior, and the exact boundary is
 /// found with Rec >= 0.85 (the colour field misses some exact-boundary particles just below
 /// the rim: Rec is 0.87 on the 2D disc).
-fn check_ball<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, radius: f64, r: f64) {
+fn check_ball<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, radius: f64, r: f64)
+where
+    Dim<D>: SupportedDim,
+{
     let found = labels(d, set, r);
     let exact = labels_exact(set, r);
     let h = d.settings().h_over_r * r;
@@ -46,7 +53,10 @@ fn check_ball<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, radius: 
     assert!(c.recall() >= 0.85, "{D}D: {c:?}");
 }
 
-fn labels_exact<const D: usize>(set: &ParticleSet<D>, r: f64) -> Labels {
+fn labels_exact<const D: usize>(set: &ParticleSet<D>, r: f64) -> Labels
+where
+    Dim<D>: SupportedDim,
+{
     ExactDetector::default()
         .detect(&set.to_any(), Radius::new(r).unwrap())
         .unwrap()
@@ -153,7 +163,10 @@ fn shared_scenes_keep_m_at_or_above_the_recorded_floors() {
     }
 }
 
-fn detection<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, r: f64) -> Detection {
+fn detection<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, r: f64) -> Detection
+where
+    Dim<D>: SupportedDim,
+{
     d.detect(&set.to_any(), Radius::new(r).unwrap()).unwrap()
 }
 
@@ -162,7 +175,10 @@ fn detection<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, r: f64) -
 /// the kernel's h^-D made every volume 0 or infinite at r = 1e150 in 3D).
 #[test]
 fn labels_are_the_same_for_the_scene_scaled_across_the_supported_radius_range() {
-    fn check<const D: usize>(set: &ParticleSet<D>, r: f64, d: &MullerDetector) {
+    fn check<const D: usize>(set: &ParticleSet<D>, r: f64, d: &MullerDetector)
+    where
+        Dim<D>: SupportedDim,
+    {
         let base = detection(d, set, r);
         let base_margin = base.margin.unwrap();
         for s in [1e-100, 1e-9, 1e-3, 0.37, 1e3, 1e9, 8e99] {

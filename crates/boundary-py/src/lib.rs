@@ -41,6 +41,7 @@ use boundary::{
     Confusion, Detection, Domain, DomainDetection, Flatness, HalfSpace, Labels, ParticleSet,
     Periodic, Point, Radius,
 };
+use boundary::{Dim, SupportedDim};
 use boundary_io::{AttributeValues, Column, Format, IoError, ReadOptions};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::{
@@ -128,7 +129,10 @@ fn shape_text(shape: &[usize]) -> String {
 /// The validated particle set of `flat` (`dim` coordinates per particle): one pass over the
 /// buffer, errors naming the particle (`particle 3: coordinate 0 is not finite (NaN)`).
 fn particle_set(dim: usize, flat: &[f64]) -> PyResult<AnyParticleSet> {
-    fn build<const D: usize>(flat: &[f64]) -> Result<ParticleSet<D>, boundary::CoreError> {
+    fn build<const D: usize>(flat: &[f64]) -> Result<ParticleSet<D>, boundary::CoreError>
+    where
+        Dim<D>: SupportedDim,
+    {
         ParticleSet::new(
             flat.chunks_exact(D)
                 .map(Point::<D>::from_column_slice)

@@ -33,6 +33,7 @@
 mod generate;
 
 use boundary_core::{AnyParticleSet, BoundaryDetector, Confusion, ParticleSet, Point, Radius};
+use boundary_core::{Dim, SupportedDim};
 use boundary_exact::ExactDetector;
 use boundary_marrone::MarroneDetector;
 use boundary_scenes::data_dir;
@@ -172,6 +173,7 @@ where
 fn generated_frames<const D: usize>() -> Result<Vec<Frame>, String>
 where
     AnyParticleSet: From<ParticleSet<D>>,
+    Dim<D>: SupportedDim,
 {
     let mut frames = vec![];
     for scene in generate::scenes::<D>(SEED + D as u64) {
@@ -573,6 +575,7 @@ fn run_dim<const D: usize>(
 ) -> Result<(), String>
 where
     AnyParticleSet: From<ParticleSet<D>>,
+    Dim<D>: SupportedDim,
 {
     let dim = D;
     let t = Instant::now();

@@ -242,6 +242,7 @@ use boundary_core::{
     AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, ParamError, ParamInfo,
     Params, ParticleSet, Radius,
 };
+use boundary_core::{Dim, SupportedDim};
 use boundary_exact::ExactDetector;
 use boundary_ge::GeDetector;
 use std::sync::{Arc, OnceLock};
@@ -402,6 +403,7 @@ impl SvmDetector {
     ) -> Result<Vec<f64>, DetectError>
     where
         AnyParticleSet: From<ParticleSet<D>>,
+        Dim<D>: SupportedDim,
     {
         let model = self.model_for(D)?.packed();
         // Each particle's decision right after its features (the features are not kept).
@@ -433,6 +435,7 @@ impl SvmDetector {
     ) -> Result<Detection, DetectError>
     where
         AnyParticleSet: From<ParticleSet<D>>,
+        Dim<D>: SupportedDim,
     {
         let decisions = self.decisions(set, count, r)?;
         let labels: Vec<bool> = decisions.iter().map(|&d| d >= 0.0).collect();
@@ -466,6 +469,7 @@ fn refine_candidates<const D: usize>(
 ) -> Result<Vec<bool>, DetectError>
 where
     AnyParticleSet: From<ParticleSet<D>>,
+    Dim<D>: SupportedDim,
 {
     let positions = set.positions();
     let mut order: Vec<usize> = (0..candidates.len()).filter(|&i| candidates[i]).collect();

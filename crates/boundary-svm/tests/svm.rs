@@ -3,6 +3,7 @@
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
 use boundary_core::{AnyParticleSet, BoundaryDetector, Confusion, ParticleSet, Point, Radius};
+use boundary_core::{Dim, SupportedDim};
 use boundary_exact::ExactDetector;
 use boundary_scenes::certify::ulps;
 use boundary_scenes::{jittered_lattice_ball, jittered_lattice_disc, shared_set};
@@ -19,7 +20,10 @@ fn with_refine(refine: Refine) -> SvmDetector {
     .unwrap()
 }
 
-fn scaled<const D: usize>(set: &ParticleSet<D>, factor: f64) -> ParticleSet<D> {
+fn scaled<const D: usize>(set: &ParticleSet<D>, factor: f64) -> ParticleSet<D>
+where
+    Dim<D>: SupportedDim,
+{
     ParticleSet::new(set.positions().iter().map(|p| p * factor).collect()).unwrap()
 }
 
@@ -31,7 +35,10 @@ fn score(predicted: &[bool], truth: &[bool]) -> Confusion {
 /// 1e-12 absolute for the features that are zero): only rounding differs.
 #[test]
 fn features_are_scale_free() {
-    fn check<const D: usize>(set: &ParticleSet<D>, r: f64) {
+    fn check<const D: usize>(set: &ParticleSet<D>, r: f64)
+    where
+        Dim<D>: SupportedDim,
+    {
         let base = compute_features(set, set.len(), Radius::new(r).unwrap()).unwrap();
         for k in [-7, -1, 3, 12] {
             let factor = 2f64.powi(k);
@@ -286,6 +293,7 @@ fn quoted_held_out_scores_are_reproduced() {
     fn confusion<const D: usize>(file: &str, r: f64) -> Option<[u64; 4]>
     where
         AnyParticleSet: From<ParticleSet<D>>,
+        Dim<D>: SupportedDim,
     {
         let set = shared_set::<D>(file).unwrap()?;
         let r = Radius::new(r).unwrap();

@@ -58,9 +58,9 @@ pub use registry::{
 
 pub use boundary_core::{
     median_nearest_neighbour_distance, AnyParticleSet, BoundaryDetector, Confusion, CoreError,
-    DetectError, Detection, Domain, DomainDetection, DomainError, Flatness, HalfSpace, Labels,
+    DetectError, Detection, Dim, Domain, DomainDetection, DomainError, Flatness, HalfSpace, Labels,
     MeshError, ParamError, ParamInfo, Params, ParticleSet, Periodic, Point, Radius, SolidMesh,
-    Solids,
+    Solids, SupportedDim,
 };
 
 /// Re-export of the linear-algebra crate used in public signatures ([`Point`]).

@@ -20,6 +20,7 @@ use boundary::{
     detector_by_name, methods, AnyParticleSet, BoundaryDetector, Detection, Labels, ParticleSet,
     Radius,
 };
+use boundary::{Dim, SupportedDim};
 use boundary_scenes::certify::{hard_cases, jittered_lattice, Case};
 use boundary_scenes::{cubic_lattice, square_lattice};
 use proptest::prelude::*;
@@ -39,6 +40,7 @@ fn certified() -> Vec<&'static str> {
 fn set_of<const D: usize>(rows: &[[f64; D]]) -> AnyParticleSet
 where
     ParticleSet<D>: Into<AnyParticleSet>,
+    Dim<D>: SupportedDim,
 {
     ParticleSet::from_rows(rows).unwrap().into()
 }
@@ -46,6 +48,7 @@ where
 fn case<const D: usize>(name: impl Into<String>, rows: &[[f64; D]], radius: f64) -> Case
 where
     ParticleSet<D>: Into<AnyParticleSet>,
+    Dim<D>: SupportedDim,
 {
     Case {
         name: name.into(),
@@ -279,6 +282,7 @@ fn every_method_gives_the_same_labels_across_the_supported_radius_range() {
     fn check<const D: usize>(rows: &[[f64; D]], r: f64)
     where
         ParticleSet<D>: Into<AnyParticleSet>,
+        Dim<D>: SupportedDim,
     {
         for method in methods() {
             let base = run(method, &set_of(rows), r).labels;
@@ -397,7 +401,10 @@ where
 {
     /// Checks `method` under each exact transformation; `Err` names the first that changes a
     /// label.
-    fn check(&self, method: &str) -> Result<(), String> {
+    fn check(&self, method: &str) -> Result<(), String>
+    where
+        Dim<D>: SupportedDim,
+    {
         let base = run(method, &set_of(&self.rows), self.r).labels;
         let compare = |what: &str, labels: Labels| {
             if labels == base {

@@ -12,6 +12,7 @@ use boundary::{
     detector_by_name, detector_with_params, AnyParticleSet, BoundaryDetector, DiltsDetector,
     DiltsParams, ExactDetector, ExactParams, ParticleSet, Point, Radius,
 };
+use boundary::{Dim, SupportedDim};
 use boundary_scenes::brute::{lattice_labels_near_tie, uncovered_by_enumeration};
 use boundary_scenes::certify::{near_tie_radii as near, ulps};
 use boundary_scenes::{cubic_lattice, square_lattice};
@@ -151,6 +152,7 @@ fn check_random_near_cospherical<const D: usize>(
 ) -> usize
 where
     ParticleSet<D>: Into<AnyParticleSet>,
+    Dim<D>: SupportedDim,
 {
     let mut rng = StdRng::seed_from_u64(20 + D as u64);
     let tie = if D == 2 {
@@ -247,6 +249,7 @@ fn agree_with_the_exact_predicate<const D: usize>(
 ) -> usize
 where
     ParticleSet<D>: Into<AnyParticleSet>,
+    Dim<D>: SupportedDim,
 {
     let set: AnyParticleSet = ParticleSet::from_rows(rows).unwrap().into();
     let radius = Radius::new(r).unwrap();
