@@ -304,11 +304,6 @@ impl SphMethod for AsymmetryDetector {
         list.extend(self.smoothing().param_infos());
         Params(list)
     }
-
-    fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        self.params = text_params::with(&self.params, key, value)?;
-        Ok(())
-    }
 }
 
 boundary_sph::impl_sph_detector!(AsymmetryDetector);
@@ -350,6 +345,17 @@ mod text_params {
     }
 }
 
+impl AsymmetryDetector {
+    /// Sets a parameter from its `key=value` text, as the registry of the `boundary` crate
+    /// (the command line's `--set`, the bindings' keyword arguments) gives it; on error
+    /// `self` is unchanged.
+    #[doc(hidden)]
+    pub fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        self.params = text_params::with(&self.params, key, value)?;
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 mod tests {
@@ -366,9 +372,9 @@ mod tests {
                  kernel=wendland, h_over_r=1"
             )
         );
-        d.set_param("threshold", "0.4").unwrap();
-        d.set_param("kernel", "cubic").unwrap();
-        d.set_param("density_ratio", "0").unwrap();
+        d.set_param_text("threshold", "0.4").unwrap();
+        d.set_param_text("kernel", "cubic").unwrap();
+        d.set_param_text("density_ratio", "0").unwrap();
         let typed = AsymmetryDetector::try_new(AsymmetryParams {
             threshold: 0.4,
             density_ratio: 0.0,
@@ -387,12 +393,12 @@ mod tests {
             ("h_over_r", "0"),
             ("h_over_r", "inf"),
         ] {
-            let err = d.set_param(key, bad).unwrap_err();
+            let err = d.set_param_text(key, bad).unwrap_err();
             assert!(err.to_string().contains(bad), "{err}");
         }
         assert_eq!(d, typed, "a failed set_param changes nothing");
         assert!(d
-            .set_param("depth", "3")
+            .set_param_text("depth", "3")
             .unwrap_err()
             .to_string()
             .contains("threshold"));

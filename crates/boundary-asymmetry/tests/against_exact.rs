@@ -10,14 +10,20 @@ use boundary_exact::ExactDetector;
 use boundary_scenes::{jittered_lattice_ball, jittered_lattice_disc};
 use boundary_sph::Kernel;
 
-fn labels<const D: usize>(d: &AsymmetryDetector, set: &ParticleSet<D>, r: f64) -> Labels {
+fn labels<const D: usize>(d: &AsymmetryDetector, set: &ParticleSet<D>, r: f64) -> Labels
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     d.detect(&set.to_any(), Radius::new(r).unwrap())
         .unwrap()
         .labels
 }
 
-fn score<const D: usize>(d: &AsymmetryDetector, set: &ParticleSet<D>, r: f64) -> Confusion {
-    let truth = ExactDetector
+fn score<const D: usize>(d: &AsymmetryDetector, set: &ParticleSet<D>, r: f64) -> Confusion
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
+    let truth = ExactDetector::default()
         .detect(&set.to_any(), Radius::new(r).unwrap())
         .unwrap()
         .labels;

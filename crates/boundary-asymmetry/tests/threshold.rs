@@ -22,10 +22,16 @@ fn thresholds() -> Vec<f64> {
 }
 
 /// M for every (ratio, threshold) pair, ratio-major.
-fn m_grid<const D: usize>(set: &ParticleSet<D>, r: f64) -> Vec<f64> {
+fn m_grid<const D: usize>(set: &ParticleSet<D>, r: f64) -> Vec<f64>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     let r = Radius::new(r).unwrap();
     let values: Vec<AsymmetryValue> = AsymmetryDetector::default().values(set, r).unwrap();
-    let truth = ExactDetector.detect(&set.to_any(), r).unwrap().labels;
+    let truth = ExactDetector::default()
+        .detect(&set.to_any(), r)
+        .unwrap()
+        .labels;
     let mut out = Vec::new();
     for ratio in RATIOS {
         for t in thresholds() {

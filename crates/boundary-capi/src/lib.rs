@@ -61,6 +61,7 @@ use boundary::{
     detector_with_params, parse_param_list, AnyParticleSet, BoundaryDetector, DetectError,
     Detection, Domain, Flatness, HalfSpace, Labels, ParticleSet, Periodic, Point, Radius,
 };
+use boundary::{Dim, SupportedDim};
 use std::ffi::{c_char, c_int, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::{Arc, Mutex};
@@ -239,7 +240,8 @@ unsafe fn make_detector(
     detector_with_params(method, &params).map_err(|e| {
         let code = match e {
             boundary::RegistryError::UnknownMethod { .. } => BOUNDARY_ERR_METHOD,
-            boundary::RegistryError::Param(_) => BOUNDARY_ERR_PARAM,
+            // A parameter error, or a kind of error added later: the parameters are at fault.
+            _ => BOUNDARY_ERR_PARAM,
         };
         Failure::new(code, e.to_string())
     })
@@ -288,7 +290,10 @@ unsafe fn particle_set(
         // the caller's contract; only read while this call runs.
         unsafe { std::slice::from_raw_parts(xyz, len) }
     };
-    fn build<const D: usize>(coords: &[f64]) -> Result<ParticleSet<D>, boundary::CoreError> {
+    fn build<const D: usize>(coords: &[f64]) -> Result<ParticleSet<D>, boundary::CoreError>
+    where
+        Dim<D>: SupportedDim,
+    {
         ParticleSet::new(
             coords
                 .chunks_exact(D)

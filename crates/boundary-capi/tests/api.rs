@@ -9,7 +9,7 @@
     clippy::multiple_unsafe_ops_per_block
 )]
 
-use boundary::{detector_by_name, methods, Radius};
+use boundary::{detector_by_name, methods, BoundaryDetector, Radius};
 use boundary_capi::*;
 use boundary_scenes::{shared_set, SHARED_SCENES};
 use std::ffi::{c_char, CStr, CString};
@@ -105,8 +105,11 @@ fn a_handle_is_reused_across_steps_with_its_params_and_margin() {
         )
     };
     assert!(!handle.is_null(), "{}", message(&err));
-    let mut muller = boundary::detector_by_name("muller").expect("muller");
-    muller.set_param("threshold", "0.3").expect("threshold 0.3");
+    let muller = boundary::MullerDetector::try_new(boundary::MullerParams {
+        threshold: 0.3,
+        ..Default::default()
+    })
+    .expect("threshold 0.3");
     let expected = muller
         .detect(&set, Radius::new(r).expect("r"))
         .expect("detects");

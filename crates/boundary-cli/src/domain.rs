@@ -8,6 +8,7 @@ use crate::error::CliError;
 use boundary::{
     AnyParticleSet, CoreError, Domain, HalfSpace, ParticleSet, Periodic, Point, SolidMesh,
 };
+use boundary::{Dim, SupportedDim};
 use boundary_io::{read_mesh, AttributeValues, Format, ParticleFile, ReadOptions};
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -406,7 +407,10 @@ fn subset(set: &AnyParticleSet, rows: &[usize]) -> AnyParticleSet {
 
 /// The particles of `parts` one after the other; radii where any part has them (factor 1
 /// for the particles of a part without).
-fn join<const D: usize>(parts: &[&ParticleSet<D>]) -> Result<ParticleSet<D>, CoreError> {
+fn join<const D: usize>(parts: &[&ParticleSet<D>]) -> Result<ParticleSet<D>, CoreError>
+where
+    Dim<D>: SupportedDim,
+{
     let positions: Vec<Point<D>> = parts
         .iter()
         .flat_map(|p| p.positions().iter().copied())

@@ -6,6 +6,7 @@ use thiserror::Error;
 
 /// Why a subcommand failed.
 #[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum CliError {
     /// Reading or writing a particle file (the message names the file and the line or element).
     #[error(transparent)]

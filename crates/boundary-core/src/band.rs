@@ -80,7 +80,10 @@ mod tests {
             .collect()
     }
 
-    fn random<const D: usize>(n: usize, seed: u64) -> (ParticleSet<D>, Labels) {
+    fn random<const D: usize>(n: usize, seed: u64) -> (ParticleSet<D>, Labels)
+    where
+        crate::Dim<D>: crate::SupportedDim,
+    {
         let mut rng = StdRng::seed_from_u64(seed);
         let rows: Vec<[f64; D]> = (0..n)
             .map(|_| std::array::from_fn(|_| rng.gen_range(-5.0..5.0)))

@@ -84,9 +84,11 @@ pub struct Detection {
 /// Description of one detector parameter, with its current value.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ParamInfo {
-    /// The key used with `--set KEY=VALUE` and [`BoundaryDetector::set_param`].
+    /// The key of the string form (`--set KEY=VALUE` on the command line, the `params` of
+    /// the bindings, `boundary::registry`); each method's typed parameter struct documents
+    /// its fields.
     pub name: &'static str,
-    /// The current value, formatted so that `set_param` accepts it back.
+    /// The current value, formatted so that the string form accepts it back.
     pub value: String,
     /// The default value.
     pub default: String,
@@ -110,8 +112,10 @@ impl fmt::Display for Params {
     }
 }
 
-/// A rejected parameter.
+/// A rejected parameter: a typed parameter struct that a detector's `try_new` refuses, or a
+/// `key=value` pair the registry cannot apply.
 #[derive(Debug, Error, Clone, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum ParamError {
     /// The detector has no parameter of that name.
     #[error("method '{method}' has no parameter '{key}' (parameters: {known})")]
@@ -123,7 +127,8 @@ pub enum ParamError {
         /// The keys the method knows, comma-separated (or "none").
         known: String,
     },
-    /// The value does not parse or is out of range.
+    /// The value does not parse or is out of range. `key` is the parameter's key (its
+    /// field name in the typed struct, or its `--set` key where they differ, as documented).
     #[error("method '{method}': invalid value '{value}' for '{key}': {reason}")]
     Invalid {
         /// Method name.
@@ -169,6 +174,7 @@ impl ParamError {
 
 /// Why a detection could not run.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum DetectError {
     /// Invalid core input (radius, grid).
     #[error(transparent)]
@@ -290,11 +296,10 @@ pub trait BoundaryDetector: Send + Sync + fmt::Debug {
     /// The method's name in the registry and on the command line (`exact`, `ia`, …).
     fn name(&self) -> &'static str;
 
-    /// The parameters with their current values and defaults.
+    /// The parameters with their current values and defaults, as `key=value` text for
+    /// reports and labels (read-only: a detector's parameters are set through its typed
+    /// parameter struct, or by name through the facade's registry).
     fn params(&self) -> Params;
-
-    /// Sets a parameter from its textual value (as given by `--set KEY=VALUE`).
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError>;
 
     /// Whether the method promises no false negatives (Rec = 1 against the exact labels).
     fn certified(&self) -> bool {
@@ -476,9 +481,6 @@ mod tests {
                     description: "",
                 }]
             })
-        }
-        fn set_param(&mut self, key: &str, _value: &str) -> Result<(), ParamError> {
-            Err(ParamError::unknown("knob", key, &[]))
         }
         fn detect_2d(&self, set: &ParticleSet<2>, _r: Radius) -> Result<Detection, DetectError> {
             Ok(Detection {

@@ -42,12 +42,11 @@
 //!
 //! ```
 //! use boundary_core::{AnyParticleSet, Domain, HalfSpace, ParticleSet, Radius};
-//! # use boundary_core::{BoundaryDetector, Detection, DetectError, Labels, ParamError, Params, Solids};
+//! # use boundary_core::{BoundaryDetector, Detection, DetectError, Labels, Params};
 //! # #[derive(Debug)] struct Lonely;
 //! # impl BoundaryDetector for Lonely {
 //! #     fn name(&self) -> &'static str { "lonely" }
 //! #     fn params(&self) -> Params { Params::default() }
-//! #     fn set_param(&mut self, k: &str, _: &str) -> Result<(), ParamError> { Err(ParamError::unknown("lonely", k, &[])) }
 //! #     fn detect_2d(&self, s: &ParticleSet<2>, _: Radius) -> Result<Detection, DetectError> { Ok(Detection { labels: Labels::new(vec![true; s.len()]), margin: None }) }
 //! #     fn detect_3d(&self, s: &ParticleSet<3>, _: Radius) -> Result<Detection, DetectError> { Ok(Detection { labels: Labels::new(vec![true; s.len()]), margin: None }) }
 //! # }
@@ -68,6 +67,7 @@ use crate::{
     AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, ParticleSet, Point, Radius,
     SolidMesh,
 };
+use crate::{Dim, SupportedDim};
 use std::fmt;
 use std::sync::Arc;
 
@@ -647,7 +647,10 @@ fn extend<const D: usize>(
     walls: Option<&ParticleSet<D>>,
     periodic: &[Periodic],
     reach: f64,
-) -> Result<ParticleSet<D>, DetectError> {
+) -> Result<ParticleSet<D>, DetectError>
+where
+    Dim<D>: SupportedDim,
+{
     let err = |message: String| DetectError::Domain(DomainError::new(message));
     for p in periodic {
         let a = p.axis;
@@ -750,7 +753,10 @@ fn finish<const D: usize>(
     positions: Vec<Point<D>>,
     radii: Vec<f64>,
     with_radii: bool,
-) -> Result<ParticleSet<D>, DetectError> {
+) -> Result<ParticleSet<D>, DetectError>
+where
+    Dim<D>: SupportedDim,
+{
     let out = ParticleSet::new(positions).map_err(DetectError::Core)?;
     if with_radii {
         out.with_radii(radii).map_err(DetectError::Core)

@@ -2,6 +2,7 @@ use thiserror::Error;
 
 /// Errors raised while building core values from user input.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum CoreError {
     /// A coordinate is NaN or infinite.
     #[error("particle {index}: coordinate {axis} is not finite ({value})")]

@@ -442,6 +442,7 @@ fn advance<const D: usize>(c: &mut [i64; D], lo: &[i64; D], hi: &[i64; D], from:
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{Dim, SupportedDim};
     use rand::{Rng, SeedableRng};
 
     fn brute<const D: usize>(set: &ParticleSet<D>, q: &Point<D>, radius: f64) -> Vec<usize> {
@@ -467,7 +468,10 @@ mod tests {
         n: usize,
         scale: f64,
         offset: f64,
-    ) -> ParticleSet<D> {
+    ) -> ParticleSet<D>
+    where
+        Dim<D>: SupportedDim,
+    {
         let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
         ParticleSet::new(
             (0..n)

@@ -66,7 +66,7 @@ pub use domain::{Domain, DomainDetection, DomainError, HalfSpace, Periodic, Soli
 pub use error::CoreError;
 pub use grid::{NeighbourGrid, Neighbourhood};
 pub use metrics::Confusion;
-pub use particles::{AnyParticleSet, Flatness, ParticleSet, Point, Radius};
+pub use particles::{AnyParticleSet, Dim, Flatness, ParticleSet, Point, Radius, SupportedDim};
 pub use radius_grid::RadiusGrid;
 pub use solid_mesh::{MeshError, SolidMesh};
 pub use spacing::{auto_radius, median_nearest_neighbour_distance, AUTO_RADIUS_FACTOR};

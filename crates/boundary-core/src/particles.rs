@@ -59,17 +59,47 @@ impl std::fmt::Display for Radius {
 /// `s_i = 1` this is the uniform definition at `r`. A set without radii is the uniform case
 /// and costs nothing extra. Methods that do not support per-particle radii return
 /// [`crate::DetectError::PerParticleRadii`].
+///
+/// `D` is 2 or 3: every constructor requires `Dim<D>: SupportedDim`, so no set of another
+/// dimension can be built, and the methods without that bound only ever see sets of 2 or 3.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParticleSet<const D: usize> {
     pub(crate) positions: Vec<Point<D>>,
     pub(crate) radii: Option<Vec<f64>>,
 }
 
-impl<const D: usize> ParticleSet<D> {
+/// The marker of a dimension `D`, for the bound [`SupportedDim`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Dim<const D: usize>;
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for super::Dim<2> {}
+    impl Sealed for super::Dim<3> {}
+}
+
+/// The dimensions a [`ParticleSet`] can have: implemented for `Dim<2>` and `Dim<3>` only, and
+/// sealed. The constructors of a set ([`ParticleSet::new`], [`ParticleSet::from_rows`]) and
+/// [`ParticleSet::to_any`] require `Dim<D>: SupportedDim`, so no set of another dimension
+/// can exist; code generic over `D` that builds sets states the same bound.
+///
+/// ```compile_fail
+/// use boundary_core::ParticleSet;
+/// // No 4D (or 1D) set can be built: `Dim<4>` is not a `SupportedDim`.
+/// let set = ParticleSet::<4>::from_rows(&[[0.0, 0.0, 0.0, 0.0]]);
+/// ```
+pub trait SupportedDim: sealed::Sealed {}
+
+impl SupportedDim for Dim<2> {}
+impl SupportedDim for Dim<3> {}
+
+impl<const D: usize> ParticleSet<D>
+where
+    Dim<D>: SupportedDim,
+{
     /// Validates the positions: every coordinate must be finite. The error names the first
     /// offending particle by its index in input order.
     pub fn new(positions: Vec<Point<D>>) -> Result<Self, CoreError> {
-        const { assert!(D == 2 || D == 3, "particle sets are 2D or 3D") };
         if positions.len() > u32::MAX as usize {
             return Err(CoreError::TooManyParticles(positions.len()));
         }
@@ -87,6 +117,37 @@ impl<const D: usize> ParticleSet<D> {
         })
     }
 
+    /// Builds a set from coordinate rows, validated as in [`ParticleSet::new`].
+    pub fn from_rows(rows: &[[f64; D]]) -> Result<Self, CoreError> {
+        Self::new(rows.iter().map(|row| Point::<D>::from(*row)).collect())
+    }
+
+    /// A copy as an [`AnyParticleSet`], for code generic over `D` that calls a
+    /// [`crate::BoundaryDetector`] (whose methods are per dimension). Costs one copy of the
+    /// positions.
+    pub fn to_any(&self) -> AnyParticleSet {
+        let copy = |k: usize| self.positions.iter().map(move |p| p[k]);
+        match D {
+            2 => AnyParticleSet::D2(ParticleSet {
+                positions: copy(0)
+                    .zip(copy(1))
+                    .map(|(x, y)| Point::<2>::new(x, y))
+                    .collect(),
+                radii: self.radii.clone(),
+            }),
+            _ => AnyParticleSet::D3(ParticleSet {
+                positions: self
+                    .positions
+                    .iter()
+                    .map(|p| Point::<3>::new(p[0], p[1], p[2]))
+                    .collect(),
+                radii: self.radii.clone(),
+            }),
+        }
+    }
+}
+
+impl<const D: usize> ParticleSet<D> {
     /// Gives every particle its own radius factor `s_i` (see the type's docs): one per
     /// particle, each finite, positive and within [`Radius::MIN`]`..=`[`Radius::MAX`]. The
     /// error names the first offending particle by its index in input order.
@@ -155,11 +216,6 @@ impl<const D: usize> ParticleSet<D> {
         }
     }
 
-    /// Builds a set from coordinate rows, validated as in [`ParticleSet::new`].
-    pub fn from_rows(rows: &[[f64; D]]) -> Result<Self, CoreError> {
-        Self::new(rows.iter().map(|row| Point::<D>::from(*row)).collect())
-    }
-
     /// The positions, in input order.
     pub fn positions(&self) -> &[Point<D>] {
         &self.positions
@@ -183,30 +239,6 @@ impl<const D: usize> ParticleSet<D> {
                 .iter()
                 .fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p))),
         )
-    }
-
-    /// A copy as an [`AnyParticleSet`], for code generic over `D` that calls a
-    /// [`crate::BoundaryDetector`] (whose methods are per dimension). Costs one copy of the
-    /// positions.
-    pub fn to_any(&self) -> AnyParticleSet {
-        let copy = |k: usize| self.positions.iter().map(move |p| p[k]);
-        match D {
-            2 => AnyParticleSet::D2(ParticleSet {
-                positions: copy(0)
-                    .zip(copy(1))
-                    .map(|(x, y)| Point::<2>::new(x, y))
-                    .collect(),
-                radii: self.radii.clone(),
-            }),
-            _ => AnyParticleSet::D3(ParticleSet {
-                positions: self
-                    .positions
-                    .iter()
-                    .map(|p| Point::<3>::new(p[0], p[1], p[2]))
-                    .collect(),
-                radii: self.radii.clone(),
-            }),
-        }
     }
 
     /// Consumes the set, returning the positions (the radii, if any, are dropped).

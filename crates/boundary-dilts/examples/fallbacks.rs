@@ -22,8 +22,12 @@ fn main() {
             continue;
         };
         let r = Radius::new(entry.radius).unwrap();
-        let (_, fe) = ExactDetector.detect_counting_fallbacks(&set, r).unwrap();
-        let (_, fd) = DiltsDetector.detect_counting_fallbacks(&set, r).unwrap();
+        let (_, fe) = ExactDetector::default()
+            .detect_counting_fallbacks(&set, r)
+            .unwrap();
+        let (_, fd) = DiltsDetector::default()
+            .detect_counting_fallbacks(&set, r)
+            .unwrap();
         println!("{}, {}, {fe}, {fd}", entry.name, set.len());
     }
     let n: usize = std::env::args()
@@ -33,7 +37,7 @@ fn main() {
     let (ball, _) = boundary_scenes::jittered_lattice_ball(n, 0.15, 7);
     let set = ball.into();
     let t = Instant::now();
-    let (d, fe) = ExactDetector
+    let (d, fe) = ExactDetector::default()
         .detect_counting_fallbacks(&set, Radius::new(1.2).unwrap())
         .unwrap();
     println!(

@@ -161,7 +161,7 @@
 //!   through it) is interior, decided exactly. Perfect lattices at the float tie radius:
 //!   `fl(1/√2)` lies above `1/√2` (inner particles interior), `fl(√3/2)` below `√3/2` (every
 //!   particle boundary).
-//! - **Opt-in covering tolerance `tie`** (`--set tie=1e-12`, [`DiltsDetector::with_tie`]): a
+//! - **Opt-in covering tolerance `tie`** ([`DiltsParams::tie`]; `--set tie=1e-12`): a
 //!   point `x` of `S_i` counts as covered by cap `j` iff `x·u_j >= d_j/2 − tie`; equivalently
 //!   the neighbour balls are enlarged to radius `r·sqrt(1 + 2·tie·d_j) ≈ r(1 + tie·d_j)`, so
 //!   lattice round-off counts as a tie (interior), and the exact predicate is not used
@@ -215,7 +215,7 @@
 //!     .map(|k| [(k % 5) as f64, ((k / 5) % 5) as f64, (k / 25) as f64])
 //!     .collect();
 //! let set = ParticleSet::from_rows(&rows).unwrap();
-//! let detection = DiltsDetector.detect_3d(&set, Radius::new(1.2).unwrap()).unwrap();
+//! let detection = DiltsDetector::default().detect_3d(&set, Radius::new(1.2).unwrap()).unwrap();
 //! assert_eq!(detection.labels.boundary_count(), 125 - 27);
 //! assert!(!detection.labels.is_boundary(62)); // the centre
 //! ```
@@ -252,37 +252,35 @@ pub const TANGENT_TOLERANCE: f64 = 1e-12;
 /// Unit roundoff of `f64`.
 pub(crate) const U: f64 = f64::EPSILON / 2.0;
 
-/// The reference detector (`dilts`): explicit covering of `S_i` by arcs (2D) or caps (3D).
-/// See the crate documentation.
-///
-/// `DiltsDetector` is also a constant, the default detector (`tie = 0`), so
-/// `DiltsDetector.detect(…)` works as for a unit struct.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DiltsDetector {
-    tie: f64,
+/// The parameters of `dilts` (string form: `--set tie=…`, see `boundary::registry`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DiltsParams {
+    /// Opt-in covering tolerance: a point `x` of `S_i` counts as covered by neighbour `j` iff
+    /// `x·u_j >= d_j/2 − tie` (near-ties interior). `0` (the default) gives the exact labels;
+    /// [`COVER_TOLERANCE`] (`1e-12`) the labels of release 0.1. Finite, `>= 0`.
+    pub tie: f64,
 }
 
-/// The default detector (`tie = 0`: exact labels).
-#[allow(non_upper_case_globals)]
-pub const DiltsDetector: DiltsDetector = DiltsDetector { tie: 0.0 };
-
-impl Default for DiltsDetector {
+impl Default for DiltsParams {
     fn default() -> Self {
-        DiltsDetector
+        DiltsParams { tie: 0.0 }
     }
+}
+
+/// The reference detector (`dilts`): explicit covering of `S_i` by arcs (2D) or caps (3D).
+/// See the crate documentation. `DiltsDetector::default()` gives the exact labels.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DiltsDetector {
+    params: DiltsParams,
 }
 
 impl DiltsDetector {
-    /// The detector with exact labels (`tie = 0`).
-    pub fn new() -> Self {
-        DiltsDetector
-    }
-
-    /// The detector with covering tolerance `tie` (opt-in; crate docs). `tie` must be finite
-    /// and `>= 0`.
-    pub fn with_tie(tie: f64) -> Result<Self, ParamError> {
+    /// The detector with `params`, checked: `tie` must be finite and `>= 0` (else
+    /// [`ParamError::Invalid`] naming `tie`).
+    pub fn try_new(params: DiltsParams) -> Result<Self, ParamError> {
+        let tie = params.tie;
         if tie.is_finite() && tie >= 0.0 {
-            Ok(DiltsDetector { tie })
+            Ok(DiltsDetector { params })
         } else {
             Err(ParamError::invalid(
                 "dilts",
@@ -293,9 +291,9 @@ impl DiltsDetector {
         }
     }
 
-    /// The covering tolerance (`0` = exact labels).
-    pub fn tie(&self) -> f64 {
-        self.tie
+    /// The parameters.
+    pub fn settings(&self) -> &DiltsParams {
+        &self.params
     }
 
     /// Like [`BoundaryDetector::detect`], also returning how many particles the exact
@@ -306,8 +304,8 @@ impl DiltsDetector {
         r: Radius,
     ) -> Result<(Detection, usize), DetectError> {
         match set {
-            AnyParticleSet::D2(s) => detect_with::<2, arcs::Arcs>(s, s.len(), r, self.tie),
-            AnyParticleSet::D3(s) => detect_with::<3, caps::Caps>(s, s.len(), r, self.tie),
+            AnyParticleSet::D2(s) => detect_with::<2, arcs::Arcs>(s, s.len(), r, self.params.tie),
+            AnyParticleSet::D3(s) => detect_with::<3, caps::Caps>(s, s.len(), r, self.params.tie),
         }
     }
 }
@@ -323,24 +321,11 @@ impl BoundaryDetector for DiltsDetector {
     fn params(&self) -> Params {
         Params(vec![ParamInfo {
             name: "tie",
-            value: self.tie.to_string(),
+            value: self.params.tie.to_string(),
             default: "0".to_owned(),
             description: "covering tolerance: x on S_i is covered by j iff x·u_j >= d_j/2 − tie \
                           (e.g. 1e-12 treats lattice round-off as ties); 0 = exact labels",
         }])
-    }
-
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        match key {
-            "tie" => {
-                let tie: f64 = value.parse().map_err(|_| {
-                    ParamError::invalid("dilts", key, value, "a finite number >= 0")
-                })?;
-                *self = DiltsDetector::with_tie(tie)?;
-                Ok(())
-            }
-            _ => Err(ParamError::unknown("dilts", key, &["tie"])),
-        }
     }
 
     /// Exact: the float covering test decides the clear cases, the exact predicate the rest.
@@ -349,11 +334,11 @@ impl BoundaryDetector for DiltsDetector {
     }
 
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(detect_with::<2, arcs::Arcs>(set, set.len(), r, self.tie)?.0)
+        Ok(detect_with::<2, arcs::Arcs>(set, set.len(), r, self.params.tie)?.0)
     }
 
     fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(detect_with::<3, caps::Caps>(set, set.len(), r, self.tie)?.0)
+        Ok(detect_with::<3, caps::Caps>(set, set.len(), r, self.params.tie)?.0)
     }
 
     /// Classifies the owned particles with the solids covering too (crate docs, "Solid
@@ -371,10 +356,10 @@ impl BoundaryDetector for DiltsDetector {
         DetectError::check_owned("dilts", owned, set.len())?;
         Ok(match set {
             AnyParticleSet::D2(s) => {
-                detect_in_solids::<2, arcs::Arcs>(s, owned, r, self.tie, solids)?.0
+                detect_in_solids::<2, arcs::Arcs>(s, owned, r, self.params.tie, solids)?.0
             }
             AnyParticleSet::D3(s) => {
-                detect_in_solids::<3, caps::Caps>(s, owned, r, self.tie, solids)?.0
+                detect_in_solids::<3, caps::Caps>(s, owned, r, self.params.tie, solids)?.0
             }
         })
     }
@@ -388,8 +373,8 @@ impl BoundaryDetector for DiltsDetector {
     ) -> Result<Detection, DetectError> {
         DetectError::check_owned("dilts", owned, set.len())?;
         Ok(match set {
-            AnyParticleSet::D2(s) => detect_with::<2, arcs::Arcs>(s, owned, r, self.tie)?.0,
-            AnyParticleSet::D3(s) => detect_with::<3, caps::Caps>(s, owned, r, self.tie)?.0,
+            AnyParticleSet::D2(s) => detect_with::<2, arcs::Arcs>(s, owned, r, self.params.tie)?.0,
+            AnyParticleSet::D3(s) => detect_with::<3, caps::Caps>(s, owned, r, self.params.tie)?.0,
         })
     }
 }

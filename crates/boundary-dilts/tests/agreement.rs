@@ -4,6 +4,7 @@
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
+use boundary_core::{Dim, SupportedDim};
 use boundary_scenes::{cubic_lattice, shared_set, square_lattice, SHARED_SCENES};
 
 use boundary_core::{BoundaryDetector, Detection, ParticleSet, Radius};
@@ -15,17 +16,23 @@ use rand::{rngs::StdRng, Rng, SeedableRng};
 /// Relative band around a tie inside which the two methods may disagree.
 const NEAR_TIE: f64 = 1e-6;
 
-fn both<const D: usize>(set: &ParticleSet<D>, r: f64) -> (Detection, Detection) {
+fn both<const D: usize>(set: &ParticleSet<D>, r: f64) -> (Detection, Detection)
+where
+    Dim<D>: SupportedDim,
+{
     let r = Radius::new(r).unwrap();
     let any = set.clone().to_any();
     (
-        ExactDetector.detect(&any, r).unwrap(),
-        DiltsDetector.detect(&any, r).unwrap(),
+        ExactDetector::default().detect(&any, r).unwrap(),
+        DiltsDetector::default().detect(&any, r).unwrap(),
     )
 }
 
 /// Indices where the methods disagree on a particle that is not a near-tie.
-fn disagreements<const D: usize>(set: &ParticleSet<D>, r: f64) -> Vec<usize> {
+fn disagreements<const D: usize>(set: &ParticleSet<D>, r: f64) -> Vec<usize>
+where
+    Dim<D>: SupportedDim,
+{
     let (exact, dilts) = both(set, r);
     let margin = exact.margin.as_ref().unwrap();
     (0..set.len())
@@ -34,7 +41,10 @@ fn disagreements<const D: usize>(set: &ParticleSet<D>, r: f64) -> Vec<usize> {
         .collect()
 }
 
-fn assert_agree<const D: usize>(what: &str, set: &ParticleSet<D>, r: f64) {
+fn assert_agree<const D: usize>(what: &str, set: &ParticleSet<D>, r: f64)
+where
+    Dim<D>: SupportedDim,
+{
     let bad = disagreements(set, r);
     assert!(bad.is_empty(), "{what} r={r}: dilts != exact at {bad:?}");
 }
@@ -83,7 +93,10 @@ fn perfect_lattices_at_tie_and_generic_radii_agree_exactly() {
     }
 }
 
-fn jittered<const D: usize>(n_side: usize, jitter: f64, seed: u64) -> ParticleSet<D> {
+fn jittered<const D: usize>(n_side: usize, jitter: f64, seed: u64) -> ParticleSet<D>
+where
+    Dim<D>: SupportedDim,
+{
     let mut rng = StdRng::seed_from_u64(seed);
     let total = n_side.pow(D as u32);
     let rows: Vec<[f64; D]> = (0..total)

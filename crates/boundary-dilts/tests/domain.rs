@@ -7,7 +7,8 @@
 use boundary_core::{
     BoundaryDetector, Detection, Domain, HalfSpace, ParticleSet, Point, Radius, Solids,
 };
-use boundary_dilts::DiltsDetector;
+use boundary_core::{Dim, SupportedDim};
+use boundary_dilts::{DiltsDetector, DiltsParams};
 use boundary_exact::ExactDetector;
 use boundary_scenes::brute::solid_uncovered_by_enumeration;
 
@@ -27,7 +28,10 @@ impl Lcg {
 
 /// `counts[0]` × `counts[1]` (× `counts[2]`) particles of spacing 1, each moved by up to
 /// `jitter/2` per axis, the lowest layer at height 0.5 (the floor `y < 0` touches it).
-fn block<const D: usize>(counts: [usize; D], jitter: f64, seed: u64) -> ParticleSet<D> {
+fn block<const D: usize>(counts: [usize; D], jitter: f64, seed: u64) -> ParticleSet<D>
+where
+    Dim<D>: SupportedDim,
+{
     let mut rng = Lcg(seed);
     let total: usize = counts.iter().product();
     let points: Vec<Point<D>> = (0..total)
@@ -65,7 +69,10 @@ fn brute<const D: usize>(
     r: f64,
     half_spaces: &[HalfSpace],
     near_only: bool,
-) -> Vec<Option<bool>> {
+) -> Vec<Option<bool>>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     let solids: Vec<(usize, bool, f64)> = half_spaces
         .iter()
         .map(|h| (h.axis(), h.solid_below(), h.value()))
@@ -105,7 +112,10 @@ fn detect_in<const D: usize>(
     set: &ParticleSet<D>,
     r: f64,
     half_spaces: &[HalfSpace],
-) -> Detection {
+) -> Detection
+where
+    Dim<D>: SupportedDim,
+{
     let domain = half_spaces
         .iter()
         .fold(Domain::new(), |d, &h| d.with_solid(h));
@@ -120,7 +130,10 @@ fn labels<const D: usize>(
     set: &ParticleSet<D>,
     r: f64,
     half_spaces: &[HalfSpace],
-) -> Vec<bool> {
+) -> Vec<bool>
+where
+    Dim<D>: SupportedDim,
+{
     detect_in(detector, set, r, half_spaces).labels.into_vec()
 }
 
@@ -130,8 +143,11 @@ fn check<const D: usize>(
     set: &ParticleSet<D>,
     r: f64,
     half_spaces: &[HalfSpace],
-) -> Vec<bool> {
-    let dilts = labels(&DiltsDetector, set, r, half_spaces);
+) -> Vec<bool>
+where
+    Dim<D>: SupportedDim,
+{
+    let dilts = labels(&DiltsDetector::default(), set, r, half_spaces);
     let expected = brute(set, r, half_spaces, D == 3);
     let wrong: Vec<usize> = (0..set.len())
         .filter(|&i| expected[i].is_some_and(|b| b != dilts[i]))
@@ -142,7 +158,7 @@ fn check<const D: usize>(
     );
     assert_eq!(
         dilts,
-        labels(&ExactDetector, set, r, half_spaces),
+        labels(&ExactDetector::default(), set, r, half_spaces),
         "{what}: dilts != exact"
     );
     dilts
@@ -156,7 +172,7 @@ fn floors_at_several_heights_match_brute_force_in_2d() {
         // particle on the solid's surface), and above the lowest layer (particles inside).
         let through = set.positions()[3][1];
         for r in [0.62, 0.8, 1.1] {
-            let bare = labels(&DiltsDetector, &set, r, &[]);
+            let bare = labels(&DiltsDetector::default(), &set, r, &[]);
             for c in [-0.3, 0.0, 0.3, 0.5, through, 0.9] {
                 let what = format!("2D seed {seed}, r {r}, floor y<{c}");
                 let with = check(&what, &set, r, &[floor(c)]);
@@ -182,7 +198,7 @@ fn a_floor_and_a_tank_match_brute_force_in_3d() {
         HalfSpace::new(2, false, 2.4).unwrap(),
     ];
     let with = check("3D tank", &set, r, &tank);
-    let bare = labels(&DiltsDetector, &set, r, &[]);
+    let bare = labels(&DiltsDetector::default(), &set, r, &[]);
     let count = |l: &[bool]| l.iter().filter(|&&b| b).count();
     assert!(
         count(&with) < count(&bare),
@@ -267,8 +283,12 @@ fn larger_domains_equal_exact_with_walls_and_solids() {
             .fold(Domain::new().with_walls(walls.to_any()), |d, &h| {
                 d.with_solid(h)
             });
-        let dilts = DiltsDetector.detect_in(&set.to_any(), &domain, r).unwrap();
-        let exact = ExactDetector.detect_in(&set.to_any(), &domain, r).unwrap();
+        let dilts = DiltsDetector::default()
+            .detect_in(&set.to_any(), &domain, r)
+            .unwrap();
+        let exact = ExactDetector::default()
+            .detect_in(&set.to_any(), &domain, r)
+            .unwrap();
         assert_eq!(
             dilts.detection.labels, exact.detection.labels,
             "{half_spaces:?}"
@@ -285,8 +305,8 @@ fn larger_domains_equal_exact_with_walls_and_solids() {
     ];
     for r in [0.75, 0.9] {
         assert_eq!(
-            labels(&DiltsDetector, &set3, r, &tank),
-            labels(&ExactDetector, &set3, r, &tank),
+            labels(&DiltsDetector::default(), &set3, r, &tank),
+            labels(&ExactDetector::default(), &set3, r, &tank),
             "3D tank at r {r}"
         );
     }
@@ -296,12 +316,12 @@ fn larger_domains_equal_exact_with_walls_and_solids() {
 fn held_spheres_far_solids_and_the_owned_part() {
     let set = block([6, 4], 0.4, 7);
     let r = 0.7;
-    let bare = labels(&DiltsDetector, &set, r, &[]);
+    let bare = labels(&DiltsDetector::default(), &set, r, &[]);
     // A solid far above changes nothing; one holding the whole block makes it interior, with
     // the margin of a sphere inside a solid.
     let above = HalfSpace::new(1, false, 100.0).unwrap();
-    assert_eq!(labels(&DiltsDetector, &set, r, &[above]), bare);
-    let all = detect_in(&DiltsDetector, &set, r, &[floor(100.0)]);
+    assert_eq!(labels(&DiltsDetector::default(), &set, r, &[above]), bare);
+    let all = detect_in(&DiltsDetector::default(), &set, r, &[floor(100.0)]);
     assert_eq!(all.labels.boundary_count(), 0);
     let margin = all.margin.unwrap();
     assert!(margin.iter().all(|&m| m == -std::f64::consts::PI * r));
@@ -309,21 +329,21 @@ fn held_spheres_far_solids_and_the_owned_part() {
     let any = set.to_any();
     let solids = solids_of(&[floor(0.6)]);
     let radius = Radius::new(r).unwrap();
-    let whole = DiltsDetector
+    let whole = DiltsDetector::default()
         .detect_owned_in(&any, set.len(), &solids, radius)
         .unwrap();
-    let part = DiltsDetector
+    let part = DiltsDetector::default()
         .detect_owned_in(&any, 10, &solids, radius)
         .unwrap();
     assert_eq!(part.labels.as_slice(), &whole.labels.as_slice()[..10]);
     // No solid: the usual path.
-    let none = DiltsDetector
+    let none = DiltsDetector::default()
         .detect_owned_in(&any, set.len(), &Solids::new(), radius)
         .unwrap();
-    assert_eq!(none, DiltsDetector.detect(&any, radius).unwrap());
+    assert_eq!(none, DiltsDetector::default().detect(&any, radius).unwrap());
     // A solid on an axis the set does not have is refused by name.
     let z = solids_of(&[HalfSpace::new(2, true, 0.0).unwrap()]);
-    let e = DiltsDetector
+    let e = DiltsDetector::default()
         .detect_owned_in(&any, set.len(), &z, radius)
         .unwrap_err()
         .to_string();
@@ -334,18 +354,18 @@ fn held_spheres_far_solids_and_the_owned_part() {
 fn the_tolerant_mode_takes_solids_too() {
     // With `tie > 0` a solid cap gets the same tolerance as the neighbours' caps; on jittered
     // scenes (no near-tie) the labels are the exact ones.
-    let tolerant = DiltsDetector::with_tie(1e-12).unwrap();
+    let tolerant = DiltsDetector::try_new(DiltsParams { tie: 1e-12 }).unwrap();
     let set = block([10, 5], 0.5, 4);
     let set3 = block([5, 4, 4], 0.5, 6);
     for c in [0.0, 0.35, 0.7] {
         assert_eq!(
             labels(&tolerant, &set, 0.8, &[floor(c)]),
-            labels(&ExactDetector, &set, 0.8, &[floor(c)]),
+            labels(&ExactDetector::default(), &set, 0.8, &[floor(c)]),
             "2D floor y<{c}"
         );
         assert_eq!(
             labels(&tolerant, &set3, 0.9, &[floor(c)]),
-            labels(&ExactDetector, &set3, 0.9, &[floor(c)]),
+            labels(&ExactDetector::default(), &set3, 0.9, &[floor(c)]),
             "3D floor y<{c}"
         );
     }

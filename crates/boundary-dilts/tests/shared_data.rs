@@ -19,12 +19,12 @@ fn reproduces_the_reference_boundary_counts() {
             let Some(set) = shared_set::<2>(file).unwrap() else {
                 continue;
             };
-            DiltsDetector.detect_2d(&set, radius)
+            DiltsDetector::default().detect_2d(&set, radius)
         } else {
             let Some(set) = shared_set::<3>(file).unwrap() else {
                 continue;
             };
-            DiltsDetector.detect_3d(&set, radius)
+            DiltsDetector::default().detect_3d(&set, radius)
         }
         .unwrap();
         let count = det.labels.boundary_count();

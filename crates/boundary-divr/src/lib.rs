@@ -436,41 +436,6 @@ impl SphMethod for DivrDetector {
         });
         Params(list)
     }
-
-    // The text adapter of the parameters (to move into the facade's registry with the typed
-    // parameters).
-    fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        let mut params = self.params.clone();
-        let mut smoothing = self.smoothing();
-        if smoothing.set_text(METHOD, key, value)? {
-            (params.kernel, params.h_over_r) = (smoothing.kernel, smoothing.h_over_r);
-        } else {
-            match key {
-                "threshold" => params.threshold = parse_threshold(value)?,
-                "layers" => {
-                    let n = value
-                        .trim()
-                        .parse::<u8>()
-                        .map_err(|_| layers_error(value))?;
-                    params.layers = check_layers(n, value)?;
-                }
-                "min_neighbours" => {
-                    params.min_neighbours = if value.trim() == "auto" {
-                        None
-                    } else {
-                        let n = value
-                            .trim()
-                            .parse::<usize>()
-                            .map_err(|_| min_neighbours_error(value))?;
-                        Some(check_min_neighbours(n, value)?)
-                    }
-                }
-                _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
-            }
-        }
-        *self = DivrDetector::try_new(params)?;
-        Ok(())
-    }
 }
 
 // `Display` and `BoundaryDetector` (dispatch, radii refusal, owned particles with walls and
@@ -536,6 +501,45 @@ fn check_min_neighbours(n: usize, shown: &str) -> Result<usize, ParamError> {
     }
 }
 
+impl DivrDetector {
+    /// Sets a parameter from its `key=value` text, as the registry of the `boundary` crate
+    /// (the command line's `--set`, the bindings' keyword arguments) gives it; on error
+    /// `self` is unchanged.
+    #[doc(hidden)]
+    pub fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        let mut params = self.params.clone();
+        let mut smoothing = self.smoothing();
+        if smoothing.set_text(METHOD, key, value)? {
+            (params.kernel, params.h_over_r) = (smoothing.kernel, smoothing.h_over_r);
+        } else {
+            match key {
+                "threshold" => params.threshold = parse_threshold(value)?,
+                "layers" => {
+                    let n = value
+                        .trim()
+                        .parse::<u8>()
+                        .map_err(|_| layers_error(value))?;
+                    params.layers = check_layers(n, value)?;
+                }
+                "min_neighbours" => {
+                    params.min_neighbours = if value.trim() == "auto" {
+                        None
+                    } else {
+                        let n = value
+                            .trim()
+                            .parse::<usize>()
+                            .map_err(|_| min_neighbours_error(value))?;
+                        Some(check_min_neighbours(n, value)?)
+                    }
+                }
+                _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
+            }
+        }
+        *self = DivrDetector::try_new(params)?;
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 mod tests {
@@ -549,10 +553,10 @@ mod tests {
             d.params().to_string(),
             "threshold=dualsphysics, kernel=wendland, h_over_r=1, layers=0, min_neighbours=auto"
         );
-        d.set_param("threshold", "sphinxsys").unwrap();
-        d.set_param("layers", "1").unwrap();
-        d.set_param("min_neighbours", "5").unwrap();
-        d.set_param("kernel", "cubic").unwrap();
+        d.set_param_text("threshold", "sphinxsys").unwrap();
+        d.set_param_text("layers", "1").unwrap();
+        d.set_param_text("min_neighbours", "5").unwrap();
+        d.set_param_text("kernel", "cubic").unwrap();
         assert_eq!(
             d.settings(),
             &DivrParams {
@@ -575,13 +579,13 @@ mod tests {
             ("h_over_r", "0"),
             ("kernel", "poly6"),
         ] {
-            let err = d.set_param(key, bad).unwrap_err().to_string();
+            let err = d.set_param_text(key, bad).unwrap_err().to_string();
             assert!(err.contains(bad) && err.contains(key), "{err}");
         }
         assert_eq!(d, before, "a rejected value changes nothing");
-        assert!(d.set_param("beta", "0.9").is_err());
-        d.set_param("threshold", "1.25").unwrap();
-        d.set_param("min_neighbours", "auto").unwrap();
+        assert!(d.set_param_text("beta", "0.9").is_err());
+        d.set_param_text("threshold", "1.25").unwrap();
+        d.set_param_text("min_neighbours", "auto").unwrap();
         assert_eq!(d.settings().threshold, Threshold::Value(1.25));
         assert_eq!(d.settings().min_neighbours, None);
         // The typed constructor rejects what the text rejects.

@@ -31,7 +31,7 @@ fn lattice_balls_have_a_boundary_rim_and_an_interior_core() {
     let disc = jittered_lattice_disc(20.0, 0.15, 1);
     against::check_ball(
         &with(Threshold::DualSphysics, 1),
-        &ExactDetector,
+        &ExactDetector::default(),
         &disc,
         20.0,
         r,
@@ -42,7 +42,7 @@ fn lattice_balls_have_a_boundary_rim_and_an_interior_core() {
     let (ball, radius) = jittered_lattice_ball(8000, 0.15, 2);
     against::check_ball(
         &with(Threshold::Sphinxsys, 1),
-        &ExactDetector,
+        &ExactDetector::default(),
         &ball,
         radius,
         r,
@@ -63,7 +63,8 @@ fn shared_scenes_keep_m_at_or_above_the_recorded_floors() {
         ("dambreak23_r0.05", 0.8),
         ("dualsphysics_dambreak3d", 0.95),
     ];
-    against::check_shared_floors(&DivrDetector::default(), &ExactDetector, &floors).unwrap();
+    against::check_shared_floors(&DivrDetector::default(), &ExactDetector::default(), &floors)
+        .unwrap();
 }
 
 #[test]
@@ -75,7 +76,10 @@ fn labels_do_not_depend_on_threads_or_decomposition() {
 /// 1e-100 to 8e99 at r scaled alike: the sums are computed in units of h.
 #[test]
 fn labels_are_the_same_for_the_scene_scaled_across_the_supported_radius_range() {
-    fn check<const D: usize>(set: &ParticleSet<D>, r: f64, d: &DivrDetector) {
+    fn check<const D: usize>(set: &ParticleSet<D>, r: f64, d: &DivrDetector)
+    where
+        boundary_core::Dim<D>: boundary_core::SupportedDim,
+    {
         let base = d.detect(&set.to_any(), Radius::new(r).unwrap()).unwrap();
         for s in [1e-100, 1e-9, 0.37, 1e9, 8e99] {
             let scaled = ParticleSet::new(set.positions().iter().map(|p| p * s).collect()).unwrap();

@@ -27,7 +27,7 @@ fn bench(c: &mut Criterion) {
             group.bench_with_input(
                 BenchmarkId::new(format!("{threads}_threads"), set.len()),
                 &set,
-                |b, set| b.iter(|| pool.install(|| ExactDetector.detect_3d(set, r))),
+                |b, set| b.iter(|| pool.install(|| ExactDetector::default().detect_3d(set, r))),
             );
         }
     }

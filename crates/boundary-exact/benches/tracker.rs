@@ -38,7 +38,7 @@ fn bench(c: &mut Criterion) {
             b.iter(|| {
                 pool.install(|| {
                     for f in &frames[1..] {
-                        ExactDetector.detect(f, r).expect("detection");
+                        ExactDetector::default().detect(f, r).expect("detection");
                     }
                 })
             })

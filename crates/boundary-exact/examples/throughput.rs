@@ -24,7 +24,7 @@ fn main() {
             .build()
             .unwrap();
         let t = Instant::now();
-        let d = pool.install(|| ExactDetector.detect_3d(&set, r).unwrap());
+        let d = pool.install(|| ExactDetector::default().detect_3d(&set, r).unwrap());
         let s = t.elapsed().as_secs_f64();
         // A checksum of the margins' bit patterns: a change of the float path that should
         // leave the output bit for bit the same must leave it unchanged.

@@ -46,7 +46,7 @@ fn main() {
         for _ in 0..reps.max(1) {
             let t = Instant::now();
             let out = pool.install(|| {
-                ExactDetector
+                ExactDetector::default()
                     .detect_counting_fallbacks(&scene.set, r)
                     .unwrap()
             });

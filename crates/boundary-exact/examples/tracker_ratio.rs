@@ -30,7 +30,7 @@ fn main() {
         for (k, f) in frames.iter().enumerate() {
             let set = f.to_any();
             let t = Instant::now();
-            let full = pool.install(|| ExactDetector.detect(&set, r).unwrap());
+            let full = pool.install(|| ExactDetector::default().detect(&set, r).unwrap());
             let tf = t.elapsed().as_secs_f64();
             let t = Instant::now();
             let labels = tracker.update(&set).unwrap().clone();

@@ -49,7 +49,7 @@ fn compare_walls(
     let fluid_any = AnyParticleSet::from(fluid.clone());
     let all = union(fluid, walls);
     let in_domain = |domain: &Domain| {
-        ExactDetector
+        ExactDetector::default()
             .detect_in(&fluid_any, domain, r)
             .unwrap()
             .detection
@@ -61,7 +61,7 @@ fn compare_walls(
         Domain::new().with_walls(walls.clone().into()),
     );
     let union_count = || {
-        let labels = ExactDetector.detect(&all, r).unwrap().labels;
+        let labels = ExactDetector::default().detect(&all, r).unwrap().labels;
         labels.as_slice()[..fluid.len()]
             .iter()
             .filter(|&&b| b)

@@ -242,7 +242,7 @@
 //!   exact ties for every inner particle *if `r` is the exact tie*; a float `r` is one ulp
 //!   above or below it: `fl(1/√2)` lies above `1/√2` (inner particles interior), `fl(√3/2)`
 //!   lies below `√3/2` (the cube corners are uncovered: every particle boundary).
-//! - **Opt-in tolerance `tie`** (`--set tie=1e-9`, [`ExactDetector::with_tie`]): a particle is
+//! - **Opt-in tolerance `tie`** ([`ExactParams::tie`]; `--set tie=1e-9`): a particle is
 //!   boundary iff its float margin exceeds `tie·r`; margins within `±tie·r` count as ties
 //!   (interior) and the exact fallback is not used. For users who want lattice round-off treated
 //!   as ties; `tie = 1e-9` ([`TIE_TOLERANCE`]) gives the labels of release 0.1. Finite, `>= 0`.
@@ -336,36 +336,36 @@ const GRID_CELL: f64 = 1.1;
 /// Unit roundoff of `f64`.
 const U: f64 = f64::EPSILON / 2.0;
 
-/// The exact detector (`exact`): restricted Voronoi cells. See the crate documentation.
-///
-/// `ExactDetector` is also a constant, the default detector (`tie = 0`), so
-/// `ExactDetector.detect(…)` works as for a unit struct.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ExactDetector {
-    tie: f64,
+/// The parameters of `exact` (string form: `--set tie=…`, see `boundary::registry`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExactParams {
+    /// Opt-in tie tolerance, in units of `r`: a particle is boundary iff its float margin
+    /// exceeds `tie·r`, margins within `±tie·r` count as ties (interior) and the exact
+    /// fallback is not used. `0` (the default) gives the exact labels; [`TIE_TOLERANCE`]
+    /// (`1e-9`) the labels of release 0.1. Finite, `>= 0`.
+    pub tie: f64,
 }
 
-/// The default exact detector (`tie = 0`: exact labels).
-#[allow(non_upper_case_globals)]
-pub const ExactDetector: ExactDetector = ExactDetector { tie: 0.0 };
-
-impl Default for ExactDetector {
+impl Default for ExactParams {
     fn default() -> Self {
-        ExactDetector
+        ExactParams { tie: 0.0 }
     }
+}
+
+/// The exact detector (`exact`): restricted Voronoi cells. See the crate documentation.
+/// `ExactDetector::default()` gives the exact labels.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ExactDetector {
+    params: ExactParams,
 }
 
 impl ExactDetector {
-    /// The detector with exact labels (`tie = 0`).
-    pub fn new() -> Self {
-        ExactDetector
-    }
-
-    /// The detector that calls a particle interior when its float margin is at most `tie·r`
-    /// (opt-in; see the crate docs). `tie` must be finite and `>= 0`.
-    pub fn with_tie(tie: f64) -> Result<Self, ParamError> {
+    /// The detector with `params`, checked: `tie` must be finite and `>= 0` (else
+    /// [`ParamError::Invalid`] naming `tie`).
+    pub fn try_new(params: ExactParams) -> Result<Self, ParamError> {
+        let tie = params.tie;
         if tie.is_finite() && tie >= 0.0 {
-            Ok(ExactDetector { tie })
+            Ok(ExactDetector { params })
         } else {
             Err(ParamError::invalid(
                 "exact",
@@ -376,9 +376,9 @@ impl ExactDetector {
         }
     }
 
-    /// The tie tolerance (`0` = exact labels).
-    pub fn tie(&self) -> f64 {
-        self.tie
+    /// The parameters.
+    pub fn settings(&self) -> &ExactParams {
+        &self.params
     }
 
     /// Like [`BoundaryDetector::detect`], also returning how many particles the exact
@@ -389,8 +389,8 @@ impl ExactDetector {
         r: Radius,
     ) -> Result<(Detection, usize), DetectError> {
         match set {
-            AnyParticleSet::D2(s) => dispatch::<2, Polygon>(s, s.len(), r, self.tie),
-            AnyParticleSet::D3(s) => dispatch::<3, Polyhedron>(s, s.len(), r, self.tie),
+            AnyParticleSet::D2(s) => dispatch::<2, Polygon>(s, s.len(), r, self.params.tie),
+            AnyParticleSet::D3(s) => dispatch::<3, Polyhedron>(s, s.len(), r, self.params.tie),
         }
     }
 }
@@ -406,24 +406,11 @@ impl BoundaryDetector for ExactDetector {
     fn params(&self) -> Params {
         Params(vec![ParamInfo {
             name: "tie",
-            value: self.tie.to_string(),
+            value: self.params.tie.to_string(),
             default: "0".to_owned(),
             description: "tie tolerance: boundary iff the float margin exceeds tie·r (e.g. 1e-9 \
                           treats lattice round-off as ties); 0 = exact labels (definition, JCP Sec. 2)",
         }])
-    }
-
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        match key {
-            "tie" => {
-                let tie: f64 = value.parse().map_err(|_| {
-                    ParamError::invalid("exact", key, value, "a finite number >= 0")
-                })?;
-                *self = ExactDetector::with_tie(tie)?;
-                Ok(())
-            }
-            _ => Err(ParamError::unknown("exact", key, &["tie"])),
-        }
     }
 
     fn certified(&self) -> bool {
@@ -431,11 +418,11 @@ impl BoundaryDetector for ExactDetector {
     }
 
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(dispatch::<2, Polygon>(set, set.len(), r, self.tie)?.0)
+        Ok(dispatch::<2, Polygon>(set, set.len(), r, self.params.tie)?.0)
     }
 
     fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(dispatch::<3, Polyhedron>(set, set.len(), r, self.tie)?.0)
+        Ok(dispatch::<3, Polyhedron>(set, set.len(), r, self.params.tie)?.0)
     }
 
     /// Classifies only the owned particles; the ghosts serve as neighbours only. A halo of
@@ -448,8 +435,8 @@ impl BoundaryDetector for ExactDetector {
     ) -> Result<Detection, DetectError> {
         DetectError::check_owned("exact", owned, set.len())?;
         Ok(match set {
-            AnyParticleSet::D2(s) => dispatch::<2, Polygon>(s, owned, r, self.tie)?.0,
-            AnyParticleSet::D3(s) => dispatch::<3, Polyhedron>(s, owned, r, self.tie)?.0,
+            AnyParticleSet::D2(s) => dispatch::<2, Polygon>(s, owned, r, self.params.tie)?.0,
+            AnyParticleSet::D3(s) => dispatch::<3, Polyhedron>(s, owned, r, self.params.tie)?.0,
         })
     }
 
@@ -495,8 +482,12 @@ impl BoundaryDetector for ExactDetector {
             );
         }
         Ok(match set {
-            AnyParticleSet::D2(s) => dispatch_in::<2, Polygon>(s, owned, r, self.tie, solids)?.0,
-            AnyParticleSet::D3(s) => dispatch_in::<3, Polyhedron>(s, owned, r, self.tie, solids)?.0,
+            AnyParticleSet::D2(s) => {
+                dispatch_in::<2, Polygon>(s, owned, r, self.params.tie, solids)?.0
+            }
+            AnyParticleSet::D3(s) => {
+                dispatch_in::<3, Polyhedron>(s, owned, r, self.params.tie, solids)?.0
+            }
         })
     }
 }
@@ -1165,6 +1156,7 @@ fn cell_margin<const D: usize, C: Clipper<D>>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use boundary_core::{Dim, SupportedDim};
 
     /// The interior certificate on the fast cell answers as the one on the full cell (or
     /// hands over) for every particle of perfect and slightly jittered cubic lattices, at
@@ -1248,7 +1240,10 @@ mod tests {
             .collect()
     }
 
-    fn jittered_lattice<const D: usize>(side: usize, jitter: f64, seed: u64) -> ParticleSet<D> {
+    fn jittered_lattice<const D: usize>(side: usize, jitter: f64, seed: u64) -> ParticleSet<D>
+    where
+        Dim<D>: SupportedDim,
+    {
         let mut state = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
         let mut uniform = move || {
             state ^= state << 13;
@@ -1279,7 +1274,7 @@ mod tests {
     fn detection_margins_equal_the_full_list_polyhedron_margins_bit_for_bit() {
         let set = jittered_lattice::<3>(11, 0.3, 1);
         for r in [0.9, 1.2, 2.1] {
-            let d = ExactDetector
+            let d = ExactDetector::default()
                 .detect_3d(&set, Radius::new(r).unwrap())
                 .unwrap();
             let reference = reference_margins::<3, Polyhedron>(&set, r);
@@ -1291,11 +1286,26 @@ mod tests {
     fn detection_margins_in_2d_equal_the_full_list_polygon_margins_bit_for_bit() {
         let set = jittered_lattice::<2>(40, 0.3, 2);
         for r in [0.6, 0.9, 2.1] {
-            let d = ExactDetector
+            let d = ExactDetector::default()
                 .detect_2d(&set, Radius::new(r).unwrap())
                 .unwrap();
             let reference = reference_margins::<2, Polygon>(&set, r);
             assert_eq!(bits(&d.margin.unwrap()), bits(&reference), "r = {r}");
+        }
+    }
+
+    #[test]
+    fn try_new_takes_finite_non_negative_ties_and_refuses_the_rest() {
+        assert_eq!(ExactDetector::default().settings(), &ExactParams::default());
+        let d = ExactDetector::try_new(ExactParams { tie: 1e-9 }).unwrap();
+        assert_eq!(d.settings().tie, 1e-9);
+        assert_eq!(d.to_string(), "exact (tie=0.000000001)");
+        for bad in [-1e-9, f64::NAN, f64::INFINITY] {
+            let err = ExactDetector::try_new(ExactParams { tie: bad }).unwrap_err();
+            assert!(
+                matches!(&err, ParamError::Invalid { key, .. } if key == "tie"),
+                "{err}"
+            );
         }
     }
 }

@@ -244,9 +244,11 @@ impl Tracker {
         if !incremental {
             let detection = match &self.pool {
                 Some(pool) => pool.install(|| {
-                    domain::detect_in(&crate::ExactDetector, set, &self.domain, self.r)
+                    domain::detect_in(&crate::ExactDetector::default(), set, &self.domain, self.r)
                 }),
-                None => domain::detect_in(&crate::ExactDetector, set, &self.domain, self.r),
+                None => {
+                    domain::detect_in(&crate::ExactDetector::default(), set, &self.domain, self.r)
+                }
             }?;
             self.state = State::Empty;
             self.recomputed = set.len();
@@ -327,6 +329,7 @@ impl<const D: usize> Track<D> {
     ) -> Result<(Track<D>, usize), DetectError>
     where
         C: ConvexCell<D> + Default + Send + Clone,
+        boundary_core::Dim<D>: boundary_core::SupportedDim,
     {
         let count = fluid.len();
         let all: Vec<Point<D>> = fluid.iter().chain(walls).copied().collect();

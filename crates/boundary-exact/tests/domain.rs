@@ -7,6 +7,7 @@
 use boundary_core::{
     AnyParticleSet, BoundaryDetector, Domain, HalfSpace, ParticleSet, Periodic, Point, Radius,
 };
+use boundary_core::{Dim, SupportedDim};
 use boundary_exact::ExactDetector;
 use boundary_scenes::brute::solid_uncovered_by_enumeration;
 
@@ -27,7 +28,10 @@ impl Lcg {
 /// A particle whose closed ball stays clear of every solid by `r/100` gets its label without
 /// the solids (which cannot reach it) by the same brute force, so only the layer next to the
 /// solids pays for the larger cell.
-fn brute<const D: usize>(set: &ParticleSet<D>, r: f64, solids: &[HalfSpace]) -> Vec<bool> {
+fn brute<const D: usize>(set: &ParticleSet<D>, r: f64, solids: &[HalfSpace]) -> Vec<bool>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     let solids: Vec<(usize, bool, f64)> = solids
         .iter()
         .map(|h| (h.axis(), h.solid_below(), h.value()))
@@ -67,7 +71,7 @@ where
     AnyParticleSet: From<ParticleSet<D>>,
 {
     let domain = solids.iter().fold(Domain::new(), |d, h| d.with_solid(*h));
-    ExactDetector
+    ExactDetector::default()
         .detect_in(
             &AnyParticleSet::from(set.clone()),
             &domain,
@@ -81,7 +85,10 @@ where
 
 /// A jittered block of `nx` × `ny` (× `nz`) particles of spacing 1, resting at height 0.5 on
 /// the floor `y = 0`: some particles pushed into the floor by the jitter.
-fn block<const D: usize>(counts: [usize; D], jitter: f64, seed: u64) -> ParticleSet<D> {
+fn block<const D: usize>(counts: [usize; D], jitter: f64, seed: u64) -> ParticleSet<D>
+where
+    Dim<D>: SupportedDim,
+{
     let mut rng = Lcg(seed);
     let total: usize = counts.iter().product();
     let mut points = Vec::with_capacity(total);
@@ -188,7 +195,7 @@ fn a_solid_through_the_gap_of_two_caps_is_an_exact_tie() {
 fn spheres_inside_a_solid_are_interior_and_solids_only_remove_boundary() {
     let set = block([6, 4], 0.4, 7);
     let r = Radius::new(0.7).unwrap();
-    let bare = ExactDetector
+    let bare = ExactDetector::default()
         .detect(&set.to_any(), r)
         .unwrap()
         .labels
@@ -225,14 +232,14 @@ fn walls_periodic_images_and_phases_equal_the_sets_they_stand_for() {
     let mut union: Vec<Point<2>> = fluid.positions().to_vec();
     union.extend(walls.positions());
     let union = ParticleSet::new(union).unwrap();
-    let expected: Vec<bool> = ExactDetector
+    let expected: Vec<bool> = ExactDetector::default()
         .detect(&union.to_any(), r)
         .unwrap()
         .labels
         .into_vec()[..fluid.len()]
         .to_vec();
     let domain = Domain::new().with_walls(walls.to_any());
-    let got = ExactDetector
+    let got = ExactDetector::default()
         .detect_in(&fluid.to_any(), &domain, r)
         .unwrap();
     assert_eq!(got.detection.labels.into_vec(), expected);
@@ -250,20 +257,20 @@ fn walls_periodic_images_and_phases_equal_the_sets_they_stand_for() {
         );
     }
     let with_images = ParticleSet::new(with_images).unwrap();
-    let expected: Vec<bool> = ExactDetector
+    let expected: Vec<bool> = ExactDetector::default()
         .detect(&with_images.to_any(), r)
         .unwrap()
         .labels
         .into_vec()[..fluid.len()]
         .to_vec();
-    let got = ExactDetector
+    let got = ExactDetector::default()
         .detect_in(&fluid.to_any(), &Domain::new().with_periodic(periodic), r)
         .unwrap();
     assert_eq!(got.detection.labels.into_vec(), expected);
     // With images no particle on the periodic faces is boundary for lack of a neighbour there.
     assert!(
         expected.iter().filter(|&&b| b).count()
-            < ExactDetector
+            < ExactDetector::default()
                 .detect(&fluid.to_any(), r)
                 .unwrap()
                 .labels
@@ -280,7 +287,7 @@ fn walls_periodic_images_and_phases_equal_the_sets_they_stand_for() {
     let domain = Domain::new()
         .with_walls(walls.to_any())
         .with_phases(phases.clone());
-    let got = ExactDetector
+    let got = ExactDetector::default()
         .detect_in(&fluid.to_any(), &domain, r)
         .unwrap();
     let free = got.detection.labels.clone().into_vec();
@@ -289,7 +296,7 @@ fn walls_periodic_images_and_phases_equal_the_sets_they_stand_for() {
         let members: Vec<usize> = (0..fluid.len()).filter(|&i| phases[i] == k).collect();
         let mut own: Vec<Point<2>> = members.iter().map(|&i| fluid.positions()[i]).collect();
         own.extend(walls.positions());
-        let own = ExactDetector
+        let own = ExactDetector::default()
             .detect(&ParticleSet::new(own).unwrap().to_any(), r)
             .unwrap()
             .labels;
@@ -311,7 +318,7 @@ fn walls_periodic_images_and_phases_equal_the_sets_they_stand_for() {
 fn a_period_shorter_than_the_reach_is_refused_by_name() {
     let fluid = block([4, 2], 0.0, 1);
     let domain = Domain::new().with_periodic(Periodic::new(0, -0.5, 1.0).unwrap());
-    let e = ExactDetector
+    let e = ExactDetector::default()
         .detect_in(&fluid.to_any(), &domain, Radius::new(0.8).unwrap())
         .unwrap_err()
         .to_string();

@@ -3,16 +3,23 @@
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
+use boundary_core::{Dim, SupportedDim};
 use boundary_scenes::shared_set;
 
 use boundary_core::decompose::{morton_blocks, rcb, slabs, Subdomain};
 use boundary_core::{BoundaryDetector, ParticleSet, Radius};
 use boundary_exact::ExactDetector;
 
-fn check<const D: usize>(set: &ParticleSet<D>, r: f64) {
+fn check<const D: usize>(set: &ParticleSet<D>, r: f64)
+where
+    Dim<D>: SupportedDim,
+{
     let radius = Radius::new(r).unwrap();
-    let global = ExactDetector.detect(&set.to_any(), radius).unwrap().labels;
-    let halo = ExactDetector.halo_width(radius);
+    let global = ExactDetector::default()
+        .detect(&set.to_any(), radius)
+        .unwrap()
+        .labels;
+    let halo = ExactDetector::default().halo_width(radius);
     let mut layouts: Vec<(String, Vec<Subdomain>)> = Vec::new();
     for parts in [2, 3, 8] {
         layouts.push((
@@ -29,7 +36,7 @@ fn check<const D: usize>(set: &ParticleSet<D>, r: f64) {
         let mut merged = vec![None; set.len()];
         for sub in &subs {
             let local = sub.particles(set).to_any();
-            let d = ExactDetector
+            let d = ExactDetector::default()
                 .detect_owned(&local, sub.owned.len(), radius)
                 .unwrap();
             assert_eq!(d.labels.len(), sub.owned.len());
@@ -64,7 +71,7 @@ fn split_scenes_match_the_global_run() {
 #[test]
 fn owned_count_larger_than_the_set_is_an_error() {
     let set = ParticleSet::<2>::from_rows(&[[0.0, 0.0]]).unwrap().to_any();
-    assert!(ExactDetector
+    assert!(ExactDetector::default()
         .detect_owned(&set, 2, Radius::new(1.0).unwrap())
         .is_err());
 }

@@ -5,11 +5,11 @@
 use boundary_scenes::{cubic_lattice, shared_set, square_lattice};
 
 use boundary_core::{BoundaryDetector, Detection, ParticleSet, Point, Radius};
-use boundary_exact::{ExactDetector, TIE_TOLERANCE};
+use boundary_exact::{ExactDetector, ExactParams, TIE_TOLERANCE};
 use proptest::prelude::*;
 
 fn run2(rows: &[[f64; 2]], r: f64) -> Detection {
-    ExactDetector
+    ExactDetector::default()
         .detect_2d(
             &ParticleSet::from_rows(rows).unwrap(),
             Radius::new(r).unwrap(),
@@ -18,7 +18,7 @@ fn run2(rows: &[[f64; 2]], r: f64) -> Detection {
 }
 
 fn run3(rows: &[[f64; 3]], r: f64) -> Detection {
-    ExactDetector
+    ExactDetector::default()
         .detect_3d(
             &ParticleSet::from_rows(rows).unwrap(),
             Radius::new(r).unwrap(),
@@ -137,7 +137,7 @@ fn cubic_lattice_counts_and_exact_ties() {
     let up = run3(&rows, r.next_up());
     assert_eq!(up.labels.boundary_count(), n * n * n - inner(n, 3));
     // The opt-in tolerance `tie=1e-9` treats the round-off as a tie: interior again.
-    let loose = ExactDetector::with_tie(TIE_TOLERANCE)
+    let loose = ExactDetector::try_new(ExactParams { tie: TIE_TOLERANCE })
         .unwrap()
         .detect_3d(
             &ParticleSet::from_rows(&rows).unwrap(),
@@ -198,7 +198,7 @@ fn thread_count_does_not_change_labels() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| ExactDetector.detect_3d(&set, r).unwrap())
+            .install(|| ExactDetector::default().detect_3d(&set, r).unwrap())
     };
     let one = run(1);
     assert_eq!(run(2), one);
@@ -206,7 +206,10 @@ fn thread_count_does_not_change_labels() {
 }
 
 /// A jittered lattice patch: random but with well-spread particles, the setting of SPH data.
-fn jittered_rows<const D: usize>(jitter: &[f64], n_side: usize) -> Vec<Point<D>> {
+fn jittered_rows<const D: usize>(jitter: &[f64], n_side: usize) -> Vec<Point<D>>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     let count = n_side.pow(D as u32);
     (0..count)
         .map(|k| {
@@ -247,12 +250,12 @@ proptest! {
         // 3D
         let pts = jittered_rows::<3>(&jitter, 5);
         let set = ParticleSet::new(pts.clone()).unwrap();
-        let base = ExactDetector.detect_3d(&set, Radius::new(r).unwrap()).unwrap();
+        let base = ExactDetector::default().detect_3d(&set, Radius::new(r).unwrap()).unwrap();
         let base_l = labels_away_from_ties(&base, r);
         let rot = Rotation3::from_euler_angles(angles.0, angles.1, angles.2);
         let t = Vector3::new(shift.0, shift.1, shift.2);
         let moved: Vec<_> = pts.iter().map(|p| (rot * p + t) * scale).collect();
-        let d = ExactDetector
+        let d = ExactDetector::default()
             .detect_3d(&ParticleSet::new(moved).unwrap(), Radius::new(r * scale).unwrap())
             .unwrap();
         prop_assert!(agree(&labels_away_from_ties(&d, r * scale), &base_l));
@@ -260,7 +263,7 @@ proptest! {
         let k = rotate_by % pts.len();
         let mut perm = pts.clone();
         perm.rotate_left(k);
-        let d = ExactDetector
+        let d = ExactDetector::default()
             .detect_3d(&ParticleSet::new(perm).unwrap(), Radius::new(r).unwrap())
             .unwrap();
         let mut back = labels_away_from_ties(&d, r);
@@ -268,7 +271,7 @@ proptest! {
         prop_assert_eq!(back, base_l);
         // 2D
         let pts2 = jittered_rows::<2>(&jitter, 7);
-        let base2 = ExactDetector
+        let base2 = ExactDetector::default()
             .detect_2d(&ParticleSet::new(pts2.clone()).unwrap(), Radius::new(r).unwrap())
             .unwrap();
         let rot2 = Rotation2::new(angles.0);
@@ -276,7 +279,7 @@ proptest! {
             .iter()
             .map(|p| (rot2 * p + t.xy()) * scale)
             .collect();
-        let d2 = ExactDetector
+        let d2 = ExactDetector::default()
             .detect_2d(&ParticleSet::new(moved2).unwrap(), Radius::new(r * scale).unwrap())
             .unwrap();
         prop_assert!(agree(

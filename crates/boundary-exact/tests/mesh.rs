@@ -62,7 +62,7 @@ fn box_mesh(lo: [f64; 3], hi: [f64; 3]) -> SolidMesh {
 }
 
 fn labels(set: &ParticleSet<3>, domain: &Domain, r: f64) -> Vec<bool> {
-    ExactDetector
+    ExactDetector::default()
         .detect_in(
             &AnyParticleSet::from(set.clone()),
             domain,
@@ -356,14 +356,18 @@ fn meshes_are_refused_where_they_cannot_apply() {
     let domain = Domain::new().with_solid_mesh(mesh.clone());
     let r = Radius::new(0.5).unwrap();
     let flat = AnyParticleSet::from(ParticleSet::<2>::from_rows(&[[0.0, 0.0]]).unwrap());
-    let e = ExactDetector.detect_in(&flat, &domain, r).unwrap_err();
+    let e = ExactDetector::default()
+        .detect_in(&flat, &domain, r)
+        .unwrap_err();
     assert!(e.to_string().contains("3D set"), "{e}");
     // A periodic axis whose ends the mesh comes within the reach of.
     let set = AnyParticleSet::from(ParticleSet::<3>::from_rows(&[[2.0, 0.5, 0.5]]).unwrap());
     let periodic = domain
         .clone()
         .with_periodic(boundary_core::Periodic::new(0, -0.5, 3.0).unwrap());
-    let e = ExactDetector.detect_in(&set, &periodic, r).unwrap_err();
+    let e = ExactDetector::default()
+        .detect_in(&set, &periodic, r)
+        .unwrap_err();
     assert!(
         e.to_string().contains("not repeated across a period"),
         "{e}"
@@ -378,22 +382,19 @@ fn meshes_are_refused_where_they_cannot_apply() {
         fn params(&self) -> boundary_core::Params {
             boundary_core::Params::default()
         }
-        fn set_param(&mut self, k: &str, _: &str) -> Result<(), boundary_core::ParamError> {
-            Err(boundary_core::ParamError::unknown("planes-only", k, &[]))
-        }
         fn detect_2d(
             &self,
             s: &ParticleSet<2>,
             r: Radius,
         ) -> Result<boundary_core::Detection, DetectError> {
-            ExactDetector.detect_2d(s, r)
+            ExactDetector::default().detect_2d(s, r)
         }
         fn detect_3d(
             &self,
             s: &ParticleSet<3>,
             r: Radius,
         ) -> Result<boundary_core::Detection, DetectError> {
-            ExactDetector.detect_3d(s, r)
+            ExactDetector::default().detect_3d(s, r)
         }
     }
     let e = PlanesOnly.detect_in(&set, &domain, r).unwrap_err();

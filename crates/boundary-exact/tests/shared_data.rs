@@ -16,12 +16,12 @@ fn reproduces_the_reference_boundary_counts() {
             let Some(set) = shared_set::<2>(file).unwrap() else {
                 continue;
             };
-            ExactDetector.detect_2d(&set, radius)
+            ExactDetector::default().detect_2d(&set, radius)
         } else {
             let Some(set) = shared_set::<3>(file).unwrap() else {
                 continue;
             };
-            ExactDetector.detect_3d(&set, radius)
+            ExactDetector::default().detect_3d(&set, radius)
         }
         .unwrap();
         let margins = det.margin.as_ref().unwrap();

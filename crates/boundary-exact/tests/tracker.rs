@@ -16,7 +16,7 @@ fn check_sequence(frames: &[AnyParticleSet], r: f64, domain: Domain) -> Vec<usiz
     let mut tracker = Tracker::new(r, Some(1), domain.clone()).unwrap();
     let mut recomputed = vec![];
     for (step, set) in frames.iter().enumerate() {
-        let full = domain::detect_in(&ExactDetector, set, &domain, r).unwrap();
+        let full = domain::detect_in(&ExactDetector::default(), set, &domain, r).unwrap();
         let labels = tracker.update(set).unwrap().clone();
         assert_eq!(
             first_difference(&labels, &full.detection.labels),
@@ -113,7 +113,7 @@ fn lattice_drifting_through_its_tie_flips_exactly_there() {
     let mut tracker = Tracker::new(r, Some(1), Domain::new()).unwrap();
     for (step, set) in frames.iter().enumerate() {
         let j = step as i32 - 3;
-        let full = ExactDetector.detect(set, r).unwrap();
+        let full = ExactDetector::default().detect(set, r).unwrap();
         let labels = tracker.update(set).unwrap();
         assert_eq!(first_difference(labels, &full.labels), None, "step {step}");
         for i in (0..64).filter(|&i| inner(i)) {
@@ -134,7 +134,7 @@ fn lattice_drifting_through_its_tie_flips_exactly_there() {
             })
             .collect();
         let set = ParticleSet::from_rows(&rows).unwrap().to_any();
-        let full = ExactDetector
+        let full = ExactDetector::default()
             .detect(&set, Radius::new(3.5).unwrap())
             .unwrap();
         let labels = tracker.update(&set).unwrap();
@@ -249,7 +249,7 @@ fn domains_and_radii_match_full_detection() {
         let walls = wall(0.02 * s as f64);
         tracker.move_walls(walls.clone()).unwrap();
         let domain = Domain::new().with_walls(walls);
-        let full = domain::detect_in(&ExactDetector, set, &domain, radius).unwrap();
+        let full = domain::detect_in(&ExactDetector::default(), set, &domain, radius).unwrap();
         let labels = tracker.update(set).unwrap();
         assert_eq!(
             first_difference(labels, &full.detection.labels),
@@ -316,7 +316,7 @@ proptest! {
                 }
             }
             let set = set2(&points);
-            let full = ExactDetector.detect(&set, radius).unwrap();
+            let full = ExactDetector::default().detect(&set, radius).unwrap();
             let labels = tracker.update(&set).unwrap();
             prop_assert_eq!(first_difference(labels, &full.labels), None, "step {}", step);
         }
@@ -365,7 +365,13 @@ fn slow_stretch_turns_particles_boundary_one_by_one() {
         .collect();
     let counts = check_sequence(&frames, 0.74, Domain::new());
     let r = Radius::new(0.74).unwrap();
-    let boundary = |f: &AnyParticleSet| ExactDetector.detect(f, r).unwrap().labels.boundary_count();
+    let boundary = |f: &AnyParticleSet| {
+        ExactDetector::default()
+            .detect(f, r)
+            .unwrap()
+            .labels
+            .boundary_count()
+    };
     let (first, last) = (boundary(&frames[0]), boundary(&frames[29]));
     assert!(last > first + 50, "{first} -> {last}");
     assert!(
@@ -397,6 +403,12 @@ fn slow_stretch_turns_particles_boundary_one_by_one() {
         .collect();
     check_sequence(&frames, 0.88, Domain::new());
     let r = Radius::new(0.88).unwrap();
-    let boundary = |f: &AnyParticleSet| ExactDetector.detect(f, r).unwrap().labels.boundary_count();
+    let boundary = |f: &AnyParticleSet| {
+        ExactDetector::default()
+            .detect(f, r)
+            .unwrap()
+            .labels
+            .boundary_count()
+    };
     assert!(boundary(&frames[19]) > boundary(&frames[0]) + 10);
 }

@@ -27,7 +27,10 @@ fn main() {
         let detectors: Vec<Box<dyn BoundaryDetector>> = if skip_exact {
             vec![Box::new(GeDetector::default())]
         } else {
-            vec![Box::new(GeDetector::default()), Box::new(ExactDetector)]
+            vec![
+                Box::new(GeDetector::default()),
+                Box::new(ExactDetector::default()),
+            ]
         };
         for det in &detectors {
             let t = Instant::now();

@@ -145,14 +145,15 @@
 //! # Example
 //! ```
 //! use boundary_core::{BoundaryDetector, ParticleSet, Radius};
-//! use boundary_ge::GeDetector;
+//! use boundary_ge::{GeDetector, GeParams};
 //!
 //! // A 5 x 5 x 5 cubic lattice of spacing 1 at r = 1.2: the 3 x 3 x 3 core is interior.
 //! let rows: Vec<[f64; 3]> = (0..125)
 //!     .map(|k| [(k % 5) as f64, ((k / 5) % 5) as f64, (k / 25) as f64])
 //!     .collect();
 //! let set = ParticleSet::from_rows(&rows).unwrap();
-//! let detection = GeDetector::new(6).detect_3d(&set, Radius::new(1.2).unwrap()).unwrap();
+//! let detector = GeDetector::try_new(GeParams { depth: 6 }).unwrap(); // the default depth
+//! let detection = detector.detect_3d(&set, Radius::new(1.2).unwrap()).unwrap();
 //! assert_eq!(detection.labels.boundary_count(), 125 - 27);
 //! ```
 
@@ -204,31 +205,47 @@ const SHELLS: usize = 16;
 /// about 1.08; in 2D the first level has reach 0.56 and is filtered).
 const WIDE_REACH: f64 = 1.0;
 
-/// The geometric-enclosure detector (`ge`). See the crate documentation.
-#[derive(Debug, Clone)]
-pub struct GeDetector {
-    depth: u32,
+/// The parameters of `ge` (string form: `--set depth=…`, see `boundary::registry`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct GeParams {
+    /// Maximum subdivision depth, in `1..=`[`MAX_DEPTH`]; default [`DEFAULT_DEPTH`]. Deeper:
+    /// fewer false positives, slower.
+    pub depth: u32,
 }
 
-impl Default for GeDetector {
+impl Default for GeParams {
     fn default() -> Self {
-        GeDetector {
+        GeParams {
             depth: DEFAULT_DEPTH,
         }
     }
 }
 
+/// The geometric-enclosure detector (`ge`). See the crate documentation.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct GeDetector {
+    params: GeParams,
+}
+
 impl GeDetector {
-    /// The detector with maximum depth `depth`, clamped to `1..=MAX_DEPTH`.
-    pub fn new(depth: u32) -> Self {
-        GeDetector {
-            depth: depth.clamp(1, MAX_DEPTH),
+    /// The detector with `params`, checked: `depth` must lie in `1..=`[`MAX_DEPTH`] (else
+    /// [`ParamError::Invalid`] naming `depth`; a depth is never clamped).
+    pub fn try_new(params: GeParams) -> Result<Self, ParamError> {
+        if (1..=MAX_DEPTH).contains(&params.depth) {
+            Ok(GeDetector { params })
+        } else {
+            Err(ParamError::invalid(
+                "ge",
+                "depth",
+                &params.depth.to_string(),
+                format!("must be an integer in 1..={MAX_DEPTH}"),
+            ))
         }
     }
 
-    /// The maximum refinement depth.
-    pub fn depth(&self) -> u32 {
-        self.depth
+    /// The parameters.
+    pub fn settings(&self) -> &GeParams {
+        &self.params
     }
 }
 
@@ -243,31 +260,11 @@ impl BoundaryDetector for GeDetector {
     fn params(&self) -> Params {
         Params(vec![ParamInfo {
             name: "depth",
-            value: self.depth.to_string(),
+            value: self.params.depth.to_string(),
             default: DEFAULT_DEPTH.to_string(),
             description: "maximum refinement depth of the slab mesh on S_i (JCP 2020 Sec. 3.2, \
                           rules R1-R4); deeper: fewer false positives, slower",
         }])
-    }
-
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        if key != "depth" {
-            return Err(ParamError::unknown("ge", key, &["depth"]));
-        }
-        self.depth = value
-            .trim()
-            .parse()
-            .ok()
-            .filter(|d| (1..=MAX_DEPTH).contains(d))
-            .ok_or_else(|| {
-                ParamError::invalid(
-                    "ge",
-                    "depth",
-                    value,
-                    format!("must be an integer in 1..={MAX_DEPTH}"),
-                )
-            })?;
-        Ok(())
     }
 
     fn certified(&self) -> bool {
@@ -279,7 +276,7 @@ impl BoundaryDetector for GeDetector {
             set,
             set.len(),
             r,
-            self.depth,
+            self.params.depth,
             &Solids::new(),
         )?)
     }
@@ -289,7 +286,7 @@ impl BoundaryDetector for GeDetector {
             set,
             set.len(),
             r,
-            self.depth,
+            self.params.depth,
             &Solids::new(),
         )?)
     }
@@ -315,7 +312,7 @@ impl BoundaryDetector for GeDetector {
     ) -> Result<Detection, DetectError> {
         DetectError::check_owned("ge", owned, set.len())?;
         solids.check_axes("ge", set.dim())?;
-        let depth = self.depth;
+        let depth = self.params.depth;
         Ok(match set {
             AnyParticleSet::D2(s) => detect_with::<2, Arc>(s, owned, r, depth, solids)?,
             AnyParticleSet::D3(s) => detect_with::<3, Triangle>(s, owned, r, depth, solids)?,
@@ -1044,7 +1041,8 @@ mod tests {
         }
         let set = ParticleSet::from_rows(&rows).unwrap_or_else(|_| unreachable!());
         let r = Radius::new(1.0).unwrap_or_else(|_| unreachable!());
-        let labels = GeDetector::new(8)
+        let labels = GeDetector::try_new(GeParams { depth: 8 })
+            .unwrap()
             .detect_2d(&set, r)
             .map(|d| d.labels)
             .unwrap_or_else(|_| unreachable!());

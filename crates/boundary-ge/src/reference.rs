@@ -76,7 +76,8 @@ fn check_same_labels(set: &AnyParticleSet, r: f64, max_depth: u32, what: &str) -
     let r = Radius::new(r).unwrap_or_else(|_| unreachable!());
     let mut boundary = 0;
     for depth in 1..=max_depth {
-        let fast = GeDetector::new(depth)
+        let fast = GeDetector::try_new(GeParams { depth })
+            .unwrap()
             .detect(set, r)
             .unwrap_or_else(|_| unreachable!())
             .labels;

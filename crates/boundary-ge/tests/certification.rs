@@ -6,13 +6,19 @@
 
 use boundary_core::{BoundaryDetector, Labels, ParticleSet, Radius};
 use boundary_exact::ExactDetector;
-use boundary_ge::GeDetector;
+use boundary_ge::{GeDetector, GeParams, MAX_DEPTH};
 use boundary_scenes::certify::{certify_every_case, check_depths, jittered_lattice, Case};
 use proptest::prelude::*;
 
 fn by_depth(set: &boundary_core::AnyParticleSet, r: Radius, max: u32) -> Vec<Labels> {
     (1..=max)
-        .map(|d| GeDetector::new(d).detect(set, r).unwrap().labels)
+        .map(|d| {
+            GeDetector::try_new(GeParams { depth: d })
+                .unwrap()
+                .detect(set, r)
+                .unwrap()
+                .labels
+        })
         .collect()
 }
 
@@ -24,13 +30,14 @@ fn every_scene_and_hard_case_depth_1_to_8() {
     let radius = |case: &Case| Radius::new(case.radius).unwrap();
     let report = certify_every_case(
         |case| {
-            ExactDetector
+            ExactDetector::default()
                 .detect(&case.set, radius(case))
                 .unwrap()
                 .labels
         },
         |case, depth| {
-            GeDetector::new(depth)
+            GeDetector::try_new(GeParams { depth })
+                .unwrap()
                 .detect(&case.set, radius(case))
                 .unwrap()
                 .labels
@@ -46,7 +53,8 @@ fn every_scene_and_hard_case_depth_1_to_8() {
 #[test]
 fn coincident_particles_do_not_cover_each_other() {
     let pair = ParticleSet::from_rows(&[[0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]).unwrap();
-    let labels = GeDetector::new(8)
+    let labels = GeDetector::try_new(GeParams { depth: 8 })
+        .unwrap()
         .detect_3d(&pair, Radius::new(1.0).unwrap())
         .unwrap()
         .labels;
@@ -71,7 +79,7 @@ fn deep_meshes_approach_the_exact_labels_on_jittered_lattices() {
         ),
     ] {
         let r = Radius::new(r).unwrap();
-        let truth = ExactDetector.detect(&set, r).unwrap().labels;
+        let truth = ExactDetector::default().detect(&set, r).unwrap().labels;
         let fps = check_depths(&truth, &by_depth(&set, r, 8)).unwrap();
         assert!(fps[7] * 50 <= set.len(), "FP by depth {fps:?}");
         assert!(fps[0] > fps[7], "FP by depth {fps:?}");
@@ -79,17 +87,20 @@ fn deep_meshes_approach_the_exact_labels_on_jittered_lattices() {
 }
 
 #[test]
-fn parameters_are_validated() {
-    let mut d = GeDetector::default();
+fn parameters_are_validated_never_clamped() {
+    let d = GeDetector::default();
     assert_eq!(d.params().to_string(), "depth=6");
-    d.set_param("depth", "3").unwrap();
-    assert_eq!(d.depth(), 3);
-    for bad in ["0", "17", "-1", "x", "2.5"] {
-        let err = d.set_param("depth", bad).unwrap_err();
-        assert!(err.to_string().contains(bad), "{err}");
+    assert_eq!(d.settings(), &GeParams::default());
+    let d = GeDetector::try_new(GeParams { depth: 3 }).unwrap();
+    assert_eq!(
+        (d.settings().depth, d.params().to_string()),
+        (3, "depth=3".into())
+    );
+    for bad in [0, MAX_DEPTH + 1, u32::MAX] {
+        let err = GeDetector::try_new(GeParams { depth: bad }).unwrap_err();
+        assert!(err.to_string().contains(&bad.to_string()), "{err}");
     }
-    assert!(d.set_param("gamma", "1").is_err());
-    assert_eq!(d.depth(), 3);
+    assert!(GeDetector::try_new(GeParams { depth: MAX_DEPTH }).is_ok());
 }
 
 #[test]
@@ -116,8 +127,8 @@ proptest! {
     ) {
         let set = ParticleSet::from_rows(&pts).unwrap().to_any();
         let radius = Radius::new(r).unwrap();
-        let exact = ExactDetector.detect(&set, radius).unwrap().labels;
-        let ge = GeDetector::new(depth).detect(&set, radius).unwrap().labels;
+        let exact = ExactDetector::default().detect(&set, radius).unwrap().labels;
+        let ge = GeDetector::try_new(GeParams { depth }).unwrap().detect(&set, radius).unwrap().labels;
         for i in 0..pts.len() {
             prop_assert!(!exact.is_boundary(i) || ge.is_boundary(i), "particle {}", i);
         }
@@ -131,8 +142,8 @@ proptest! {
     ) {
         let set = ParticleSet::from_rows(&pts).unwrap().to_any();
         let radius = Radius::new(r).unwrap();
-        let exact = ExactDetector.detect(&set, radius).unwrap().labels;
-        let ge = GeDetector::new(depth).detect(&set, radius).unwrap().labels;
+        let exact = ExactDetector::default().detect(&set, radius).unwrap().labels;
+        let ge = GeDetector::try_new(GeParams { depth }).unwrap().detect(&set, radius).unwrap().labels;
         for i in 0..pts.len() {
             prop_assert!(!exact.is_boundary(i) || ge.is_boundary(i), "particle {}", i);
         }

@@ -8,7 +8,7 @@
 use boundary_core::{
     BoundaryDetector, DetectError, Domain, HalfSpace, ParticleSet, Radius, Solids,
 };
-use boundary_ge::GeDetector;
+use boundary_ge::{GeDetector, GeParams};
 use boundary_scenes::certify::jittered_lattice;
 use boundary_scenes::solids::certify_with_solids;
 
@@ -16,7 +16,8 @@ use boundary_scenes::solids::certify_with_solids;
 fn certified_with_solids_at_depths_2_4_6_8() {
     for depth in [2, 4, 6, 8] {
         let report = certify_with_solids(|case, solids| {
-            GeDetector::new(depth)
+            GeDetector::try_new(GeParams { depth })
+                .unwrap()
                 .detect_owned_in(&case.set, case.owned, solids, case.r())
                 .unwrap()
                 .labels

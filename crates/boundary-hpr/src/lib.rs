@@ -141,8 +141,12 @@
 //! protrusion tolerance along a facet normal): every candidate is labelled boundary (a flat set's particles are all
 //! boundary by the covering definition). [`HprDetector::detect_with_stats`] counts these.
 //!
-//! # Parameters (`--set key=value`)
-//! | key | default | meaning |
+//! # Parameters
+//! [`HprParams`], checked by [`HprDetector::try_new`]; the `--set key=value` keys of the
+//! command line and the bindings are the field names (`cavity=on|off`, `grids=1|2`,
+//! `protrusion=auto|<value>`).
+//!
+//! | field | default | meaning |
 //! |---|---|---|
 //! | `gamma` | 1.3 | exponent of the exponential flipping (Eq. 2.2), `> 1`; the thesis' value |
 //! | `cavity` | `on` | place the cavity viewpoints of Eq. 2.3 (`off`: empty cells only) |
@@ -239,33 +243,73 @@ pub const PROTRUSION_RANGE: (f64, f64) = (1e-6, 0.1);
 pub const HALO_FACTOR: f64 = 5.0 + 4.0 * 1.732_050_807_568_877_2;
 
 const METHOD: &str = "hpr";
-const KEYS: [&str; 4] = ["gamma", "cavity", "grids", "protrusion"];
+
+/// How many viewpoint grids `hpr` uses (crate docs, "Two grids").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Grids {
+    /// One grid of cell side `2r` (Alg. 1). String form `grids=1`.
+    #[default]
+    One,
+    /// Also the grid shifted by `r`: a particle is boundary when seen under both. String form
+    /// `grids=2`.
+    Two,
+}
+
+impl Grids {
+    /// The number of grids, 1 or 2.
+    pub fn count(self) -> usize {
+        match self {
+            Grids::One => 1,
+            Grids::Two => 2,
+        }
+    }
+}
+
+/// The protrusion tolerance of `hpr`'s visibility test (crate docs, "Protrusion").
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Protrusion {
+    /// Per dimension: [`PROTRUSION_TOLERANCE_2D`] in 2D, [`PROTRUSION_TOLERANCE_3D`] in 3D.
+    /// String form `protrusion=auto`.
+    #[default]
+    Auto,
+    /// This tolerance in both dimensions, within [`PROTRUSION_RANGE`].
+    Value(f64),
+}
+
+/// The parameters of `hpr`, with the thesis' defaults (string form: the `--set` keys of the
+/// same names, see `boundary::registry`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct HprParams {
+    /// Exponent of the exponential flipping `p/|p|^γ` (Eq. 2.2), finite, in `(1, 10]`;
+    /// default [`DEFAULT_GAMMA`].
+    pub gamma: f64,
+    /// Whether the cavity viewpoints of Eq. 2.3 are placed (`false`: empty cells only);
+    /// default `true`. String form `cavity=on|off`.
+    pub cavity: bool,
+    /// Viewpoint grids; default [`Grids::One`].
+    pub grids: Grids,
+    /// Hull vertices protruding by at most this are hidden; default [`Protrusion::Auto`].
+    pub protrusion: Protrusion,
+}
+
+impl Default for HprParams {
+    fn default() -> Self {
+        HprParams {
+            gamma: DEFAULT_GAMMA,
+            cavity: true,
+            grids: Grids::One,
+            protrusion: Protrusion::Auto,
+        }
+    }
+}
 
 /// The HPR detector (`hpr`). See the crate documentation.
 ///
-/// Its parameters are private: [`HprDetector::new`] and the setters check them, so that a
-/// detector never holds an invalid exponent.
-#[derive(Debug, Clone, PartialEq)]
+/// Built from a checked [`HprParams`] ([`HprDetector::try_new`]), so a detector never holds
+/// an invalid exponent or tolerance.
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct HprDetector {
-    /// Exponential flipping exponent, in `(1, 10]`.
-    gamma: f64,
-    /// Whether cavity viewpoints (Eq. 2.3) are placed.
-    cavity: bool,
-    /// Viewpoint grids, 1 or 2 (see the crate documentation, "Two grids").
-    grids: usize,
-    /// Protrusion tolerance; `None`: per dimension (`auto`).
-    protrusion: Option<f64>,
-}
-
-impl Default for HprDetector {
-    fn default() -> Self {
-        HprDetector {
-            gamma: DEFAULT_GAMMA,
-            cavity: true,
-            grids: 1,
-            protrusion: None,
-        }
-    }
+    params: HprParams,
 }
 
 /// Counts of one run: viewpoints by kind and hulls by outcome (summed over the passes with
@@ -306,72 +350,45 @@ impl HprStats {
 }
 
 impl HprDetector {
-    /// The detector with flipping exponent `gamma` (finite, in `(1, 10]`) and cavity
-    /// viewpoints on or off; an error naming the value otherwise.
-    pub fn new(gamma: f64, cavity: bool) -> Result<Self, ParamError> {
-        let mut d = HprDetector::default();
-        d.set_gamma(gamma)?;
-        d.cavity = cavity;
-        Ok(d)
+    /// The detector with `params`, checked (`gamma` finite in `(1, 10]`, a
+    /// [`Protrusion::Value`] finite within [`PROTRUSION_RANGE`]); the error
+    /// ([`ParamError::Invalid`]) names the first field that fails.
+    pub fn try_new(params: HprParams) -> Result<Self, ParamError> {
+        let gamma = params.gamma;
+        if !(gamma.is_finite() && gamma > 1.0 && gamma <= 10.0) {
+            return Err(ParamError::invalid(
+                METHOD,
+                "gamma",
+                &gamma.to_string(),
+                "must be in (1, 10]",
+            ));
+        }
+        if let Protrusion::Value(t) = params.protrusion {
+            let (lo, hi) = PROTRUSION_RANGE;
+            if !(t.is_finite() && (lo..=hi).contains(&t)) {
+                return Err(ParamError::invalid(
+                    METHOD,
+                    "protrusion",
+                    &t.to_string(),
+                    "must be auto or a number in [1e-6, 0.1]",
+                ));
+            }
+        }
+        Ok(HprDetector { params })
     }
 
-    /// The flipping exponent.
-    pub fn gamma(&self) -> f64 {
-        self.gamma
-    }
-
-    /// Whether cavity viewpoints are placed.
-    pub fn cavity(&self) -> bool {
-        self.cavity
-    }
-
-    /// Sets the flipping exponent: finite and in `(1, 10]`, else an error (the detector is
-    /// unchanged).
-    pub fn set_gamma(&mut self, gamma: f64) -> Result<(), ParamError> {
-        self.gamma = check_gamma(gamma, &gamma.to_string())?;
-        Ok(())
-    }
-
-    /// Places (or not) the cavity viewpoints of Eq. 2.3.
-    pub fn set_cavity(&mut self, cavity: bool) {
-        self.cavity = cavity;
-    }
-
-    /// The number of viewpoint grids (1 or 2).
-    pub fn grids(&self) -> usize {
-        self.grids
-    }
-
-    /// Sets the number of viewpoint grids: 1 (Alg. 1) or 2 (also the grid shifted by `r`;
-    /// a particle is boundary when seen under both); an error otherwise (unchanged).
-    pub fn set_grids(&mut self, grids: usize) -> Result<(), ParamError> {
-        self.grids = check_grids(grids, &grids.to_string())?;
-        Ok(())
-    }
-
-    /// The protrusion tolerance set by `protrusion=<value>`, or `None` for `auto` (per
-    /// dimension: [`PROTRUSION_TOLERANCE_2D`], [`PROTRUSION_TOLERANCE_3D`]).
-    pub fn protrusion(&self) -> Option<f64> {
-        self.protrusion
-    }
-
-    /// Sets the protrusion tolerance: `None` for `auto`, or a value in [`PROTRUSION_RANGE`];
-    /// an error otherwise (unchanged).
-    pub fn set_protrusion(&mut self, protrusion: Option<f64>) -> Result<(), ParamError> {
-        self.protrusion = match protrusion {
-            None => None,
-            Some(t) => Some(check_protrusion(t, &t.to_string())?),
-        };
-        Ok(())
+    /// The parameters.
+    pub fn settings(&self) -> &HprParams {
+        &self.params
     }
 
     /// The protrusion tolerance used in dimension `D`.
     fn protrusion_for<const D: usize>(&self) -> f64 {
-        self.protrusion.unwrap_or(if D == 2 {
-            PROTRUSION_TOLERANCE_2D
-        } else {
-            PROTRUSION_TOLERANCE_3D
-        })
+        match self.params.protrusion {
+            Protrusion::Value(t) => t,
+            Protrusion::Auto if D == 2 => PROTRUSION_TOLERANCE_2D,
+            Protrusion::Auto => PROTRUSION_TOLERANCE_3D,
+        }
     }
 
     /// Labels of all particles and the counts of the run.
@@ -400,7 +417,7 @@ impl HprDetector {
         // The first viewpoint grid, and with `grids = 2` the one shifted by r (half a cell)
         // on every axis: a particle is boundary when it is seen under each of them.
         let mut flags = vec![true; owned];
-        for shift in [0.0, r].into_iter().take(self.grids) {
+        for shift in [0.0, r].into_iter().take(self.params.grids.count()) {
             let (seen, s) = self.visible_under_grid(set, &grid, owned, r, shift);
             stats = stats.merge(s);
             for (f, v) in flags.iter_mut().zip(seen) {
@@ -421,7 +438,7 @@ impl HprDetector {
         shift: f64,
     ) -> (Vec<bool>, HprStats) {
         let mut stats = HprStats::default();
-        let viewpoints = place_viewpoints(set, grid, r, self.cavity, shift);
+        let viewpoints = place_viewpoints(set, grid, r, self.params.cavity, shift);
         stats.cavity_viewpoints = viewpoints
             .iter()
             .filter(|v| v.kind == ViewpointKind::Cavity)
@@ -429,7 +446,7 @@ impl HprDetector {
         stats.empty_cell_viewpoints = viewpoints.len() - stats.cavity_viewpoints;
         let positions = set.positions();
         let reach = VISIBILITY_RADIUS * r * (1.0 + REACH_TOLERANCE);
-        let gamma = self.gamma;
+        let gamma = self.params.gamma;
         let tol = self.protrusion_for::<D>();
         let (seen, hull_stats) = viewpoints
             .par_iter()
@@ -480,90 +497,10 @@ impl HprDetector {
     }
 }
 
-fn check_gamma(gamma: f64, text: &str) -> Result<f64, ParamError> {
-    if gamma.is_finite() && gamma > 1.0 && gamma <= 10.0 {
-        Ok(gamma)
-    } else {
-        Err(ParamError::invalid(
-            METHOD,
-            "gamma",
-            text,
-            "must be in (1, 10]",
-        ))
-    }
-}
-
-fn parse_gamma(value: &str) -> Result<f64, ParamError> {
-    match value.trim().parse::<f64>() {
-        Ok(v) => check_gamma(v, value),
-        Err(_) => Err(ParamError::invalid(
-            METHOD,
-            "gamma",
-            value,
-            "must be in (1, 10]",
-        )),
-    }
-}
-
-fn check_grids(grids: usize, text: &str) -> Result<usize, ParamError> {
-    if grids == 1 || grids == 2 {
-        Ok(grids)
-    } else {
-        Err(ParamError::invalid(METHOD, "grids", text, "must be 1 or 2"))
-    }
-}
-
-fn parse_grids(value: &str) -> Result<usize, ParamError> {
-    match value.trim().parse::<usize>() {
-        Ok(v) => check_grids(v, value),
-        Err(_) => Err(ParamError::invalid(
-            METHOD,
-            "grids",
-            value,
-            "must be 1 or 2",
-        )),
-    }
-}
-
-fn check_protrusion(t: f64, text: &str) -> Result<f64, ParamError> {
-    let (lo, hi) = PROTRUSION_RANGE;
-    if t.is_finite() && (lo..=hi).contains(&t) {
-        Ok(t)
-    } else {
-        Err(ParamError::invalid(
-            METHOD,
-            "protrusion",
-            text,
-            "must be auto or a number in [1e-6, 0.1]",
-        ))
-    }
-}
-
-fn parse_protrusion(value: &str) -> Result<Option<f64>, ParamError> {
-    let v = value.trim();
-    if v == "auto" {
-        return Ok(None);
-    }
-    match v.parse::<f64>() {
-        Ok(t) => check_protrusion(t, value).map(Some),
-        Err(_) => Err(ParamError::invalid(
-            METHOD,
-            "protrusion",
-            value,
-            "must be auto or a number in [1e-6, 0.1]",
-        )),
-    }
-}
-
-fn protrusion_text(p: Option<f64>) -> String {
-    p.map_or_else(|| "auto".to_owned(), |t| t.to_string())
-}
-
-fn parse_switch(key: &str, value: &str) -> Result<bool, ParamError> {
-    match value.trim() {
-        "on" | "true" | "1" | "yes" => Ok(true),
-        "off" | "false" | "0" | "no" => Ok(false),
-        _ => Err(ParamError::invalid(METHOD, key, value, "must be on or off")),
+fn protrusion_text(p: Protrusion) -> String {
+    match p {
+        Protrusion::Auto => "auto".to_owned(),
+        Protrusion::Value(t) => t.to_string(),
     }
 }
 
@@ -583,44 +520,33 @@ impl BoundaryDetector for HprDetector {
         Params(vec![
             ParamInfo {
                 name: "gamma",
-                value: self.gamma.to_string(),
+                value: self.params.gamma.to_string(),
                 default: DEFAULT_GAMMA.to_string(),
                 description: "exponent of the exponential flipping p/|p|^gamma, > 1 \
                               (Sandim 2020, Eq. 2.2)",
             },
             ParamInfo {
                 name: "cavity",
-                value: switch(self.cavity),
+                value: switch(self.params.cavity),
                 default: switch(true),
                 description: "on: also place viewpoints in cavity cells (Sandim 2020, Eq. 2.3, \
                               Fig. 5); off: empty-cell viewpoints only",
             },
             ParamInfo {
                 name: "grids",
-                value: self.grids.to_string(),
+                value: self.params.grids.count().to_string(),
                 default: "1".to_owned(),
                 description: "viewpoint grids: 1 (Alg. 1), or 2 (also the grid shifted by r; \
                               boundary when seen under both)",
             },
             ParamInfo {
                 name: "protrusion",
-                value: protrusion_text(self.protrusion),
-                default: protrusion_text(None),
+                value: protrusion_text(self.params.protrusion),
+                default: protrusion_text(Protrusion::Auto),
                 description: "a hull vertex protruding by at most this from the hull of the \
                               other flipped points is hidden; auto: 1e-3 in 2D, 1e-5 in 3D",
             },
         ])
-    }
-
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        match key {
-            "gamma" => self.gamma = parse_gamma(value)?,
-            "cavity" => self.cavity = parse_switch(key, value)?,
-            "grids" => self.grids = parse_grids(value)?,
-            "protrusion" => self.protrusion = parse_protrusion(value)?,
-            _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
-        }
-        Ok(())
     }
 
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
@@ -677,72 +603,62 @@ mod tests {
     use super::*;
 
     #[test]
-    fn parameters_round_trip_and_are_validated() {
-        let mut d = HprDetector::default();
+    fn parameters_are_checked_and_reported() {
+        let d = HprDetector::default();
         assert_eq!(
             d.params().to_string(),
             "gamma=1.3, cavity=on, grids=1, protrusion=auto"
         );
+        assert_eq!(d.settings(), &HprParams::default());
         assert_eq!(d.protrusion_for::<2>(), PROTRUSION_TOLERANCE_2D);
         assert_eq!(d.protrusion_for::<3>(), PROTRUSION_TOLERANCE_3D);
-        d.set_param("gamma", "1.75").unwrap();
-        d.set_param("cavity", "off").unwrap();
-        d.set_param("grids", "2").unwrap();
-        d.set_param("protrusion", "1e-3").unwrap();
+        let params = HprParams {
+            gamma: 1.75,
+            cavity: false,
+            grids: Grids::Two,
+            protrusion: Protrusion::Value(1e-3),
+        };
+        let d = HprDetector::try_new(params.clone()).unwrap();
+        assert_eq!(d.settings(), &params);
         assert_eq!(
-            d,
-            HprDetector {
-                gamma: 1.75,
-                cavity: false,
-                grids: 2,
-                protrusion: Some(1e-3),
-            }
+            d.params().to_string(),
+            "gamma=1.75, cavity=off, grids=2, protrusion=0.001"
         );
         assert_eq!(d.protrusion_for::<3>(), 1e-3, "a set value holds in 3D too");
-        for (key, bad) in [
-            ("gamma", "1"),
-            ("gamma", "nan"),
-            ("cavity", "maybe"),
-            ("grids", "3"),
-            ("grids", "0"),
-            ("grids", "two"),
-            ("protrusion", "0"),
-            ("protrusion", "0.5"),
-            ("protrusion", "-1e-3"),
-            ("protrusion", "inf"),
-            ("protrusion", "none"),
-        ] {
-            let err = d.set_param(key, bad).unwrap_err();
-            assert!(err.to_string().contains(bad), "{err}");
-        }
-        assert!(d.set_grids(5).is_err());
-        assert!(d.set_protrusion(Some(f64::NAN)).is_err());
-        assert_eq!(
-            (d.gamma(), d.cavity(), d.grids(), d.protrusion()),
-            (1.75, false, 2, Some(1e-3)),
-            "a rejected value changes nothing"
-        );
-        d.set_param("protrusion", "auto").unwrap();
-        assert_eq!(d.protrusion(), None);
-        assert!(d.set_param("depth", "1").is_err());
         assert!(!d.certified());
     }
 
     #[test]
-    fn constructor_and_setters_reject_invalid_gamma() {
+    fn try_new_rejects_invalid_gamma_and_protrusion() {
         for bad in [1.0, 0.5, -2.0, 10.5, f64::NAN, f64::INFINITY] {
-            let err = HprDetector::new(bad, true).unwrap_err();
-            assert!(err.to_string().contains("gamma"), "{err}");
-            let mut d = HprDetector::default();
-            assert!(d.set_gamma(bad).is_err());
-            assert_eq!(d.gamma(), DEFAULT_GAMMA, "unchanged after {bad}");
+            let err = HprDetector::try_new(HprParams {
+                gamma: bad,
+                ..HprParams::default()
+            })
+            .unwrap_err();
+            assert!(
+                matches!(&err, ParamError::Invalid { key, .. } if key == "gamma"),
+                "{err}"
+            );
         }
-        let d = HprDetector::new(2.0, false).unwrap();
-        assert_eq!((d.gamma(), d.cavity()), (2.0, false));
-        assert_eq!(
-            HprDetector::new(DEFAULT_GAMMA, true).unwrap(),
-            HprDetector::default()
-        );
+        for bad in [0.0, 0.5, -1e-3, 1e-7, f64::INFINITY, f64::NAN] {
+            let err = HprDetector::try_new(HprParams {
+                protrusion: Protrusion::Value(bad),
+                ..HprParams::default()
+            })
+            .unwrap_err();
+            assert!(
+                matches!(&err, ParamError::Invalid { key, .. } if key == "protrusion"),
+                "{err}"
+            );
+        }
+        for ok in [PROTRUSION_RANGE.0, PROTRUSION_RANGE.1] {
+            let params = HprParams {
+                protrusion: Protrusion::Value(ok),
+                ..HprParams::default()
+            };
+            assert!(HprDetector::try_new(params).is_ok(), "{ok}");
+        }
     }
 
     #[test]

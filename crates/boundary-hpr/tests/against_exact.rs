@@ -11,8 +11,9 @@ use boundary_core::decompose::{morton_blocks, slabs};
 use boundary_core::{
     AnyParticleSet, BoundaryDetector, Confusion, Labels, ParticleSet, Point, Radius,
 };
+use boundary_core::{Dim, SupportedDim};
 use boundary_exact::ExactDetector;
-use boundary_hpr::{HprDetector, DEFAULT_GAMMA};
+use boundary_hpr::{Grids, HprDetector, HprParams};
 use boundary_scenes::{
     cubic_lattice, fixtures_dir, jittered_lattice_ball, jittered_lattice_disc, shared_set,
     square_lattice, Manifest, SHARED_SCENES,
@@ -23,7 +24,7 @@ fn labels(d: &HprDetector, set: &AnyParticleSet, r: f64) -> Labels {
 }
 
 fn labels_exact(set: &AnyParticleSet, r: f64) -> Labels {
-    ExactDetector
+    ExactDetector::default()
         .detect(set, Radius::new(r).unwrap())
         .unwrap()
         .labels
@@ -35,7 +36,10 @@ fn confusion(found: &Labels, truth: &Labels) -> Confusion {
 
 /// The rim (depth < 0.3 spacings) is all boundary, nothing deeper than `4r + 1` is, and the
 /// exact boundary is found with Rec >= `min_recall`.
-fn check_ball<const D: usize>(set: &ParticleSet<D>, radius: f64, r: f64, min_recall: f64) {
+fn check_ball<const D: usize>(set: &ParticleSet<D>, radius: f64, r: f64, min_recall: f64)
+where
+    Dim<D>: SupportedDim,
+{
     let d = HprDetector::default();
     let any = set.to_any();
     let found = labels(&d, &any, r);
@@ -80,8 +84,11 @@ fn lattice_balls_rim_and_core() {
 #[test]
 fn sandim_vortex_frames_reach_the_authors_code_with_full_recall() {
     let d = HprDetector::default();
-    let mut two_grids = HprDetector::default();
-    two_grids.set_grids(2).unwrap();
+    let two_grids = HprDetector::try_new(HprParams {
+        grids: Grids::Two,
+        ..HprParams::default()
+    })
+    .unwrap();
     let goals = [
         ("sandim_vortex_001", 1.0),
         ("sandim_vortex_050", 0.9582),
@@ -204,7 +211,15 @@ fn bubble_counts(
         .filter(|&i| truth.is_boundary(i) && (s3.positions()[i] - centre).norm() < reach)
         .collect();
     let on = labels(&HprDetector::default(), set, r);
-    let off = labels(&HprDetector::new(DEFAULT_GAMMA, false).unwrap(), set, r);
+    let off = labels(
+        &HprDetector::try_new(HprParams {
+            cavity: false,
+            ..HprParams::default()
+        })
+        .unwrap(),
+        set,
+        r,
+    );
     let found = |l: &Labels| bubble.iter().filter(|&&i| l.is_boundary(i)).count();
     let (c_on, c_off) = (confusion(&on, &truth), confusion(&off, &truth));
     eprintln!(
@@ -347,8 +362,11 @@ fn labels_do_not_depend_on_threads_or_decomposition() {
         return;
     };
     let r = Radius::new(0.022105).unwrap();
-    let mut two_grids = HprDetector::default();
-    two_grids.set_grids(2).unwrap();
+    let two_grids = HprDetector::try_new(HprParams {
+        grids: Grids::Two,
+        ..HprParams::default()
+    })
+    .unwrap();
     for d in [HprDetector::default(), two_grids] {
         same_labels_on_threads_and_subdomains(&d, &set, r);
     }

@@ -4,7 +4,7 @@
 
 use boundary_core::{BoundaryDetector, Radius};
 use boundary_exact::ExactDetector;
-use boundary_ia::IaDetector;
+use boundary_ia::{IaDetector, IaParams};
 use boundary_scenes::jittered_lattice_ball;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
@@ -19,10 +19,15 @@ fn bench(c: &mut Criterion) {
     group.sample_size(10);
     group.throughput(Throughput::Elements(set.len() as u64));
     group.bench_function("ia_depth6", |b| {
-        b.iter(|| IaDetector::new(6).detect_3d(&set, r).expect("runs"))
+        b.iter(|| {
+            IaDetector::try_new(IaParams { depth: 6 })
+                .expect("depth in range")
+                .detect_3d(&set, r)
+                .expect("runs")
+        })
     });
     group.bench_function("exact", |b| {
-        b.iter(|| ExactDetector.detect_3d(&set, r).expect("runs"))
+        b.iter(|| ExactDetector::default().detect_3d(&set, r).expect("runs"))
     });
     group.finish();
 }

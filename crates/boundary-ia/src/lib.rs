@@ -117,14 +117,15 @@
 //! # Example
 //! ```
 //! use boundary_core::{BoundaryDetector, ParticleSet, Radius};
-//! use boundary_ia::IaDetector;
+//! use boundary_ia::{IaDetector, IaParams};
 //!
 //! // A 5 x 5 x 5 cubic lattice of spacing 1 at r = 1.2: the 3 x 3 x 3 core is interior.
 //! let rows: Vec<[f64; 3]> = (0..125)
 //!     .map(|k| [(k % 5) as f64, ((k / 5) % 5) as f64, (k / 25) as f64])
 //!     .collect();
 //! let set = ParticleSet::from_rows(&rows).unwrap();
-//! let detection = IaDetector::new(6).detect_3d(&set, Radius::new(1.2).unwrap()).unwrap();
+//! let detector = IaDetector::try_new(IaParams { depth: 6 }).unwrap(); // the default depth
+//! let detection = detector.detect_3d(&set, Radius::new(1.2).unwrap()).unwrap();
 //! assert_eq!(detection.labels.boundary_count(), 125 - 27);
 //! ```
 
@@ -140,31 +141,47 @@ pub const DEFAULT_DEPTH: u32 = 6;
 /// Largest accepted depth: `2^-16` of `r` is far below any particle spacing.
 pub const MAX_DEPTH: u32 = 16;
 
-/// The interval-arithmetic detector (`ia`). See the crate documentation.
-#[derive(Debug, Clone)]
-pub struct IaDetector {
-    depth: u32,
+/// The parameters of `ia` (string form: `--set depth=…`, see `boundary::registry`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct IaParams {
+    /// Maximum subdivision depth, in `1..=`[`MAX_DEPTH`]; default [`DEFAULT_DEPTH`]. Deeper:
+    /// fewer false positives, slower.
+    pub depth: u32,
 }
 
-impl Default for IaDetector {
+impl Default for IaParams {
     fn default() -> Self {
-        IaDetector {
+        IaParams {
             depth: DEFAULT_DEPTH,
         }
     }
 }
 
+/// The interval-arithmetic detector (`ia`). See the crate documentation.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct IaDetector {
+    params: IaParams,
+}
+
 impl IaDetector {
-    /// The detector with maximum depth `depth`, clamped to `1..=MAX_DEPTH`.
-    pub fn new(depth: u32) -> Self {
-        IaDetector {
-            depth: depth.clamp(1, MAX_DEPTH),
+    /// The detector with `params`, checked: `depth` must lie in `1..=`[`MAX_DEPTH`] (else
+    /// [`ParamError::Invalid`] naming `depth`; a depth is never clamped).
+    pub fn try_new(params: IaParams) -> Result<Self, ParamError> {
+        if (1..=MAX_DEPTH).contains(&params.depth) {
+            Ok(IaDetector { params })
+        } else {
+            Err(ParamError::invalid(
+                "ia",
+                "depth",
+                &params.depth.to_string(),
+                format!("must be an integer in 1..={MAX_DEPTH}"),
+            ))
         }
     }
 
-    /// The maximum subdivision depth.
-    pub fn depth(&self) -> u32 {
-        self.depth
+    /// The parameters.
+    pub fn settings(&self) -> &IaParams {
+        &self.params
     }
 }
 
@@ -179,32 +196,11 @@ impl BoundaryDetector for IaDetector {
     fn params(&self) -> Params {
         Params(vec![ParamInfo {
             name: "depth",
-            value: self.depth.to_string(),
+            value: self.params.depth.to_string(),
             default: DEFAULT_DEPTH.to_string(),
             description: "maximum quadtree/octree depth (JCP 2020 Sec. 3.1, rules R1-R4); \
                           deeper: fewer false positives, slower",
         }])
-    }
-
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        if key != "depth" {
-            return Err(ParamError::unknown("ia", key, &["depth"]));
-        }
-        let depth: u32 = value
-            .trim()
-            .parse()
-            .ok()
-            .filter(|d| (1..=MAX_DEPTH).contains(d))
-            .ok_or_else(|| {
-                ParamError::invalid(
-                    "ia",
-                    "depth",
-                    value,
-                    format!("must be an integer in 1..={MAX_DEPTH}"),
-                )
-            })?;
-        self.depth = depth;
-        Ok(())
     }
 
     fn certified(&self) -> bool {
@@ -212,11 +208,23 @@ impl BoundaryDetector for IaDetector {
     }
 
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(detect_with(set, set.len(), r, self.depth, &Solids::new())?)
+        Ok(detect_with(
+            set,
+            set.len(),
+            r,
+            self.params.depth,
+            &Solids::new(),
+        )?)
     }
 
     fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(detect_with(set, set.len(), r, self.depth, &Solids::new())?)
+        Ok(detect_with(
+            set,
+            set.len(),
+            r,
+            self.params.depth,
+            &Solids::new(),
+        )?)
     }
 
     /// Classifies only the owned particles; the ghosts serve as neighbours only.
@@ -241,8 +249,8 @@ impl BoundaryDetector for IaDetector {
         DetectError::check_owned("ia", owned, set.len())?;
         solids.check_axes("ia", set.dim())?;
         Ok(match set {
-            AnyParticleSet::D2(s) => detect_with(s, owned, r, self.depth, solids)?,
-            AnyParticleSet::D3(s) => detect_with(s, owned, r, self.depth, solids)?,
+            AnyParticleSet::D2(s) => detect_with(s, owned, r, self.params.depth, solids)?,
+            AnyParticleSet::D3(s) => detect_with(s, owned, r, self.params.depth, solids)?,
         })
     }
 }

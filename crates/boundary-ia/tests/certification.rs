@@ -6,13 +6,19 @@
 
 use boundary_core::{AnyParticleSet, BoundaryDetector, Labels, ParticleSet, Radius};
 use boundary_exact::ExactDetector;
-use boundary_ia::IaDetector;
+use boundary_ia::{IaDetector, IaParams, MAX_DEPTH};
 use boundary_scenes::certify::{certify_every_case, check_depths, jittered_lattice, Case};
 use proptest::prelude::*;
 
 fn by_depth(set: &AnyParticleSet, r: Radius, max: u32) -> Vec<Labels> {
     (1..=max)
-        .map(|d| IaDetector::new(d).detect(set, r).unwrap().labels)
+        .map(|d| {
+            IaDetector::try_new(IaParams { depth: d })
+                .unwrap()
+                .detect(set, r)
+                .unwrap()
+                .labels
+        })
         .collect()
 }
 
@@ -25,13 +31,14 @@ fn every_scene_and_hard_case_depth_1_to_8() {
     let radius = |case: &Case| Radius::new(case.radius).unwrap();
     let report = certify_every_case(
         |case| {
-            ExactDetector
+            ExactDetector::default()
                 .detect(&case.set, radius(case))
                 .unwrap()
                 .labels
         },
         |case, depth| {
-            IaDetector::new(depth)
+            IaDetector::try_new(IaParams { depth })
+                .unwrap()
                 .detect(&case.set, radius(case))
                 .unwrap()
                 .labels
@@ -47,7 +54,8 @@ fn every_scene_and_hard_case_depth_1_to_8() {
 #[test]
 fn coincident_particles_do_not_cover_each_other() {
     let pair = ParticleSet::from_rows(&[[0.0, 0.0], [0.0, 0.0]]).unwrap();
-    let labels = IaDetector::new(8)
+    let labels = IaDetector::try_new(IaParams { depth: 8 })
+        .unwrap()
         .detect_2d(&pair, Radius::new(1.0).unwrap())
         .unwrap()
         .labels;
@@ -62,24 +70,27 @@ fn deep_trees_approach_the_exact_labels_on_jittered_lattices() {
         .unwrap()
         .to_any();
     let r = Radius::new(1.2).unwrap();
-    let truth = ExactDetector.detect(&set, r).unwrap().labels;
+    let truth = ExactDetector::default().detect(&set, r).unwrap().labels;
     let fps = check_depths(&truth, &by_depth(&set, r, 8)).unwrap();
     assert!(fps[7] * 50 <= set.len(), "FP by depth {fps:?}");
     assert!(fps[0] > fps[7], "FP by depth {fps:?}");
 }
 
 #[test]
-fn parameters_are_validated() {
-    let mut d = IaDetector::default();
+fn parameters_are_validated_never_clamped() {
+    let d = IaDetector::default();
     assert_eq!(d.params().to_string(), "depth=6");
-    d.set_param("depth", "3").unwrap();
-    assert_eq!(d.depth(), 3);
-    for bad in ["0", "17", "-1", "x", "2.5"] {
-        let err = d.set_param("depth", bad).unwrap_err();
-        assert!(err.to_string().contains(bad), "{err}");
+    assert_eq!(d.settings(), &IaParams::default());
+    let d = IaDetector::try_new(IaParams { depth: 3 }).unwrap();
+    assert_eq!(
+        (d.settings().depth, d.params().to_string()),
+        (3, "depth=3".into())
+    );
+    for bad in [0, MAX_DEPTH + 1, u32::MAX] {
+        let err = IaDetector::try_new(IaParams { depth: bad }).unwrap_err();
+        assert!(err.to_string().contains(&bad.to_string()), "{err}");
     }
-    assert!(d.set_param("gamma", "1").is_err());
-    assert_eq!(d.depth(), 3);
+    assert!(IaDetector::try_new(IaParams { depth: MAX_DEPTH }).is_ok());
 }
 
 proptest! {
@@ -92,8 +103,8 @@ proptest! {
     ) {
         let set = ParticleSet::from_rows(&pts).unwrap().to_any();
         let radius = Radius::new(r).unwrap();
-        let exact = ExactDetector.detect(&set, radius).unwrap().labels;
-        let ia = IaDetector::new(depth).detect(&set, radius).unwrap().labels;
+        let exact = ExactDetector::default().detect(&set, radius).unwrap().labels;
+        let ia = IaDetector::try_new(IaParams { depth }).unwrap().detect(&set, radius).unwrap().labels;
         for i in 0..pts.len() {
             prop_assert!(!exact.is_boundary(i) || ia.is_boundary(i), "particle {}", i);
         }

@@ -6,6 +6,7 @@ use std::fmt;
 /// Lines and columns are 1-based (as an editor shows them); item indices (particles of a binary
 /// file) are 0-based, as particle indices are everywhere else in the project.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Location {
     /// The file as a whole (an empty file, a dimension policy that cannot be met).
     File,

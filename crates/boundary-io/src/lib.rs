@@ -160,6 +160,7 @@ pub use atomic::{is_temp_name_for, write_atomic, TEMP_MARKER};
 pub use error::{IoError, Location};
 
 use boundary_core::{AnyParticleSet, CoreError, ParticleSet, Point};
+use boundary_core::{Dim, SupportedDim};
 use std::fmt;
 use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::Path;
@@ -627,6 +628,7 @@ fn build<const D: usize>(
 ) -> Result<AnyParticleSet, IoError>
 where
     AnyParticleSet: From<ParticleSet<D>>,
+    Dim<D>: SupportedDim,
 {
     let points: Vec<Point<D>> = coords
         .chunks_exact(stride)

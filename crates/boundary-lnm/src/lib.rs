@@ -278,11 +278,6 @@ impl BoundaryDetector for LnmDetector {
         ])
     }
 
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        self.params = text_params::with(&self.params, key, value)?;
-        Ok(())
-    }
-
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
         self.detect_first(set, set.len(), r)
     }
@@ -357,6 +352,17 @@ mod text_params {
     }
 }
 
+impl LnmDetector {
+    /// Sets a parameter from its `key=value` text, as the registry of the `boundary` crate
+    /// (the command line's `--set`, the bindings' keyword arguments) gives it; on error
+    /// `self` is unchanged.
+    #[doc(hidden)]
+    pub fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        self.params = text_params::with(&self.params, key, value)?;
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 mod tests {
@@ -367,8 +373,8 @@ mod tests {
         let mut d = LnmDetector::default();
         assert_eq!(d.params().to_string(), "cell_over_r=2, delta=auto");
         assert_eq!((d.delta(2), d.delta(3)), (4, 8));
-        d.set_param("delta", "3").unwrap();
-        d.set_param("cell_over_r", "1.5").unwrap();
+        d.set_param_text("delta", "3").unwrap();
+        d.set_param_text("cell_over_r", "1.5").unwrap();
         let typed = LnmDetector::try_new(LnmParams {
             cell_over_r: 1.5,
             delta: Some(3),
@@ -382,14 +388,14 @@ mod tests {
             ("delta", "-1"),
             ("delta", "2.5"),
         ] {
-            let err = d.set_param(key, bad).unwrap_err();
+            let err = d.set_param_text(key, bad).unwrap_err();
             assert!(err.to_string().contains(bad), "{err}");
         }
         assert_eq!(d, typed, "a failed set_param changes nothing");
-        d.set_param("delta", "auto").unwrap();
+        d.set_param_text("delta", "auto").unwrap();
         assert_eq!(d.delta(2), 2, "floor(1.5^2)");
         assert!(d
-            .set_param("depth", "1")
+            .set_param_text("depth", "1")
             .unwrap_err()
             .to_string()
             .contains("delta"));

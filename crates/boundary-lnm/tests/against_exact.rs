@@ -11,9 +11,12 @@ use boundary_lnm::{LnmDetector, LnmParams};
 use boundary_scenes::tuning::{tuning_cases_2d, tuning_cases_3d};
 use boundary_scenes::{against, jittered_lattice_ball, jittered_lattice_disc};
 
-fn score<const D: usize>(d: &LnmDetector, set: &ParticleSet<D>, r: f64) -> Confusion {
+fn score<const D: usize>(d: &LnmDetector, set: &ParticleSet<D>, r: f64) -> Confusion
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     let found = against::labels(d, set, r).unwrap();
-    let truth = against::labels(&ExactDetector, set, r).unwrap();
+    let truth = against::labels(&ExactDetector::default(), set, r).unwrap();
     Confusion::from_labels(found.as_slice(), truth.as_slice()).unwrap()
 }
 
@@ -29,7 +32,7 @@ fn the_band_holds_the_boundary_on_generated_scenes() {
     let core = |dim: f64| 3.0 * 2.0 * r * dim.sqrt();
     let c2 = against::check_ball(
         &d,
-        &ExactDetector,
+        &ExactDetector::default(),
         &jittered_lattice_disc(20.0, 0.15, 1),
         20.0,
         r,
@@ -38,7 +41,16 @@ fn the_band_holds_the_boundary_on_generated_scenes() {
     )
     .unwrap();
     let (ball, radius) = jittered_lattice_ball(30000, 0.15, 2);
-    let c3 = against::check_ball(&d, &ExactDetector, &ball, radius, r, core(3.0), 0.99).unwrap();
+    let c3 = against::check_ball(
+        &d,
+        &ExactDetector::default(),
+        &ball,
+        radius,
+        r,
+        core(3.0),
+        0.99,
+    )
+    .unwrap();
     // The band is 2-4 r thick: a quarter of the disc, half of the ball.
     for (what, c, bound) in [("2D disc", c2, 0.3), ("3D ball", c3, 0.55)] {
         println!(

@@ -111,9 +111,10 @@ mod scan;
 
 use boundary_core::{CoreError, ParamError, ParamInfo, Params, ParticleSet, Radius};
 use boundary_sph::frame::DEFAULT_H_OVER_R as FRAME_H_OVER_R;
-use boundary_sph::{
-    Kernel, Smoothing, SphContext, SphCriterion, SphMethod, SymmetricEigen, Verdict,
-};
+/// The SPH kernel shapes of [`MarroneParams::kernel`].
+pub use boundary_sph::Kernel;
+
+use boundary_sph::{Smoothing, SphContext, SphCriterion, SphMethod, SymmetricEigen, Verdict};
 use rayon::prelude::*;
 use scan::ScanRegion;
 
@@ -127,42 +128,46 @@ pub const DEFAULT_CONE_ANGLE_DEG: f64 = 45.0;
 pub const DEFAULT_H_OVER_R: f64 = FRAME_H_OVER_R;
 
 const METHOD: &str = "marrone";
-const KEYS: [&str; 5] = [
-    "lambda_surface",
-    "lambda_interior",
-    "cone_angle",
-    "kernel",
-    "h_over_r",
-];
 
-/// The Marrone et al. (2010) detector (`marrone`). See the crate documentation.
-///
-/// The parameters are private and always valid: [`MarroneDetector::new`] and the setters
-/// check them with the rules (and messages) of `set_param`.
+/// The parameters of `marrone`, with the paper's defaults (string form: the `--set` keys of
+/// the same names, see `boundary::registry`).
 #[derive(Debug, Clone, PartialEq)]
-pub struct MarroneDetector {
-    /// (M2) `λ <= lambda_surface`: free surface; finite, `>= 0`.
-    lambda_surface: f64,
-    /// (M2) `λ > lambda_interior`: interior; finite, `>= 0`.
-    lambda_interior: f64,
-    /// (M4) half-angle of the scan cone, degrees, in `(0, 90)`.
-    cone_angle_deg: f64,
-    /// Kernel shape (support `2h`).
-    kernel: Kernel,
-    /// `h / r`, in `(0, 100]`.
-    h_over_r: f64,
+pub struct MarroneParams {
+    /// (M2) `λ <= lambda_surface`: free surface. Finite, `>= 0`; default
+    /// [`DEFAULT_LAMBDA_SURFACE`].
+    pub lambda_surface: f64,
+    /// (M2) `λ > lambda_interior`: interior. Finite, `>= 0`; default
+    /// [`DEFAULT_LAMBDA_INTERIOR`]. The two tests are applied in that order, so
+    /// `lambda_surface > lambda_interior` is accepted and means "no scan".
+    pub lambda_interior: f64,
+    /// (M4) half-angle of the scan cone, in degrees, in `(0, 90)`; default
+    /// [`DEFAULT_CONE_ANGLE_DEG`]. The ball part of the scan region starts at `2h cos θ`.
+    pub cone_angle: f64,
+    /// The kernel shape (support `2h`); default Wendland C2.
+    pub kernel: Kernel,
+    /// The smoothing length `h` in units of `r`, in `(0, 100]`; default [`DEFAULT_H_OVER_R`].
+    pub h_over_r: f64,
 }
 
-impl Default for MarroneDetector {
+impl Default for MarroneParams {
     fn default() -> Self {
-        MarroneDetector {
+        MarroneParams {
             lambda_surface: DEFAULT_LAMBDA_SURFACE,
             lambda_interior: DEFAULT_LAMBDA_INTERIOR,
-            cone_angle_deg: DEFAULT_CONE_ANGLE_DEG,
+            cone_angle: DEFAULT_CONE_ANGLE_DEG,
             kernel: Kernel::WendlandC2,
             h_over_r: DEFAULT_H_OVER_R,
         }
     }
+}
+
+/// The Marrone et al. (2010) detector (`marrone`). See the crate documentation.
+///
+/// Built from a checked [`MarroneParams`] ([`MarroneDetector::try_new`]), so a detector never
+/// holds an invalid value.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MarroneDetector {
+    params: MarroneParams,
 }
 
 /// A numeric parameter's rule: its key, the test, and what the message says it must be.
@@ -187,106 +192,43 @@ const CONE_ANGLE: Rule = Rule {
     ok: |v| v > 0.0 && v < 90.0,
     expected: "an angle in degrees in (0, 90)",
 };
+const H_OVER_R: Rule = Rule {
+    key: "h_over_r",
+    ok: |v| v > 0.0 && v <= 100.0,
+    expected: "in (0, 100]",
+};
 
 impl Rule {
-    /// `v` if finite and allowed, else the error `set_param` gives for the text `shown`.
-    fn check(&self, v: f64, shown: &str) -> Result<f64, ParamError> {
+    /// `Ok` if `v` is finite and allowed, else the error naming the key and the value.
+    fn check(&self, v: f64) -> Result<(), ParamError> {
         if v.is_finite() && (self.ok)(v) {
-            Ok(v)
+            Ok(())
         } else {
-            Err(self.error(shown))
+            Err(ParamError::invalid(
+                METHOD,
+                self.key,
+                &v.to_string(),
+                format!("must be {}", self.expected),
+            ))
         }
-    }
-
-    /// Parses and checks the text `value`.
-    fn parse(&self, value: &str) -> Result<f64, ParamError> {
-        let v = value.trim().parse::<f64>().map_err(|_| self.error(value))?;
-        self.check(v, value)
-    }
-
-    fn error(&self, shown: &str) -> ParamError {
-        ParamError::invalid(
-            METHOD,
-            self.key,
-            shown,
-            format!("must be {}", self.expected),
-        )
     }
 }
 
 impl MarroneDetector {
-    /// The detector with the given parameters, each checked as `set_param` checks it
-    /// (`lambda_surface`, `lambda_interior` finite and `>= 0`, `cone_angle_deg` in `(0, 90)`,
-    /// `h_over_r` in `(0, 100]`).
-    pub fn new(
-        lambda_surface: f64,
-        lambda_interior: f64,
-        cone_angle_deg: f64,
-        kernel: Kernel,
-        h_over_r: f64,
-    ) -> Result<Self, ParamError> {
-        let check = |rule: &Rule, v: f64| rule.check(v, &v.to_string());
-        Ok(MarroneDetector {
-            lambda_surface: check(&LAMBDA_SURFACE, lambda_surface)?,
-            lambda_interior: check(&LAMBDA_INTERIOR, lambda_interior)?,
-            cone_angle_deg: check(&CONE_ANGLE, cone_angle_deg)?,
-            kernel,
-            h_over_r: Smoothing::check_h_over_r(METHOD, h_over_r, &h_over_r.to_string())?,
-        })
+    /// The detector with `params`, each checked (`lambda_surface`, `lambda_interior` finite
+    /// and `>= 0`, `cone_angle` in `(0, 90)`, `h_over_r` in `(0, 100]`); the error
+    /// ([`ParamError::Invalid`]) names the first field that fails.
+    pub fn try_new(params: MarroneParams) -> Result<Self, ParamError> {
+        LAMBDA_SURFACE.check(params.lambda_surface)?;
+        LAMBDA_INTERIOR.check(params.lambda_interior)?;
+        CONE_ANGLE.check(params.cone_angle)?;
+        H_OVER_R.check(params.h_over_r)?;
+        Ok(MarroneDetector { params })
     }
 
-    /// (M2) `λ <= lambda_surface`: free surface.
-    pub fn lambda_surface(&self) -> f64 {
-        self.lambda_surface
-    }
-
-    /// (M2) `λ > lambda_interior`: interior.
-    pub fn lambda_interior(&self) -> f64 {
-        self.lambda_interior
-    }
-
-    /// (M4) half-angle of the scan cone, degrees.
-    pub fn cone_angle_deg(&self) -> f64 {
-        self.cone_angle_deg
-    }
-
-    /// The kernel shape.
-    pub fn kernel(&self) -> Kernel {
-        self.kernel
-    }
-
-    /// `h / r`.
-    pub fn h_over_r(&self) -> f64 {
-        self.h_over_r
-    }
-
-    /// Sets `lambda_surface` (finite, `>= 0`); on error the detector is unchanged.
-    pub fn set_lambda_surface(&mut self, v: f64) -> Result<(), ParamError> {
-        self.lambda_surface = LAMBDA_SURFACE.check(v, &v.to_string())?;
-        Ok(())
-    }
-
-    /// Sets `lambda_interior` (finite, `>= 0`); on error the detector is unchanged.
-    pub fn set_lambda_interior(&mut self, v: f64) -> Result<(), ParamError> {
-        self.lambda_interior = LAMBDA_INTERIOR.check(v, &v.to_string())?;
-        Ok(())
-    }
-
-    /// Sets the cone half-angle in degrees (in `(0, 90)`); on error the detector is unchanged.
-    pub fn set_cone_angle_deg(&mut self, v: f64) -> Result<(), ParamError> {
-        self.cone_angle_deg = CONE_ANGLE.check(v, &v.to_string())?;
-        Ok(())
-    }
-
-    /// Sets the kernel shape.
-    pub fn set_kernel(&mut self, kernel: Kernel) {
-        self.kernel = kernel;
-    }
-
-    /// Sets `h / r` (in `(0, 100]`); on error the detector is unchanged.
-    pub fn set_h_over_r(&mut self, v: f64) -> Result<(), ParamError> {
-        self.h_over_r = Smoothing::check_h_over_r(METHOD, v, &v.to_string())?;
-        Ok(())
+    /// The parameters.
+    pub fn settings(&self) -> &MarroneParams {
+        &self.params
     }
 }
 
@@ -298,13 +240,13 @@ impl SphCriterion for MarroneDetector {
 
     fn smoothing(&self) -> Smoothing {
         Smoothing {
-            kernel: self.kernel,
-            h_over_r: self.h_over_r,
+            kernel: self.params.kernel,
+            h_over_r: self.params.h_over_r,
         }
     }
 
     fn classify<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Verdict {
-        let theta = self.cone_angle_deg.to_radians();
+        let theta = self.params.cone_angle.to_radians();
         Verdict::label(self.is_free_surface(ctx, i, ctx.kernel().h(), theta))
     }
 }
@@ -317,21 +259,21 @@ impl SphMethod for MarroneDetector {
         let mut list = vec![
             ParamInfo {
                 name: "lambda_surface",
-                value: self.lambda_surface.to_string(),
+                value: self.params.lambda_surface.to_string(),
                 default: DEFAULT_LAMBDA_SURFACE.to_string(),
                 description: "smallest eigenvalue of the renormalisation matrix at or below \
                               which a particle is free surface (Marrone et al. 2010, first step)",
             },
             ParamInfo {
                 name: "lambda_interior",
-                value: self.lambda_interior.to_string(),
+                value: self.params.lambda_interior.to_string(),
                 default: DEFAULT_LAMBDA_INTERIOR.to_string(),
                 description: "smallest eigenvalue above which a particle is interior; between \
                               the two thresholds the scan region decides (second step)",
             },
             ParamInfo {
                 name: "cone_angle",
-                value: self.cone_angle_deg.to_string(),
+                value: self.params.cone_angle.to_string(),
                 default: DEFAULT_CONE_ANGLE_DEG.to_string(),
                 description: "half-angle in degrees of the scan cone around the normal; the ball \
                               of radius h around x + h n takes over at 2h cos(angle)",
@@ -339,21 +281,6 @@ impl SphMethod for MarroneDetector {
         ];
         list.extend(self.smoothing().param_infos());
         Params(list)
-    }
-
-    fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        let mut smoothing = self.smoothing();
-        if smoothing.set_text(METHOD, key, value)? {
-            (self.kernel, self.h_over_r) = (smoothing.kernel, smoothing.h_over_r);
-            return Ok(());
-        }
-        match key {
-            "lambda_surface" => self.lambda_surface = LAMBDA_SURFACE.parse(value)?,
-            "lambda_interior" => self.lambda_interior = LAMBDA_INTERIOR.parse(value)?,
-            "cone_angle" => self.cone_angle_deg = CONE_ANGLE.parse(value)?,
-            _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
-        }
-        Ok(())
     }
 }
 
@@ -392,10 +319,10 @@ impl MarroneDetector {
         let sums = ctx.local_sums(i);
         let eigen = SymmetricEigen::new(&sums.renormalisation);
         let lambda = eigen.min_value();
-        if lambda <= self.lambda_surface {
+        if lambda <= self.params.lambda_surface {
             return true;
         }
-        if lambda > self.lambda_interior {
+        if lambda > self.params.lambda_interior {
             return false;
         }
         let nu = -eigen.solve(&sums.gradient_h);
@@ -426,90 +353,53 @@ mod tests {
     use boundary_core::BoundaryDetector;
 
     #[test]
-    fn parameters_round_trip_and_are_validated() {
-        let mut d = MarroneDetector::default();
+    fn parameters_are_checked_and_reported() {
+        let d = MarroneDetector::default();
         assert_eq!(
             d.params().to_string(),
             "lambda_surface=0.2, lambda_interior=0.75, cone_angle=45, kernel=wendland, h_over_r=1"
         );
-        d.set_param("kernel", "cubic").unwrap();
-        d.set_param("lambda_surface", "0.1").unwrap();
-        d.set_param("h_over_r", "1.3").unwrap();
-        assert_eq!(d.kernel(), Kernel::CubicSpline);
-        assert_eq!(d.lambda_surface(), 0.1);
-        for (key, bad) in [
-            ("lambda_surface", "-0.1"),
-            ("lambda_interior", "nan"),
-            ("cone_angle", "90"),
-            ("cone_angle", "0"),
-            ("kernel", "gauss"),
-            ("h_over_r", "0"),
-            ("h_over_r", "inf"),
-        ] {
-            let err = d.set_param(key, bad).unwrap_err();
-            assert!(err.to_string().contains(bad), "{err}");
-        }
-        let err = d.set_param("depth", "3").unwrap_err();
-        assert!(err.to_string().contains("lambda_surface"), "{err}");
-        assert_eq!(d.h_over_r(), 1.3);
-    }
-
-    #[test]
-    fn constructor_and_setters_reject_what_set_param_rejects_with_its_messages() {
-        let ok = MarroneDetector::new(0.2, 0.75, 45.0, Kernel::WendlandC2, 1.0).unwrap();
-        assert_eq!(ok, MarroneDetector::default());
+        assert_eq!(d.settings(), &MarroneParams::default());
+        let params = MarroneParams {
+            lambda_surface: 0.1,
+            lambda_interior: 0.9,
+            cone_angle: 30.0,
+            kernel: Kernel::CubicSpline,
+            h_over_r: 2.0,
+        };
+        let d = MarroneDetector::try_new(params.clone()).unwrap();
+        assert_eq!(d.settings(), &params);
+        assert_eq!(
+            d.params().to_string(),
+            "lambda_surface=0.1, lambda_interior=0.9, cone_angle=30, kernel=cubic, h_over_r=2"
+        );
         for (key, bad) in [
             ("lambda_surface", -0.1),
             ("lambda_interior", f64::NAN),
             ("cone_angle", 90.0),
             ("cone_angle", 0.0),
             ("h_over_r", 0.0),
+            ("h_over_r", 100.5),
             ("h_over_r", f64::INFINITY),
         ] {
-            let mut d = MarroneDetector::default();
-            let typed = match key {
-                "lambda_surface" => d.set_lambda_surface(bad),
-                "lambda_interior" => d.set_lambda_interior(bad),
-                "cone_angle" => d.set_cone_angle_deg(bad),
-                _ => d.set_h_over_r(bad),
+            let mut p = MarroneParams::default();
+            match key {
+                "lambda_surface" => p.lambda_surface = bad,
+                "lambda_interior" => p.lambda_interior = bad,
+                "cone_angle" => p.cone_angle = bad,
+                _ => p.h_over_r = bad,
             }
-            .unwrap_err();
+            let err = MarroneDetector::try_new(p).unwrap_err();
+            let ParamError::Invalid {
+                key: named, value, ..
+            } = &err
+            else {
+                panic!("{err}");
+            };
             assert_eq!(
-                d,
-                MarroneDetector::default(),
-                "a failed setter changes nothing"
+                (named.as_str(), value.as_str()),
+                (key, bad.to_string().as_str())
             );
-            let text = d.set_param(key, &bad.to_string()).unwrap_err();
-            assert_eq!(typed.to_string(), text.to_string());
-            let built = MarroneDetector::new(
-                if key == "lambda_surface" { bad } else { 0.2 },
-                if key == "lambda_interior" { bad } else { 0.75 },
-                if key == "cone_angle" { bad } else { 45.0 },
-                Kernel::CubicSpline,
-                if key == "h_over_r" { bad } else { 1.0 },
-            )
-            .unwrap_err();
-            assert_eq!(built.to_string(), text.to_string());
         }
-        let mut d = MarroneDetector::default();
-        d.set_lambda_surface(0.1).unwrap();
-        d.set_lambda_interior(0.9).unwrap();
-        d.set_cone_angle_deg(30.0).unwrap();
-        d.set_kernel(Kernel::CubicSpline);
-        d.set_h_over_r(2.0).unwrap();
-        assert_eq!(
-            d,
-            MarroneDetector::new(0.1, 0.9, 30.0, Kernel::CubicSpline, 2.0).unwrap()
-        );
-        assert_eq!(
-            (
-                d.lambda_surface(),
-                d.lambda_interior(),
-                d.cone_angle_deg(),
-                d.kernel(),
-                d.h_over_r()
-            ),
-            (0.1, 0.9, 30.0, Kernel::CubicSpline, 2.0)
-        );
     }
 }

@@ -7,12 +7,15 @@
 
 use boundary_core::{BoundaryDetector, Labels, ParticleSet, Radius};
 use boundary_exact::ExactDetector;
-use boundary_marrone::MarroneDetector;
+use boundary_marrone::{MarroneDetector, MarroneParams};
 use boundary_scenes::against;
 use boundary_scenes::{jittered_lattice_ball, jittered_lattice_disc};
 use boundary_sph::Kernel;
 
-fn labels<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, r: f64) -> Labels {
+fn labels<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, r: f64) -> Labels
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     d.detect(&set.to_any(), Radius::new(r).unwrap())
         .unwrap()
         .labels
@@ -21,9 +24,12 @@ fn labels<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, r: f64) -> 
 /// The outermost particles (within 0.3 spacings of the rim) are all boundary, the particles
 /// deeper than one kernel support plus a spacing are all interior, and the exact boundary is
 /// found with Rec >= 0.95.
-fn check_ball<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, radius: f64, r: f64) {
-    let core = 2.0 * d.h_over_r() * r + 1.0;
-    against::check_ball(d, &ExactDetector, set, radius, r, core, 0.95).unwrap();
+fn check_ball<const D: usize>(d: &MarroneDetector, set: &ParticleSet<D>, radius: f64, r: f64)
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
+    let core = 2.0 * d.settings().h_over_r * r + 1.0;
+    against::check_ball(d, &ExactDetector::default(), set, radius, r, core, 0.95).unwrap();
 }
 
 #[test]
@@ -33,9 +39,12 @@ fn lattice_balls_have_a_boundary_rim_and_an_interior_core() {
     let (ball, radius) = jittered_lattice_ball(8000, 0.15, 2);
     check_ball(&d, &ball, radius, 1.2);
     // The cubic spline and a larger h behave the same on these.
-    let mut cubic = MarroneDetector::default();
-    cubic.set_param("kernel", "cubic").unwrap();
-    cubic.set_param("h_over_r", "1.3").unwrap();
+    let cubic = MarroneDetector::try_new(MarroneParams {
+        kernel: Kernel::CubicSpline,
+        h_over_r: 1.3,
+        ..MarroneParams::default()
+    })
+    .unwrap();
     check_ball(&cubic, &ball, radius, 1.2);
 }
 
@@ -45,18 +54,27 @@ fn the_scan_alone_finds_the_shell_and_the_lambda_cuts_bracket_the_default() {
     let r = 1.2;
     // Scan only: every particle with λ > 0 goes through the scan region, which alone still
     // finds the shell and leaves the core.
-    let mut scan_only = MarroneDetector::default();
-    scan_only.set_param("lambda_surface", "0").unwrap();
-    scan_only.set_param("lambda_interior", "1e9").unwrap();
+    let scan_only = MarroneDetector::try_new(MarroneParams {
+        lambda_surface: 0.0,
+        lambda_interior: 1e9,
+        ..MarroneParams::default()
+    })
+    .unwrap();
     check_ball(&scan_only, &ball, radius, r);
     // λ only (no candidates): a coarser answer, a superset of the default's boundary on this
     // ball when the cut is at 0.75, and a subset when it is at 0.2.
     let default = labels(&MarroneDetector::default(), &ball, r);
-    let mut generous = MarroneDetector::default();
-    generous.set_param("lambda_surface", "0.75").unwrap();
+    let generous = MarroneDetector::try_new(MarroneParams {
+        lambda_surface: 0.75,
+        ..MarroneParams::default()
+    })
+    .unwrap();
     let generous = labels(&generous, &ball, r);
-    let mut strict = MarroneDetector::default();
-    strict.set_param("lambda_interior", "0.2").unwrap();
+    let strict = MarroneDetector::try_new(MarroneParams {
+        lambda_interior: 0.2,
+        ..MarroneParams::default()
+    })
+    .unwrap();
     let strict = labels(&strict, &ball, r);
     for i in 0..ball.len() {
         assert!(!default.is_boundary(i) || generous.is_boundary(i), "{i}");
@@ -86,7 +104,12 @@ fn shared_scenes_keep_m_at_or_above_the_recorded_floors() {
         ("dambreak23_r0.05", 0.9),
         ("dualsphysics_dambreak3d", 0.95),
     ];
-    against::check_shared_floors(&MarroneDetector::default(), &ExactDetector, &floors).unwrap();
+    against::check_shared_floors(
+        &MarroneDetector::default(),
+        &ExactDetector::default(),
+        &floors,
+    )
+    .unwrap();
 }
 
 /// The same labels for a jittered lattice and its copies scaled by 1e-100 to 8e99 at r
@@ -94,7 +117,10 @@ fn shared_scenes_keep_m_at_or_above_the_recorded_floors() {
 /// kernel's h^-D made every volume 0 or infinite at r = 1e150 in 3D).
 #[test]
 fn labels_are_the_same_for_the_scene_scaled_across_the_supported_radius_range() {
-    fn check<const D: usize>(set: &ParticleSet<D>, r: f64, d: &MarroneDetector) {
+    fn check<const D: usize>(set: &ParticleSet<D>, r: f64, d: &MarroneDetector)
+    where
+        boundary_core::Dim<D>: boundary_core::SupportedDim,
+    {
         let base = labels(d, set, r);
         let lambdas = d.lambdas(set, Radius::new(r).unwrap()).unwrap();
         for s in [1e-100, 1e-9, 1e-3, 0.37, 1e3, 1e9, 8e99] {
@@ -110,7 +136,14 @@ fn labels_are_the_same_for_the_scene_scaled_across_the_supported_radius_range() 
     let (ball, _) = jittered_lattice_ball(1500, 0.2, 6);
     for d in [
         MarroneDetector::default(),
-        MarroneDetector::new(0.1, 0.9, 30.0, Kernel::CubicSpline, 1.3).unwrap(),
+        MarroneDetector::try_new(MarroneParams {
+            lambda_surface: 0.1,
+            lambda_interior: 0.9,
+            cone_angle: 30.0,
+            kernel: Kernel::CubicSpline,
+            h_over_r: 1.3,
+        })
+        .unwrap(),
     ] {
         check(&disc, 1.2, &d);
         check(&ball, 1.2, &d);

@@ -7,7 +7,7 @@
 //! halo width `w` of `q`'s box ([`strip_for`]: a superset of what `q` needs, since a particle
 //! within `w` of one of `q`'s particles is within `w` of their box), and keeps, of what it
 //! receives, exactly the particles within `w` (closed, `d <= w`) of one of its own
-//! ([`keep_ghosts`]): the ghosts of [`boundary::decompose::Subdomain`] for the same owners.
+//! ([`keep_ghosts`]): the ghosts of [`boundary::implement::decompose::Subdomain`] for the same owners.
 //!
 //! ```
 //! use boundary::Point;
@@ -22,7 +22,9 @@
 //! assert_eq!(ghosts, vec![0]);
 //! ```
 
-use boundary::{CoreError, NeighbourGrid, ParticleSet, Point};
+use boundary::implement::NeighbourGrid;
+use boundary::{CoreError, ParticleSet, Point};
+use boundary::{Dim, SupportedDim};
 
 /// Relative slack on `w²` when choosing the strip sent to another rank. The strip only has to
 /// be a superset of the ghosts (the receiver keeps exactly those within `w`), and the box
@@ -71,14 +73,17 @@ pub fn strip_for<const D: usize>(owned: &[Point<D>], other: &Aabb<D>, w: f64) ->
 
 /// Indices (into `candidates`) of the candidates within `w` (closed, the neighbour grid's
 /// `d² <= w²`) of at least one `owned` particle, ascending. These are exactly the ghosts that
-/// [`boundary::decompose::with_halo`] gives the same owned set.
+/// [`boundary::implement::decompose::with_halo`] gives the same owned set.
 ///
 /// Errors: `w` not positive and finite, or a scene the grid cannot index at cell size `w`.
 pub fn keep_ghosts<const D: usize>(
     owned: &[Point<D>],
     candidates: &[Point<D>],
     w: f64,
-) -> Result<Vec<usize>, CoreError> {
+) -> Result<Vec<usize>, CoreError>
+where
+    Dim<D>: SupportedDim,
+{
     if owned.is_empty() || candidates.is_empty() {
         return Ok(Vec::new());
     }
@@ -162,7 +167,7 @@ pub fn global_indices(values: &[f64], file: &str) -> Result<Vec<u64>, String> {
 mod tests {
     #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
     use super::*;
-    use boundary::decompose::{rcb_owners, with_halo};
+    use boundary::implement::decompose::{rcb_owners, with_halo};
 
     fn p2(x: f64, y: f64) -> Point<2> {
         Point::<2>::new(x, y)

@@ -12,7 +12,7 @@
 //!    CSV file with an `index` column of global indices (`--per-rank-input`), which is then
 //!    kept as the decomposition.
 //! 2. **decompose** (rank-0 read only): rank 0 assigns owners by recursive coordinate
-//!    bisection or Morton blocks, balanced by count (`boundary::decompose`).
+//!    bisection or Morton blocks, balanced by count (`boundary::implement::decompose`).
 //! 3. **scatter**: rank 0 sends every rank its owned positions and global indices.
 //! 4. **halo**: ranks exchange boxes, send each other the strips within the halo width
 //!    `detector.halo_width(r)` and keep the exact ghosts (see the library docs).
@@ -24,10 +24,11 @@
 //! Errors that one rank meets are agreed on collectively (every rank stops at the same point);
 //! the rank that met it prints it.
 
+use boundary::{Dim, SupportedDim};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use boundary::decompose::{morton_owners, rcb_owners};
+use boundary::implement::decompose::{morton_owners, rcb_owners};
 use boundary::{
     detector_with_params, parse_param, AnyParticleSet, BoundaryDetector, ParticleSet, Point, Radius,
 };
@@ -380,6 +381,7 @@ impl Run<'_> {
     ) -> Result<(), Failure>
     where
         AnyParticleSet: From<ParticleSet<D>>,
+        Dim<D>: SupportedDim,
     {
         let world = self.world;
         let size = world.size() as usize;
@@ -559,7 +561,10 @@ impl Run<'_> {
         owned_index: &[u64],
         w: f64,
         stats: &mut Stats,
-    ) -> Result<(Vec<Point<D>>, Vec<u64>), Failure> {
+    ) -> Result<(Vec<Point<D>>, Vec<u64>), Failure>
+    where
+        Dim<D>: SupportedDim,
+    {
         let world = self.world;
         let size = world.size() as usize;
         let me = world.rank() as usize;
@@ -638,7 +643,10 @@ impl Run<'_> {
         labels: &[u8],
         with_positions: bool,
         n: usize,
-    ) -> Result<Option<(Vec<u8>, Option<ParticleSet<D>>)>, Failure> {
+    ) -> Result<Option<(Vec<u8>, Option<ParticleSet<D>>)>, Failure>
+    where
+        Dim<D>: SupportedDim,
+    {
         let world = self.world;
         let size = world.size() as usize;
         let root = world.process_at_rank(0);

@@ -113,7 +113,10 @@
 
 use boundary_core::{CoreError, ParamError, ParamInfo, Params, ParticleSet, Radius};
 use boundary_sph::frame::DEFAULT_H_OVER_R as FRAME_H_OVER_R;
-use boundary_sph::{Kernel, Smoothing, SphContext, SphCriterion, SphMethod, Verdict};
+/// The SPH kernel shapes of [`MullerParams::kernel`].
+pub use boundary_sph::Kernel;
+
+use boundary_sph::{Smoothing, SphContext, SphCriterion, SphMethod, Verdict};
 use rayon::prelude::*;
 
 /// Default dimensionless threshold on `|∇c|·h` (see the crate documentation for how it was
@@ -123,25 +126,21 @@ pub const DEFAULT_THRESHOLD: f64 = 0.375;
 pub const DEFAULT_H_OVER_R: f64 = FRAME_H_OVER_R;
 
 const METHOD: &str = "muller";
-const KEYS: [&str; 3] = ["threshold", "kernel", "h_over_r"];
-
-/// The colour-field detector of Müller et al. (2003) (`muller`). See the crate documentation.
-///
-/// The parameters are private and always valid: [`MullerDetector::new`] and the setters check
-/// them with the rules (and messages) of `set_param`.
+/// The parameters of `muller` (string form: the `--set` keys of the same names, see
+/// `boundary::registry`).
 #[derive(Debug, Clone, PartialEq)]
-pub struct MullerDetector {
-    /// Boundary iff `|∇c|·h > threshold`; finite, `>= 0`.
-    threshold: f64,
-    /// Kernel shape (support `2h`).
-    kernel: Kernel,
-    /// `h / r`, in `(0, 100]`.
-    h_over_r: f64,
+pub struct MullerParams {
+    /// Boundary iff `|∇c|·h` exceeds it; finite, `>= 0`; default [`DEFAULT_THRESHOLD`].
+    pub threshold: f64,
+    /// The kernel shape (support `2h`); default Wendland C2.
+    pub kernel: Kernel,
+    /// The smoothing length `h` in units of `r`, in `(0, 100]`; default [`DEFAULT_H_OVER_R`].
+    pub h_over_r: f64,
 }
 
-impl Default for MullerDetector {
+impl Default for MullerParams {
     fn default() -> Self {
-        MullerDetector {
+        MullerParams {
             threshold: DEFAULT_THRESHOLD,
             kernel: Kernel::WendlandC2,
             h_over_r: DEFAULT_H_OVER_R,
@@ -149,68 +148,32 @@ impl Default for MullerDetector {
     }
 }
 
-/// `threshold`: finite, `>= 0`; else the error for the text `shown`.
-fn check_threshold(v: f64, shown: &str) -> Result<f64, ParamError> {
-    if v.is_finite() && v >= 0.0 {
-        Ok(v)
-    } else {
-        Err(ParamError::invalid(
-            METHOD,
-            "threshold",
-            shown,
-            "must be a number >= 0",
-        ))
-    }
+/// The colour-field detector of Müller et al. (2003) (`muller`). See the crate documentation.
+///
+/// Built from a checked [`MullerParams`] ([`MullerDetector::try_new`]), so a detector never
+/// holds an invalid value.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MullerDetector {
+    params: MullerParams,
 }
 
 impl MullerDetector {
-    /// The detector with the given parameters, each checked as `set_param` checks it
-    /// (`threshold` finite and `>= 0`, `h_over_r` in `(0, 100]`).
-    pub fn new(threshold: f64, kernel: Kernel, h_over_r: f64) -> Result<Self, ParamError> {
-        let threshold = check_threshold(threshold, &threshold.to_string())?;
-        let smoothing = Smoothing::try_new(METHOD, kernel, h_over_r)?;
-        Ok(MullerDetector {
-            threshold,
-            kernel: smoothing.kernel,
-            h_over_r: smoothing.h_over_r,
-        })
+    /// The detector with `params`, checked (`threshold` finite and `>= 0`, `h_over_r` in
+    /// `(0, 100]`); the error ([`ParamError::Invalid`]) names the first field that fails.
+    pub fn try_new(params: MullerParams) -> Result<Self, ParamError> {
+        check_in("threshold", params.threshold, |v| v >= 0.0, "a number >= 0")?;
+        check_in(
+            "h_over_r",
+            params.h_over_r,
+            |v| v > 0.0 && v <= 100.0,
+            "in (0, 100]",
+        )?;
+        Ok(MullerDetector { params })
     }
 
-    /// The detector with the given threshold (checked), other parameters at their defaults.
-    pub fn with_threshold(threshold: f64) -> Result<Self, ParamError> {
-        Self::new(threshold, Kernel::WendlandC2, DEFAULT_H_OVER_R)
-    }
-
-    /// Boundary iff `|∇c|·h` exceeds it.
-    pub fn threshold(&self) -> f64 {
-        self.threshold
-    }
-
-    /// The kernel shape.
-    pub fn kernel(&self) -> Kernel {
-        self.kernel
-    }
-
-    /// `h / r`.
-    pub fn h_over_r(&self) -> f64 {
-        self.h_over_r
-    }
-
-    /// Sets the threshold (finite, `>= 0`); on error the detector is unchanged.
-    pub fn set_threshold(&mut self, threshold: f64) -> Result<(), ParamError> {
-        self.threshold = check_threshold(threshold, &threshold.to_string())?;
-        Ok(())
-    }
-
-    /// Sets the kernel shape.
-    pub fn set_kernel(&mut self, kernel: Kernel) {
-        self.kernel = kernel;
-    }
-
-    /// Sets `h / r` (in `(0, 100]`); on error the detector is unchanged.
-    pub fn set_h_over_r(&mut self, h_over_r: f64) -> Result<(), ParamError> {
-        self.h_over_r = Smoothing::check_h_over_r(METHOD, h_over_r, &h_over_r.to_string())?;
-        Ok(())
+    /// The parameters.
+    pub fn settings(&self) -> &MullerParams {
+        &self.params
     }
 
     /// The dimensionless colour-field gradient magnitude `|∇c_i|·h` of every particle, in
@@ -233,6 +196,20 @@ impl MullerDetector {
     }
 }
 
+/// `Ok` if `v` is finite and `ok`, else the error naming `key` and the value.
+fn check_in(key: &str, v: f64, ok: impl Fn(f64) -> bool, expected: &str) -> Result<(), ParamError> {
+    if v.is_finite() && ok(v) {
+        Ok(())
+    } else {
+        Err(ParamError::invalid(
+            METHOD,
+            key,
+            &v.to_string(),
+            format!("must be {expected}"),
+        ))
+    }
+}
+
 /// The criterion: `|∇c_i|·h > threshold`, margin `|∇c_i|·h − threshold`.
 impl SphCriterion for MullerDetector {
     const METHOD: &'static str = METHOD;
@@ -240,13 +217,13 @@ impl SphCriterion for MullerDetector {
 
     fn smoothing(&self) -> Smoothing {
         Smoothing {
-            kernel: self.kernel,
-            h_over_r: self.h_over_r,
+            kernel: self.params.kernel,
+            h_over_r: self.params.h_over_r,
         }
     }
 
     fn classify<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Verdict {
-        let margin = ctx.local_sums(i).gradient_h.norm() - self.threshold;
+        let margin = ctx.local_sums(i).gradient_h.norm() - self.params.threshold;
         Verdict {
             boundary: margin > 0.0,
             margin,
@@ -262,31 +239,13 @@ impl SphMethod for MullerDetector {
     fn param_list(&self) -> Params {
         let mut list = vec![ParamInfo {
             name: "threshold",
-            value: self.threshold.to_string(),
+            value: self.params.threshold.to_string(),
             default: DEFAULT_THRESHOLD.to_string(),
             description: "boundary iff the colour-field gradient magnitude times h exceeds \
                           it (Mueller et al. 2003, Sec. 4.4; dimensionless)",
         }];
         list.extend(self.smoothing().param_infos());
         Params(list)
-    }
-
-    fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        let mut smoothing = self.smoothing();
-        if smoothing.set_text(METHOD, key, value)? {
-            (self.kernel, self.h_over_r) = (smoothing.kernel, smoothing.h_over_r);
-            return Ok(());
-        }
-        match key {
-            "threshold" => {
-                let v = value.trim().parse::<f64>().map_err(|_| {
-                    ParamError::invalid(METHOD, key, value, "must be a number >= 0")
-                })?;
-                self.threshold = check_threshold(v, value)?;
-                Ok(())
-            }
-            _ => Err(ParamError::unknown(METHOD, key, &KEYS)),
-        }
     }
 }
 
@@ -301,67 +260,47 @@ mod tests {
     use boundary_core::BoundaryDetector;
 
     #[test]
-    fn parameters_round_trip_and_are_validated() {
-        let mut d = MullerDetector::default();
+    fn parameters_are_checked_and_reported() {
+        let d = MullerDetector::default();
         assert_eq!(
             d.params().to_string(),
             format!("threshold={DEFAULT_THRESHOLD}, kernel=wendland, h_over_r=1")
         );
-        d.set_param("threshold", "0.45").unwrap();
-        d.set_param("kernel", "cubic").unwrap();
+        assert_eq!(d.settings(), &MullerParams::default());
+        let params = MullerParams {
+            threshold: 0.45,
+            kernel: Kernel::CubicSpline,
+            h_over_r: 100.0,
+        };
+        let d = MullerDetector::try_new(params.clone()).unwrap();
+        assert_eq!(d.settings(), &params);
         assert_eq!(
-            d,
-            MullerDetector::new(0.45, Kernel::CubicSpline, 1.0).unwrap()
+            d.params().to_string(),
+            "threshold=0.45, kernel=cubic, h_over_r=100"
         );
-        for (key, bad) in [
-            ("threshold", "-1"),
-            ("threshold", "nan"),
-            ("kernel", "poly6"),
-            ("h_over_r", "0"),
-        ] {
-            let err = d.set_param(key, bad).unwrap_err();
-            assert!(err.to_string().contains(bad), "{err}");
-        }
-        assert!(d.set_param("lambda", "1").is_err());
-        assert_eq!(d.threshold(), 0.45);
-    }
-
-    #[test]
-    fn constructor_and_setters_reject_what_set_param_rejects_with_its_messages() {
         for bad in [-1.0, f64::NAN, f64::INFINITY] {
-            let err = MullerDetector::with_threshold(bad).unwrap_err();
-            let via_text = MullerDetector::default()
-                .set_param("threshold", &bad.to_string())
-                .unwrap_err();
-            assert_eq!(err.to_string(), via_text.to_string());
-            assert!(MullerDetector::new(0.4, Kernel::WendlandC2, bad).is_err());
-        }
-        for bad in [0.0, -1.0, 100.5, f64::NAN] {
-            assert!(
-                MullerDetector::new(0.4, Kernel::WendlandC2, bad).is_err(),
-                "{bad}"
+            let err = MullerDetector::try_new(MullerParams {
+                threshold: bad,
+                ..MullerParams::default()
+            })
+            .unwrap_err();
+            assert_eq!(
+                err.to_string(),
+                format!(
+                    "method 'muller': invalid value '{bad}' for 'threshold': must be a number >= 0"
+                )
             );
         }
-        let mut d = MullerDetector::default();
-        assert!(d.set_threshold(f64::NAN).is_err());
-        assert!(d.set_h_over_r(0.0).is_err());
-        assert_eq!(
-            d,
-            MullerDetector::default(),
-            "a failed setter changes nothing"
-        );
-        d.set_threshold(0.3).unwrap();
-        d.set_h_over_r(100.0).unwrap();
-        d.set_kernel(Kernel::CubicSpline);
-        assert_eq!(
-            (d.threshold(), d.kernel(), d.h_over_r()),
-            (0.3, Kernel::CubicSpline, 100.0)
-        );
-        // The text path keeps its messages, naming the value as given.
-        let err = d.set_param("threshold", " nan").unwrap_err().to_string();
-        assert!(
-            err.contains("nan") && err.contains("must be a number >= 0"),
-            "{err}"
-        );
+        for bad in [0.0, -1.0, 100.5, f64::NAN] {
+            let err = MullerDetector::try_new(MullerParams {
+                h_over_r: bad,
+                ..MullerParams::default()
+            })
+            .unwrap_err();
+            assert!(
+                matches!(&err, ParamError::Invalid { key, .. } if key == "h_over_r"),
+                "{err}"
+            );
+        }
     }
 }

@@ -8,7 +8,7 @@
 
 use boundary_core::{BoundaryDetector, Detection, Labels, ParticleSet, Radius};
 use boundary_exact::ExactDetector;
-use boundary_muller::MullerDetector;
+use boundary_muller::{MullerDetector, MullerParams};
 use boundary_scenes::against;
 use boundary_scenes::{jittered_lattice_ball, jittered_lattice_disc};
 use boundary_sph::Kernel;
@@ -17,9 +17,12 @@ use boundary_sph::Kernel;
 /// deeper than one kernel support plus a spacing are all interior, and the exact boundary is
 /// found with Rec >= 0.85 (the colour field misses some exact-boundary particles just below
 /// the rim: Rec is 0.87 on the 2D disc).
-fn check_ball<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, radius: f64, r: f64) {
-    let core = 2.0 * d.h_over_r() * r + 1.0;
-    against::check_ball(d, &ExactDetector, set, radius, r, core, 0.85).unwrap();
+fn check_ball<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, radius: f64, r: f64)
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
+    let core = 2.0 * d.settings().h_over_r * r + 1.0;
+    against::check_ball(d, &ExactDetector::default(), set, radius, r, core, 0.85).unwrap();
 }
 
 #[test]
@@ -29,9 +32,12 @@ fn lattice_balls_have_a_boundary_rim_and_an_interior_core() {
     let (ball, radius) = jittered_lattice_ball(8000, 0.15, 2);
     check_ball(&d, &ball, radius, 1.2);
     // The cubic spline and a larger h behave the same on these.
-    let mut cubic = MullerDetector::default();
-    cubic.set_param("kernel", "cubic").unwrap();
-    cubic.set_param("h_over_r", "1.3").unwrap();
+    let cubic = MullerDetector::try_new(MullerParams {
+        kernel: Kernel::CubicSpline,
+        h_over_r: 1.3,
+        ..MullerParams::default()
+    })
+    .unwrap();
     check_ball(&cubic, &ball, radius, 1.2);
 }
 
@@ -44,10 +50,13 @@ fn the_threshold_orders_the_labels_and_the_margin_is_the_scaled_gradient() {
         .unwrap();
     let mut previous: Option<Labels> = None;
     for t in [0.1, 0.2, 0.3, 0.4, 0.5, 0.6] {
-        let d = MullerDetector::with_threshold(t)
-            .unwrap()
-            .detect_3d(&ball, r)
-            .unwrap();
+        let d = MullerDetector::try_new(MullerParams {
+            threshold: t,
+            ..MullerParams::default()
+        })
+        .unwrap()
+        .detect_3d(&ball, r)
+        .unwrap();
         let margin = d.margin.unwrap();
         for i in 0..ball.len() {
             assert!((margin[i] - (g[i] - t)).abs() < 1e-12);
@@ -82,10 +91,18 @@ fn shared_scenes_keep_m_at_or_above_the_recorded_floors() {
         ("dambreak23_r0.05", 0.65),
         ("dualsphysics_dambreak3d", 0.95),
     ];
-    against::check_shared_floors(&MullerDetector::default(), &ExactDetector, &floors).unwrap();
+    against::check_shared_floors(
+        &MullerDetector::default(),
+        &ExactDetector::default(),
+        &floors,
+    )
+    .unwrap();
 }
 
-fn detection<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, r: f64) -> Detection {
+fn detection<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, r: f64) -> Detection
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     d.detect(&set.to_any(), Radius::new(r).unwrap()).unwrap()
 }
 
@@ -94,7 +111,10 @@ fn detection<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, r: f64) -
 /// the kernel's h^-D made every volume 0 or infinite at r = 1e150 in 3D).
 #[test]
 fn labels_are_the_same_for_the_scene_scaled_across_the_supported_radius_range() {
-    fn check<const D: usize>(set: &ParticleSet<D>, r: f64, d: &MullerDetector) {
+    fn check<const D: usize>(set: &ParticleSet<D>, r: f64, d: &MullerDetector)
+    where
+        boundary_core::Dim<D>: boundary_core::SupportedDim,
+    {
         let base = detection(d, set, r);
         let base_margin = base.margin.unwrap();
         for s in [1e-100, 1e-9, 1e-3, 0.37, 1e3, 1e9, 8e99] {
@@ -113,7 +133,12 @@ fn labels_are_the_same_for_the_scene_scaled_across_the_supported_radius_range() 
     let (ball, _) = jittered_lattice_ball(1500, 0.2, 6);
     for d in [
         MullerDetector::default(),
-        MullerDetector::new(0.3, Kernel::CubicSpline, 1.3).unwrap(),
+        MullerDetector::try_new(MullerParams {
+            threshold: 0.3,
+            kernel: Kernel::CubicSpline,
+            h_over_r: 1.3,
+        })
+        .unwrap(),
     ] {
         check(&disc, 1.2, &d);
         check(&ball, 1.2, &d);

@@ -15,6 +15,7 @@
 #![allow(clippy::print_stdout)] // the table is the evidence
 
 use boundary_core::{BoundaryDetector, Confusion, ParticleSet, Point, Radius};
+use boundary_core::{Dim, SupportedDim};
 use boundary_exact::ExactDetector;
 use boundary_muller::{MullerDetector, DEFAULT_THRESHOLD};
 use boundary_scenes::fill;
@@ -29,14 +30,20 @@ fn grid() -> Vec<f64> {
 /// 0.2–0.35·side, a pool (the half-space below 0.15–0.3·side along the last axis), two
 /// bubbles of radius 1 + (0.06–0.12)·side cut out, and three droplets of radius 0.5–2.5; the lattice
 /// points inside get uniform jitter `±jitter`. Seeded: the same scene on every run.
-fn tuning_scene<const D: usize>(seed: u64, side: f64, jitter: f64) -> ParticleSet<D> {
+fn tuning_scene<const D: usize>(seed: u64, side: f64, jitter: f64) -> ParticleSet<D>
+where
+    Dim<D>: SupportedDim,
+{
     let mut rng = StdRng::seed_from_u64(seed);
     // A sphere with its centre uniform in [lo, hi]^D and its radius uniform in [rlo, rhi).
     fn sphere<const D: usize>(
         rng: &mut StdRng,
         (lo, hi): (f64, f64),
         (rlo, rhi): (f64, f64),
-    ) -> (Point<D>, f64) {
+    ) -> (Point<D>, f64)
+    where
+        boundary_core::Dim<D>: boundary_core::SupportedDim,
+    {
         let centre = Point::<D>::from_fn(|_, _| rng.gen_range(lo..hi));
         (centre, rng.gen_range(rlo..rhi))
     }
@@ -73,12 +80,18 @@ fn tuning_scene<const D: usize>(seed: u64, side: f64, jitter: f64) -> ParticleSe
 }
 
 /// `|∇c|·h` at the default kernel and `h = r`, and the exact labels, of a scene.
-fn magnitudes_and_truth<const D: usize>(set: &ParticleSet<D>, r: f64) -> (Vec<f64>, Vec<bool>) {
+fn magnitudes_and_truth<const D: usize>(set: &ParticleSet<D>, r: f64) -> (Vec<f64>, Vec<bool>)
+where
+    Dim<D>: SupportedDim,
+{
     let r = Radius::new(r).unwrap();
     let g = MullerDetector::default()
         .gradient_magnitudes(set, r)
         .unwrap();
-    let truth = ExactDetector.detect(&set.to_any(), r).unwrap().labels;
+    let truth = ExactDetector::default()
+        .detect(&set.to_any(), r)
+        .unwrap()
+        .labels;
     (g, truth.as_slice().to_vec())
 }
 

@@ -38,6 +38,7 @@ use boundary::{
     BoundaryDetector, Confusion, DetectError, Domain, DomainDetection, Flatness, HalfSpace, Labels,
     ParticleSet, Periodic, Point, Radius,
 };
+use boundary::{Dim, SupportedDim};
 use boundary_io::{AttributeValues, Column, Format, IoError, ReadOptions};
 use numpy::{
     PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods,
@@ -147,7 +148,10 @@ fn particle_set<const D: usize>(
     flat: &[f64],
     stride: usize,
     kept: [usize; D],
-) -> Result<ParticleSet<D>, boundary::CoreError> {
+) -> Result<ParticleSet<D>, boundary::CoreError>
+where
+    Dim<D>: SupportedDim,
+{
     ParticleSet::new(
         flat.chunks_exact(stride)
             .map(|row| Point::<D>::from_fn(|k, _| row[kept[k]]))

@@ -329,11 +329,6 @@ impl SphMethod for RandlesDetector {
         list.extend(self.smoothing().param_infos());
         Params(list)
     }
-
-    fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        self.params = text_params::with(&self.params, key, value)?;
-        Ok(())
-    }
 }
 
 boundary_sph::impl_sph_detector!(RandlesDetector);
@@ -373,6 +368,17 @@ mod text_params {
         }
         RandlesDetector::try_new(next.clone())?;
         Ok(next)
+    }
+}
+
+impl RandlesDetector {
+    /// Sets a parameter from its `key=value` text, as the registry of the `boundary` crate
+    /// (the command line's `--set`, the bindings' keyword arguments) gives it; on error
+    /// `self` is unchanged.
+    #[doc(hidden)]
+    pub fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        self.params = text_params::with(&self.params, key, value)?;
+        Ok(())
     }
 }
 
@@ -421,8 +427,8 @@ mod tests {
             d.params().to_string(),
             format!("mu_2d={DEFAULT_MU_2D}, mu_3d={DEFAULT_MU_3D}, kernel=wendland, h_over_r=1")
         );
-        d.set_param("mu_3d", "0.3").unwrap();
-        d.set_param("kernel", "cubic").unwrap();
+        d.set_param_text("mu_3d", "0.3").unwrap();
+        d.set_param_text("kernel", "cubic").unwrap();
         let typed = RandlesDetector::try_new(RandlesParams {
             mu_3d: 0.3,
             kernel: Kernel::CubicSpline,
@@ -438,12 +444,12 @@ mod tests {
             ("kernel", "gauss"),
             ("h_over_r", "0"),
         ] {
-            let err = d.set_param(key, bad).unwrap_err();
+            let err = d.set_param_text(key, bad).unwrap_err();
             assert!(err.to_string().contains(bad), "{err}");
         }
         assert_eq!(d, typed, "a failed set_param changes nothing");
         assert!(d
-            .set_param("mu", "1")
+            .set_param_text("mu", "1")
             .unwrap_err()
             .to_string()
             .contains("mu_2d"));

@@ -62,7 +62,7 @@ fn jittered_discs_and_balls_are_scored_within_bounds() {
     let core = 2.0 * r + 1.0;
     let c2 = against::check_ball(
         &d,
-        &ExactDetector,
+        &ExactDetector::default(),
         &jittered_lattice_disc(20.0, 0.15, 1),
         20.0,
         r,
@@ -71,7 +71,8 @@ fn jittered_discs_and_balls_are_scored_within_bounds() {
     )
     .unwrap();
     let (ball, radius) = jittered_lattice_ball(8000, 0.15, 2);
-    let c3 = against::check_ball(&d, &ExactDetector, &ball, radius, r, core, 0.9).unwrap();
+    let c3 =
+        against::check_ball(&d, &ExactDetector::default(), &ball, radius, r, core, 0.9).unwrap();
     for (dim, c) in [(2, c2), (3, c3)] {
         println!(
             "{dim}D: Rec {:.4} FPR {:.4} M {:.4}",

@@ -16,10 +16,16 @@ fn mus() -> Vec<f64> {
     (1..=48).map(|k| k as f64 / 40.0).collect()
 }
 
-fn m_by_mu<const D: usize>(set: &ParticleSet<D>, r: f64) -> Vec<f64> {
+fn m_by_mu<const D: usize>(set: &ParticleSet<D>, r: f64) -> Vec<f64>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     let r = Radius::new(r).unwrap();
     let lambdas = RandlesDetector::default().lambdas(set, r).unwrap();
-    let truth = ExactDetector.detect(&set.to_any(), r).unwrap().labels;
+    let truth = ExactDetector::default()
+        .detect(&set.to_any(), r)
+        .unwrap()
+        .labels;
     mus()
         .iter()
         .map(|&mu| {

@@ -3,11 +3,15 @@
 #![allow(clippy::unwrap_used)] // a measuring tool: failing loudly is fine
 
 use boundary_core::{BoundaryDetector, ParticleSet, Point, Radius};
+use boundary_core::{Dim, SupportedDim};
 use boundary_exact::ExactDetector;
 use boundary_resample::{resample, ResampleConfig};
 use std::path::PathBuf;
 
-fn read<const D: usize>(path: &PathBuf) -> ParticleSet<D> {
+fn read<const D: usize>(path: &PathBuf) -> ParticleSet<D>
+where
+    Dim<D>: SupportedDim,
+{
     let text = std::fs::read_to_string(path).unwrap();
     let pts = text
         .lines()
@@ -21,9 +25,15 @@ fn read<const D: usize>(path: &PathBuf) -> ParticleSet<D> {
     ParticleSet::new(pts).unwrap()
 }
 
-fn report<const D: usize>(name: &str, set: &ParticleSet<D>, r: f64) {
+fn report<const D: usize>(name: &str, set: &ParticleSet<D>, r: f64)
+where
+    Dim<D>: SupportedDim,
+{
     let radius = Radius::new(r).unwrap();
-    let labels = ExactDetector.detect(&set.to_any(), radius).unwrap().labels;
+    let labels = ExactDetector::default()
+        .detect(&set.to_any(), radius)
+        .unwrap()
+        .labels;
     let out = resample(set, radius, &labels, &ResampleConfig::default()).unwrap();
     let mut counts = [0usize; 4];
     let mut seen = vec![false; set.len()];

@@ -53,6 +53,7 @@
 //! ```
 
 use boundary_core::{CoreError, Labels, NeighbourGrid, ParticleSet, Point, Radius};
+use boundary_core::{Dim, SupportedDim};
 use nalgebra::{Matrix2, Matrix3, SMatrix, SymmetricEigen};
 use rayon::prelude::*;
 use thiserror::Error;
@@ -112,6 +113,7 @@ impl Default for ResampleConfig {
 
 /// Why resampling could not run.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum ResampleError {
     /// Invalid core input.
     #[error(transparent)]
@@ -279,7 +281,10 @@ pub fn resample<const D: usize>(
     r: Radius,
     boundary: &Labels,
     config: &ResampleConfig,
-) -> Result<Resampled<D>, ResampleError> {
+) -> Result<Resampled<D>, ResampleError>
+where
+    Dim<D>: SupportedDim,
+{
     let classes = classify(set, r, boundary, config)?;
     let step = config.shift * r.get();
     let mut points = Vec::with_capacity(set.len());

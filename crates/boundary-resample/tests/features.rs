@@ -9,7 +9,10 @@ fn cfg() -> ResampleConfig {
     ResampleConfig::default()
 }
 
-fn features<const D: usize>(set: &ParticleSet<D>, r: f64, labels: &Labels) -> Vec<Option<Feature>> {
+fn features<const D: usize>(set: &ParticleSet<D>, r: f64, labels: &Labels) -> Vec<Option<Feature>>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     classify(set, Radius::new(r).unwrap(), labels, &cfg())
         .unwrap()
         .into_iter()
@@ -48,7 +51,7 @@ fn straight_ligament_in_3d() {
     let r = 0.1;
     let rows: Vec<[f64; 3]> = (0..20).map(|k| [k as f64 * 0.05, 0.0, 0.0]).collect();
     let set = ParticleSet::from_rows(&rows).unwrap();
-    let labels = ExactDetector
+    let labels = ExactDetector::default()
         .detect_3d(&set, Radius::new(r).unwrap())
         .unwrap()
         .labels;
@@ -71,7 +74,7 @@ fn flat_sheet_in_3d() {
         .map(|k| [(k % 10) as f64 * 0.6, (k / 10) as f64 * 0.6, 0.0])
         .collect();
     let set = ParticleSet::from_rows(&rows).unwrap();
-    let labels = ExactDetector
+    let labels = ExactDetector::default()
         .detect_3d(&set, Radius::new(r).unwrap())
         .unwrap()
         .labels;
@@ -119,7 +122,7 @@ fn regular_ball_keeps_its_count_and_moves_the_surface_outwards() {
     }
     let set = ParticleSet::from_rows(&rows).unwrap();
     let r = Radius::new(1.0).unwrap();
-    let labels = ExactDetector.detect_3d(&set, r).unwrap().labels;
+    let labels = ExactDetector::default().detect_3d(&set, r).unwrap().labels;
     assert!(labels.boundary_count() < set.len() / 2);
     let out = resample(&set, r, &labels, &cfg()).unwrap();
     assert_eq!(out.set.len(), set.len());

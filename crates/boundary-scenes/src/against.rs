@@ -15,7 +15,10 @@ pub fn labels<const D: usize>(
     detector: &dyn BoundaryDetector,
     set: &ParticleSet<D>,
     r: f64,
-) -> Result<Labels, String> {
+) -> Result<Labels, String>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     let radius = Radius::new(r).map_err(|e| e.to_string())?;
     detector
         .detect(&set.to_any(), radius)
@@ -34,7 +37,10 @@ pub fn check_ball<const D: usize>(
     r: f64,
     core_depth: f64,
     min_recall: f64,
-) -> Result<Confusion, String> {
+) -> Result<Confusion, String>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     let found = labels(method, set, r)?;
     let truth = labels(reference, set, r)?;
     for (i, p) in set.positions().iter().enumerate() {

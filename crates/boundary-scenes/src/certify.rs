@@ -3,6 +3,7 @@
 
 use crate::{all_scenes, cubic_lattice, square_lattice, SharedData, SHARED_SCENES};
 use boundary_core::{AnyParticleSet, Labels, ParticleSet};
+use boundary_core::{Dim, SupportedDim};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
 /// A named particle set with its resolution.
@@ -20,6 +21,7 @@ impl Case {
     fn new<const D: usize>(name: impl Into<String>, rows: &[[f64; D]], radius: f64) -> Self
     where
         ParticleSet<D>: Into<AnyParticleSet>,
+        Dim<D>: SupportedDim,
     {
         let set = ParticleSet::from_rows(rows).expect("generated coordinates are finite");
         Case {

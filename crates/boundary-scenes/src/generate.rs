@@ -2,6 +2,7 @@
 //! lattices, jitter from a seeded generator); no fluid solver.
 
 use boundary_core::{AnyParticleSet, Domain, HalfSpace, ParticleSet, Periodic, Point};
+use boundary_core::{Dim, SupportedDim};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use std::f64::consts::PI;
 
@@ -103,14 +104,20 @@ pub fn enright(p: &Point<3>, t: f64, period: f64) -> Point<3> {
     )
 }
 
-fn set<const D: usize>(points: Vec<Point<D>>) -> AnyParticleSet {
+fn set<const D: usize>(points: Vec<Point<D>>) -> AnyParticleSet
+where
+    Dim<D>: SupportedDim,
+{
     ParticleSet::new(points)
         .expect("generated coordinates are finite")
         .to_any()
 }
 
 /// A set of `coarse` particles (radius factor 2) and `fine` ones (factor 1).
-fn graded<const D: usize>(coarse: Vec<Point<D>>, fine: Vec<Point<D>>) -> AnyParticleSet {
+fn graded<const D: usize>(coarse: Vec<Point<D>>, fine: Vec<Point<D>>) -> AnyParticleSet
+where
+    Dim<D>: SupportedDim,
+{
     let radii = [vec![2.0; coarse.len()], vec![1.0; fine.len()]].concat();
     ParticleSet::new([coarse, fine].concat())
         .and_then(|s| s.with_radii(radii))
@@ -426,7 +433,10 @@ fn in_box<const D: usize>(cell: [i64; D], lo: [i64; D], hi: [i64; D]) -> bool {
 /// The wall particles of an open-topped tank of `inner` cells (`[0, inner)` per axis, the
 /// last axis vertical): `layers` unjittered layers of cells around the floor and the sides,
 /// up to the tank's rim.
-fn tank_walls<const D: usize>(inner: [i64; D], layers: i64, h: f64) -> AnyParticleSet {
+fn tank_walls<const D: usize>(inner: [i64; D], layers: i64, h: f64) -> AnyParticleSet
+where
+    Dim<D>: SupportedDim,
+{
     let lo: [i64; D] = [-layers; D];
     let hi: [i64; D] = std::array::from_fn(|a| {
         if a == D - 1 {

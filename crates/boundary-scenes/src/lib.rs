@@ -35,6 +35,7 @@ pub use manifest::{
 pub use shared::{SharedData, ALLOW_MISSING_DATA_VAR};
 
 use boundary_core::ParticleSet;
+use boundary_core::{Dim, SupportedDim};
 use std::path::{Path, PathBuf};
 
 /// Environment variable naming the directory of the public particle data.
@@ -67,7 +68,10 @@ fn workspace_root() -> PathBuf {
 /// under the policy of [`SharedData::from_env`]: a missing folder or file is an error naming
 /// them and the variables to set, or `Ok(None)` (a skip, said on stderr) when
 /// `BOUNDARY_ALLOW_MISSING_DATA=1`.
-pub fn shared_set<const D: usize>(file: &str) -> Result<Option<ParticleSet<D>>, String> {
+pub fn shared_set<const D: usize>(file: &str) -> Result<Option<ParticleSet<D>>, String>
+where
+    Dim<D>: SupportedDim,
+{
     SharedData::from_env().set::<D>(file)
 }
 

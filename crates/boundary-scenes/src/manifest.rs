@@ -295,6 +295,7 @@ pub struct Manifest {
 
 /// A manifest that cannot be read.
 #[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum SceneError {
     /// The file cannot be read.
     #[error("{path}: {source}")]

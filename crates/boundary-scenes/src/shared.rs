@@ -20,6 +20,7 @@
 use crate::manifest::Origin;
 use crate::{data_dir, SceneEntry};
 use boundary_core::{AnyParticleSet, ParticleSet, Point};
+use boundary_core::{Dim, SupportedDim};
 use boundary_io::{read_particles, ReadOptions};
 use std::path::{Path, PathBuf};
 
@@ -97,7 +98,10 @@ impl SharedData {
 
     /// Reads `file` (relative to the folder, as in [`crate::SHARED_SCENES`]) as a
     /// `D`-dimensional set.
-    pub fn set<const D: usize>(&self, file: &str) -> Result<Option<ParticleSet<D>>, String> {
+    pub fn set<const D: usize>(&self, file: &str) -> Result<Option<ParticleSet<D>>, String>
+    where
+        Dim<D>: SupportedDim,
+    {
         self.outcome(file, read_set::<D>(&self.dir.join(file)))
     }
 
@@ -123,7 +127,10 @@ impl SharedData {
 }
 
 /// Reads a particle file as a `D`-dimensional set.
-pub(crate) fn read_set<const D: usize>(path: &Path) -> Result<ParticleSet<D>, String> {
+pub(crate) fn read_set<const D: usize>(path: &Path) -> Result<ParticleSet<D>, String>
+where
+    Dim<D>: SupportedDim,
+{
     let options = ReadOptions {
         dim: Some(D),
         ..Default::default()

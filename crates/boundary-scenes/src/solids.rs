@@ -10,6 +10,7 @@
 
 use crate::certify::jittered_lattice;
 use boundary_core::{AnyParticleSet, HalfSpace, Labels, ParticleSet, Radius, Solids};
+use boundary_core::{Dim, SupportedDim};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
 /// A scene with solids: the first `owned` particles of `set` are classified, the others cover
@@ -62,6 +63,7 @@ fn case<const D: usize>(
 ) -> SolidCase
 where
     ParticleSet<D>: Into<AnyParticleSet>,
+    Dim<D>: SupportedDim,
 {
     let mut set = ParticleSet::from_rows(rows).expect("generated coordinates are finite");
     if let Some(radii) = radii {

@@ -13,7 +13,10 @@ use boundary_core::{ParticleSet, Point};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
 /// The tuning scene of `seed` (see the module documentation).
-pub fn tuning_scene<const D: usize>(seed: u64, side: f64, jitter: f64) -> ParticleSet<D> {
+pub fn tuning_scene<const D: usize>(seed: u64, side: f64, jitter: f64) -> ParticleSet<D>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     let mut rng = StdRng::seed_from_u64(seed);
     let sphere = |rng: &mut StdRng, (lo, hi): (f64, f64), (rlo, rhi): (f64, f64)| {
         let centre = Point::<D>::from_fn(|_, _| rng.gen_range(lo..hi));

@@ -11,7 +11,10 @@ use boundary_scenes::{
 };
 
 /// Central-difference divergence of a field at `p`.
-fn divergence<const D: usize>(v: impl Fn(&Point<D>) -> Point<D>, p: &Point<D>) -> f64 {
+fn divergence<const D: usize>(v: impl Fn(&Point<D>) -> Point<D>, p: &Point<D>) -> f64
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     let e = 1e-5;
     (0..D)
         .map(|a| {
@@ -55,7 +58,7 @@ fn the_vortex_stretches_the_disk_into_a_filament_and_brings_it_back() {
     let (t0, t4, t8) = (get("vortex2d_t0"), get("vortex2d_t4"), get("vortex2d_t8"));
     let r = Radius::new(t0.radius).unwrap();
     let count = |set: &AnyParticleSet| {
-        ExactDetector
+        ExactDetector::default()
             .detect(set, r)
             .unwrap()
             .labels
@@ -163,7 +166,9 @@ fn scene(name: &str) -> boundary_scenes::Scene {
 /// The coordinates of the boundary particles of `exact` on `scene` in `domain`.
 fn exact_boundary(scene: &boundary_scenes::Scene, domain: &Domain) -> Vec<Vec<f64>> {
     let r = Radius::new(scene.radius).unwrap();
-    let d = ExactDetector.detect_in(&scene.set, domain, r).unwrap();
+    let d = ExactDetector::default()
+        .detect_in(&scene.set, domain, r)
+        .unwrap();
     (0..scene.set.len())
         .filter(|&i| d.detection.labels.is_boundary(i))
         .map(|i| scene.set.coords(i).to_vec())
@@ -225,7 +230,7 @@ fn the_solid_tank_is_five_half_spaces_around_the_walled_tank_fluid() {
         assert!((nearest - 0.01).abs() <= 0.0011, "{h}: {nearest}");
     }
     let r = Radius::new(solid.radius).unwrap();
-    match ExactDetector.detect_in(&solid.set, &solid.domain, r) {
+    match ExactDetector::default().detect_in(&solid.set, &solid.domain, r) {
         Ok(d) => {
             for i in (0..solid.set.len()).filter(|&i| d.detection.labels.is_boundary(i)) {
                 let p = solid.set.coords(i);
@@ -270,7 +275,9 @@ fn the_pool_has_interfaces_at_the_layers_and_the_droplet() {
     let heavy = phases.iter().filter(|&&k| k == 0).count();
     assert!(heavy > 1200 && heavy < s.set.len() - 1000, "{heavy}");
     let r = Radius::new(s.radius).unwrap();
-    let d = ExactDetector.detect_in(&s.set, &s.domain, r).unwrap();
+    let d = ExactDetector::default()
+        .detect_in(&s.set, &s.domain, r)
+        .unwrap();
     let interface = d.interface.unwrap();
     let (mut at_layer, mut at_drop) = (0, 0);
     for i in 0..s.set.len() {

@@ -195,10 +195,6 @@ pub trait SphMethod: SphCriterion + std::fmt::Debug + Send {
 
     /// The parameters with their current values ([`BoundaryDetector::params`](boundary_core::BoundaryDetector::params)).
     fn param_list(&self) -> Params;
-
-    /// Sets a parameter from text, as `--set KEY=VALUE` gives it; on error `self` is
-    /// unchanged.
-    fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError>;
 }
 
 /// Classifies the first `count` particles of `set` with `criterion` (every particle serves as
@@ -303,14 +299,6 @@ macro_rules! impl_sph_detector {
                 $crate::SphMethod::param_list(self)
             }
 
-            fn set_param(
-                &mut self,
-                key: &str,
-                value: &str,
-            ) -> ::std::result::Result<(), $crate::__core::ParamError> {
-                $crate::SphMethod::set_param_text(self, key, value)
-            }
-
             fn detect_2d(
                 &self,
                 set: &$crate::__core::ParticleSet<2>,
@@ -395,17 +383,6 @@ mod tests {
         fn param_list(&self) -> Params {
             Params(self.smoothing.param_infos().to_vec())
         }
-        fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-            if self.smoothing.set_text(Self::METHOD, key, value)? {
-                Ok(())
-            } else {
-                Err(ParamError::unknown(
-                    Self::METHOD,
-                    key,
-                    &["kernel", "h_over_r"],
-                ))
-            }
-        }
     }
 
     crate::impl_sph_detector!(FewNeighbours);
@@ -445,15 +422,14 @@ mod tests {
         let radii = set.clone().with_radii(vec![1.0; 25]).unwrap();
         let err = d.detect_2d(&radii, r).unwrap_err();
         assert!(err.to_string().contains("toy"), "{err}");
-        // The shared parameters: text, checks and messages.
-        d.set_param("kernel", "cubic").unwrap();
-        let err = d.set_param("h_over_r", "0").unwrap_err().to_string();
-        assert!(err.contains("'0'") && err.contains("(0, 100]"), "{err}");
-        assert!(d.set_param("kernel", "gauss").is_err());
-        assert!(d.set_param("min", "3").is_err());
-        assert_eq!(d.smoothing.kernel, Kernel::CubicSpline);
-        assert_eq!(d.smoothing.h_over_r, 0.6);
+        // The shared parameters' checks and messages.
+        let err = Smoothing::try_new("few", Kernel::CubicSpline, 0.0)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("(0, 100]"), "{err}");
         assert!(Smoothing::try_new("few", Kernel::WendlandC2, f64::NAN).is_err());
+        d.smoothing = Smoothing::try_new("few", Kernel::CubicSpline, 0.6).unwrap();
+        assert_eq!(d.to_string(), "few (kernel=cubic, h_over_r=0.6)");
     }
 
     #[test]

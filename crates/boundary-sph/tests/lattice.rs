@@ -16,7 +16,10 @@ fn lattice_sums<const D: usize>(
     i: usize,
     kernel: &SphKernel<D>,
     a: f64,
-) -> (f64, Point<D>, SMatrix<f64, D, D>) {
+) -> (f64, Point<D>, SMatrix<f64, D, D>)
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     let v = a.powi(D as i32);
     let p = set.positions()[i];
     let (mut s, mut g, mut b) = (0.0, Point::<D>::zeros(), SMatrix::<f64, D, D>::zeros());
@@ -30,7 +33,10 @@ fn lattice_sums<const D: usize>(
     (s, g, b)
 }
 
-fn check_interior<const D: usize>(set: &ParticleSet<D>, centre: usize, a: f64) {
+fn check_interior<const D: usize>(set: &ParticleSet<D>, centre: usize, a: f64)
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     for kernel in Kernel::ALL {
         for ratio in [1.0, 1.3, 1.5, 2.0] {
             let w = SphKernel::<D>::new(kernel, ratio * a);

@@ -6,11 +6,15 @@
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
+use boundary_core::{Dim, SupportedDim};
 use boundary_core::{ParticleSet, Point};
 use boundary_sph::{Kernel, SphContext, SphKernel};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
-fn jittered<const D: usize>(n: usize, seed: u64) -> ParticleSet<D> {
+fn jittered<const D: usize>(n: usize, seed: u64) -> ParticleSet<D>
+where
+    Dim<D>: SupportedDim,
+{
     let mut rng = StdRng::seed_from_u64(seed);
     let points = (0..n.pow(D as u32))
         .map(|k| {
@@ -29,7 +33,10 @@ fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-12 * (1.0 + a.abs().max(b.abs()))
 }
 
-fn check<const D: usize>(set: &ParticleSet<D>, h: f64) {
+fn check<const D: usize>(set: &ParticleSet<D>, h: f64)
+where
+    Dim<D>: SupportedDim,
+{
     for kernel in Kernel::ALL {
         let base = SphContext::new(set, SphKernel::<D>::new(kernel, h)).unwrap();
         for s in [1e-150, 1e-9, 1e-3, 0.37, 1e3, 1e9, 1e150] {

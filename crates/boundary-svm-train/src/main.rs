@@ -37,6 +37,7 @@
 mod generate;
 
 use boundary_core::{AnyParticleSet, BoundaryDetector, Confusion, ParticleSet, Point, Radius};
+use boundary_core::{Dim, SupportedDim};
 use boundary_exact::ExactDetector;
 use boundary_marrone::MarroneDetector;
 use boundary_scenes::data_dir;
@@ -148,7 +149,7 @@ where
     let r = Radius::new(r).map_err(|e| format!("{name}: {e}"))?;
     let features = particle_features(&set, set.len(), r).map_err(|e| format!("{name}: {e}"))?;
     let any = AnyParticleSet::from(set);
-    let truth = ExactDetector
+    let truth = ExactDetector::default()
         .detect(&any, r)
         .map_err(|e| format!("{name}: {e}"))?
         .labels
@@ -176,6 +177,7 @@ where
 fn generated_frames<const D: usize>() -> Result<Vec<Frame>, String>
 where
     AnyParticleSet: From<ParticleSet<D>>,
+    Dim<D>: SupportedDim,
 {
     let mut frames = vec![];
     for scene in generate::scenes::<D>(SEED + D as u64) {
@@ -511,7 +513,9 @@ fn timing(dim: usize) -> Result<Timing, String> {
             .collect();
             let tf = t.elapsed().as_secs_f64() / n;
             let t = Instant::now();
-            ExactDetector.detect(set, r).map_err(|e| e.to_string())?;
+            ExactDetector::default()
+                .detect(set, r)
+                .map_err(|e| e.to_string())?;
             let te = t.elapsed().as_secs_f64() / n;
             Ok((tf, te, f))
         };
@@ -575,6 +579,7 @@ fn run_dim<const D: usize>(
 ) -> Result<(), String>
 where
     AnyParticleSet: From<ParticleSet<D>>,
+    Dim<D>: SupportedDim,
 {
     let dim = D;
     let t = Instant::now();

@@ -9,7 +9,7 @@
 use boundary_core::{BoundaryDetector, Radius};
 use boundary_exact::ExactDetector;
 use boundary_scenes::jittered_lattice_ball;
-use boundary_svm::SvmDetector;
+use boundary_svm::{Refine, SvmDetector, SvmParams};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
 fn bench(c: &mut Criterion) {
@@ -20,8 +20,11 @@ fn bench(c: &mut Criterion) {
     let (set, _) = jittered_lattice_ball(n, 0.15, 42);
     let r = Radius::new(1.2).expect("positive");
     let svm = SvmDetector::default();
-    let mut cascade = SvmDetector::default();
-    cascade.set_param("refine", "exact").expect("known value");
+    let cascade = SvmDetector::try_new(SvmParams {
+        refine: Refine::Exact,
+        ..SvmParams::default()
+    })
+    .expect("valid parameters");
     let mut group = c.benchmark_group("jittered_ball");
     group.sample_size(10);
     group.throughput(Throughput::Elements(set.len() as u64));
@@ -30,7 +33,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| cascade.detect_3d(&set, r).expect("runs"))
     });
     group.bench_function("exact", |b| {
-        b.iter(|| ExactDetector.detect_3d(&set, r).expect("runs"))
+        b.iter(|| ExactDetector::default().detect_3d(&set, r).expect("runs"))
     });
     group.finish();
 }

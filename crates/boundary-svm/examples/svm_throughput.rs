@@ -49,10 +49,10 @@ fn main() {
         // also pays for the allocator's first pages, which the later ones reuse.
         let best = |a: (f64, usize, u64), b: (f64, usize, u64)| if b.0 < a.0 { b } else { a };
         let mut svm_run = time(&svm);
-        let mut exact_run = (!skip_exact).then(|| time(&ExactDetector));
+        let mut exact_run = (!skip_exact).then(|| time(&ExactDetector::default()));
         svm_run = best(svm_run, time(&svm));
         if let Some(run) = exact_run {
-            exact_run = Some(best(run, time(&ExactDetector)));
+            exact_run = Some(best(run, time(&ExactDetector::default())));
         }
         let (s_svm, b_svm, c_svm) = svm_run;
         print!(

@@ -58,15 +58,19 @@
 //! are those of the refiner (none for `exact`), its misses those of the SVM, so its recall is
 //! the SVM's.
 //!
-//! # Parameters (`--set key=value`)
-//! | key | default | meaning |
-//! |---|---|---|
-//! | `refine` | `none` | `none`, `exact` or `ge` (at its default depth): re-test the SVM's boundary particles |
-//! | `model` | `default` | `default` (the shipped model of the set's dimension) or the path of a model file (JSON, see [`SvmModel`]) |
+//! # Parameters
+//! [`SvmParams`], checked by [`SvmDetector::try_new`]; the `--set key=value` keys of the
+//! command line and the bindings are the field names.
 //!
-//! `model=PATH` reads the file when the parameter is set, and fails with an error that names
-//! the file if it cannot be read or is not a valid model: the one place where a method crate
-//! touches the file system, because the model is the method's parameter.
+//! | field | default | meaning | string form |
+//! |---|---|---|---|
+//! | `refine` | [`Refine::None`] | re-test the SVM's boundary particles with `exact` or `ge` (at its default depth) | `none`, `exact`, `ge` |
+//! | `model` | [`ModelChoice::Shipped`] | the shipped model of the set's dimension, or a model of one dimension ([`ModelChoice::Custom`]) | `default` or the path of a model file (JSON, see [`SvmModel`]) |
+//!
+//! [`ModelChoice::from_file`] (what `model=PATH` calls) reads the file and fails with an
+//! error that names the file if it cannot be read or is not a valid model: the one place
+//! where a method crate touches the file system, because the model is the method's
+//! parameter.
 //!
 //! # Policy: ties, duplicates, degenerate input
 //! - A decision value of exactly 0 is boundary.
@@ -179,7 +183,7 @@
 //! # Example
 //! ```
 //! use boundary_core::{BoundaryDetector, ParticleSet, Radius};
-//! use boundary_svm::SvmDetector;
+//! use boundary_svm::{Refine, SvmDetector, SvmParams};
 //!
 //! // A 20 x 20 square lattice of spacing 1 at r = 1.5: the outer ring is boundary and the
 //! // centre is interior.
@@ -191,8 +195,11 @@
 //! assert!(!labels.is_boundary(10 * 20 + 10));
 //!
 //! // The cascade with `exact` keeps only true boundary particles.
-//! let mut cascade = SvmDetector::default();
-//! cascade.set_param("refine", "exact").unwrap();
+//! let cascade = SvmDetector::try_new(SvmParams {
+//!     refine: Refine::Exact,
+//!     ..SvmParams::default()
+//! })
+//! .unwrap();
 //! let refined = cascade.detect_2d(&set, r).unwrap().labels;
 //! assert_eq!(refined.boundary_count(), 76);
 //! ```
@@ -213,6 +220,7 @@ use boundary_core::{
     AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, ParamError, ParamInfo,
     Params, ParticleSet, Radius,
 };
+use boundary_core::{Dim, SupportedDim};
 use boundary_exact::ExactDetector;
 use boundary_ge::GeDetector;
 use std::sync::{Arc, OnceLock};
@@ -221,7 +229,6 @@ use std::sync::{Arc, OnceLock};
 const NO_RADII: &str = "its models were trained on features of uniform-radius sets";
 
 const METHOD: &str = "svm";
-const KEYS: [&str; 2] = ["refine", "model"];
 
 /// The shipped 2D model (JSON), made by `cargo xtask train-svm`.
 pub const MODEL_2D_JSON: &str = include_str!("../models/svm2d.json");
@@ -244,17 +251,18 @@ pub fn shipped_model(dim: usize) -> Result<&'static SvmModel, ModelError> {
 /// What re-tests the SVM's boundary particles (thesis Sec. 3.4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Refine {
-    /// The SVM's labels as they are.
+    /// The SVM's labels as they are. String form `refine=none`.
     #[default]
     None,
-    /// `exact` re-tests them: no false positive remains.
+    /// `exact` re-tests them: no false positive remains. String form `refine=exact`.
     Exact,
-    /// `ge` at its default depth re-tests them.
+    /// `ge` at its default depth re-tests them. String form `refine=ge`.
     Ge,
 }
 
 impl Refine {
-    fn name(self) -> &'static str {
+    /// The string form: `none`, `exact` or `ge`.
+    pub fn name(self) -> &'static str {
         match self {
             Refine::None => "none",
             Refine::Exact => "exact",
@@ -263,33 +271,85 @@ impl Refine {
     }
 }
 
-/// A model loaded with `model=PATH`, with the path it came from.
-#[derive(Debug, Clone, PartialEq)]
-struct LoadedModel {
-    path: String,
-    model: Arc<SvmModel>,
+/// Which model `svm` evaluates.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum ModelChoice {
+    /// The shipped model of the set's dimension ([`shipped_model`]). String form
+    /// `model=default`.
+    #[default]
+    Shipped,
+    /// A model of one dimension, with the label `params()` shows as the model's value (the
+    /// path it was read from, for [`ModelChoice::from_file`]). A set of the other dimension
+    /// is an error naming the label.
+    Custom {
+        /// What `params()` shows (a path, a name).
+        label: String,
+        /// The model.
+        model: Arc<SvmModel>,
+    },
+}
+
+impl ModelChoice {
+    /// A custom model labelled `label`.
+    pub fn custom(label: &str, model: SvmModel) -> Self {
+        ModelChoice::Custom {
+            label: label.to_owned(),
+            model: Arc::new(model),
+        }
+    }
+
+    /// Reads and validates the model file at `path` (JSON, see [`SvmModel`]), labelled by
+    /// its path; the error names the file.
+    pub fn from_file(path: &str) -> Result<Self, ModelError> {
+        // The one documented exception to "method crates touch no file": the model is the
+        // method's parameter (docs/ARCHITECTURE.md, clippy.toml).
+        #[allow(clippy::disallowed_methods)]
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| ModelError(format!("cannot read '{path}': {e}")))?;
+        let model = SvmModel::from_json(&text).map_err(|e| ModelError(format!("'{path}': {e}")))?;
+        Ok(ModelChoice::custom(path, model))
+    }
+
+    /// The string form: `default`, or the custom model's label.
+    pub fn label(&self) -> &str {
+        match self {
+            ModelChoice::Shipped => "default",
+            ModelChoice::Custom { label, .. } => label,
+        }
+    }
+}
+
+/// The parameters of `svm` (string form: the `--set` keys of the same names, see
+/// `boundary::registry`).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SvmParams {
+    /// The cascade's second stage; default [`Refine::None`].
+    pub refine: Refine,
+    /// The model; default [`ModelChoice::Shipped`].
+    pub model: ModelChoice,
 }
 
 /// The SVM detector (`svm`). See the crate documentation.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SvmDetector {
-    /// The cascade's second stage.
-    pub refine: Refine,
-    loaded: Option<LoadedModel>,
+    params: SvmParams,
 }
 
 impl SvmDetector {
-    /// The detector with a given model (instead of the shipped one) and no cascade; `label`
-    /// is what `params()` shows as the model's value.
-    pub fn with_model(model: SvmModel, label: &str) -> Result<Self, ModelError> {
-        model.validate()?;
-        Ok(SvmDetector {
-            refine: Refine::None,
-            loaded: Some(LoadedModel {
-                path: label.to_owned(),
-                model: Arc::new(model),
-            }),
-        })
+    /// The detector with `params`, checked: a [`ModelChoice::Custom`] model must pass
+    /// [`SvmModel::validate`] (else [`ParamError::Invalid`] naming `model` and its label).
+    pub fn try_new(params: SvmParams) -> Result<Self, ParamError> {
+        if let ModelChoice::Custom { label, model } = &params.model {
+            model.validate().map_err(|e| {
+                ParamError::invalid(METHOD, "model", label, format!("'{label}': {e}"))
+            })?;
+        }
+        Ok(SvmDetector { params })
+    }
+
+    /// The parameters.
+    pub fn settings(&self) -> &SvmParams {
+        &self.params
     }
 
     /// The model used for `D`-dimensional sets.
@@ -298,13 +358,13 @@ impl SvmDetector {
             method: METHOD,
             message,
         };
-        match &self.loaded {
-            Some(l) if l.model.dim == dim => Ok(&l.model),
-            Some(l) => Err(fail(format!(
-                "model '{}' is for {}D particle sets, this set is {dim}D",
-                l.path, l.model.dim
+        match &self.params.model {
+            ModelChoice::Custom { model, .. } if model.dim == dim => Ok(model),
+            ModelChoice::Custom { label, model } => Err(fail(format!(
+                "model '{label}' is for {}D particle sets, this set is {dim}D",
+                model.dim
             ))),
-            None => shipped_model(dim).map_err(|e| fail(e.0)),
+            ModelChoice::Shipped => shipped_model(dim).map_err(|e| fail(e.0)),
         }
     }
 
@@ -321,6 +381,7 @@ impl SvmDetector {
     ) -> Result<Vec<f64>, DetectError>
     where
         AnyParticleSet: From<ParticleSet<D>>,
+        Dim<D>: SupportedDim,
     {
         let model = self.model_for(D)?.packed();
         // Each particle's decision right after its features (the features are not kept).
@@ -334,7 +395,7 @@ impl SvmDetector {
         })?;
         let (mut decisions, near): (Vec<f64>, Vec<bool>) = decided.into_iter().unzip();
         if near.contains(&true) {
-            let exact = refine_candidates(&ExactDetector, set, &near, r)?;
+            let exact = refine_candidates(&ExactDetector::default(), set, &near, r)?;
             for (i, d) in decisions.iter_mut().enumerate() {
                 if near[i] {
                     *d = if exact[i] { 0.0 } else { -f64::MIN_POSITIVE };
@@ -352,17 +413,18 @@ impl SvmDetector {
     ) -> Result<Detection, DetectError>
     where
         AnyParticleSet: From<ParticleSet<D>>,
+        Dim<D>: SupportedDim,
     {
         let decisions = self.decisions(set, count, r)?;
         let labels: Vec<bool> = decisions.iter().map(|&d| d >= 0.0).collect();
-        let refined = match self.refine {
+        let refined = match self.params.refine {
             Refine::None => {
                 return Ok(Detection {
                     labels: Labels::new(labels),
                     margin: Some(decisions),
                 })
             }
-            Refine::Exact => refine_candidates(&ExactDetector, set, &labels, r)?,
+            Refine::Exact => refine_candidates(&ExactDetector::default(), set, &labels, r)?,
             Refine::Ge => refine_candidates(&GeDetector::default(), set, &labels, r)?,
         };
         // The refiner's margins and the SVM's decision values are in different units: the
@@ -385,6 +447,7 @@ fn refine_candidates<const D: usize>(
 ) -> Result<Vec<bool>, DetectError>
 where
     AnyParticleSet: From<ParticleSet<D>>,
+    Dim<D>: SupportedDim,
 {
     let positions = set.positions();
     let mut order: Vec<usize> = (0..candidates.len()).filter(|&i| candidates[i]).collect();
@@ -414,64 +477,19 @@ impl BoundaryDetector for SvmDetector {
         Params(vec![
             ParamInfo {
                 name: "refine",
-                value: self.refine.name().to_owned(),
+                value: self.params.refine.name().to_owned(),
                 default: Refine::None.name().to_owned(),
                 description: "none, exact or ge: re-test the particles the SVM calls boundary \
                               (the cascade of thesis Sec. 3.4)",
             },
             ParamInfo {
                 name: "model",
-                value: self
-                    .loaded
-                    .as_ref()
-                    .map_or_else(|| "default".to_owned(), |l| l.path.clone()),
+                value: self.params.model.label().to_owned(),
                 default: "default".to_owned(),
                 description: "default (the shipped model of the set's dimension, trained by \
                               `cargo xtask train-svm`) or the path of a model file (JSON)",
             },
         ])
-    }
-
-    fn set_param(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        match key {
-            "refine" => {
-                self.refine = match value.trim() {
-                    "none" => Refine::None,
-                    "exact" => Refine::Exact,
-                    "ge" => Refine::Ge,
-                    _ => {
-                        return Err(ParamError::invalid(
-                            METHOD,
-                            key,
-                            value,
-                            "must be none, exact or ge",
-                        ))
-                    }
-                };
-            }
-            "model" => {
-                let path = value.trim();
-                if path == "default" {
-                    self.loaded = None;
-                    return Ok(());
-                }
-                // The one documented exception to "method crates touch no file": the model
-                // is the method's parameter (docs/ARCHITECTURE.md, clippy.toml).
-                #[allow(clippy::disallowed_methods)]
-                let text = std::fs::read_to_string(path).map_err(|e| {
-                    ParamError::invalid(METHOD, key, value, format!("cannot read '{path}': {e}"))
-                })?;
-                let model = SvmModel::from_json(&text).map_err(|e| {
-                    ParamError::invalid(METHOD, key, value, format!("'{path}': {e}"))
-                })?;
-                self.loaded = Some(LoadedModel {
-                    path: path.to_owned(),
-                    model: Arc::new(model),
-                });
-            }
-            _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
-        }
-        Ok(())
     }
 
     fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {

@@ -3,12 +3,27 @@
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
 use boundary_core::{AnyParticleSet, BoundaryDetector, Confusion, ParticleSet, Point, Radius};
+use boundary_core::{Dim, SupportedDim};
 use boundary_exact::ExactDetector;
 use boundary_scenes::certify::ulps;
 use boundary_scenes::{jittered_lattice_ball, jittered_lattice_disc, shared_set};
-use boundary_svm::{compute_features, particle_features, shipped_model, SvmDetector, SvmModel};
+use boundary_svm::{
+    compute_features, particle_features, shipped_model, ModelChoice, Refine, SvmDetector, SvmModel,
+    SvmParams,
+};
 
-fn scaled<const D: usize>(set: &ParticleSet<D>, factor: f64) -> ParticleSet<D> {
+fn with_refine(refine: Refine) -> SvmDetector {
+    SvmDetector::try_new(SvmParams {
+        refine,
+        ..SvmParams::default()
+    })
+    .unwrap()
+}
+
+fn scaled<const D: usize>(set: &ParticleSet<D>, factor: f64) -> ParticleSet<D>
+where
+    Dim<D>: SupportedDim,
+{
     ParticleSet::new(set.positions().iter().map(|p| p * factor).collect()).unwrap()
 }
 
@@ -20,7 +35,10 @@ fn score(predicted: &[bool], truth: &[bool]) -> Confusion {
 /// 1e-12 absolute for the features that are zero): only rounding differs.
 #[test]
 fn features_are_scale_free() {
-    fn check<const D: usize>(set: &ParticleSet<D>, r: f64) {
+    fn check<const D: usize>(set: &ParticleSet<D>, r: f64)
+    where
+        Dim<D>: SupportedDim,
+    {
         let base = compute_features(set, set.len(), Radius::new(r).unwrap()).unwrap();
         for k in [-7, -1, 3, 12] {
             let factor = 2f64.powi(k);
@@ -52,46 +70,57 @@ fn model_file_round_trip() {
     let reference = SvmDetector::default().detect_2d(&set, r).unwrap();
     let path = dir.path().join("model.json");
     std::fs::write(&path, shipped_model(2).unwrap().to_json()).unwrap();
-    let mut loaded = SvmDetector::default();
-    loaded.set_param("model", path.to_str().unwrap()).unwrap();
+    let loaded = SvmDetector::try_new(SvmParams {
+        model: ModelChoice::from_file(path.to_str().unwrap()).unwrap(),
+        ..SvmParams::default()
+    })
+    .unwrap();
     assert_eq!(loaded.params().0[1].value, path.to_str().unwrap());
+    assert_eq!(loaded.settings().model.label(), path.to_str().unwrap());
     let again = loaded.detect_2d(&set, r).unwrap();
     assert_eq!(again, reference);
-    // `model=default` goes back to the shipped model.
-    loaded.set_param("model", "default").unwrap();
-    assert_eq!(loaded, SvmDetector::default());
 }
 
 #[test]
 fn bad_model_files_are_errors_naming_the_file() {
     let dir = tempfile::tempdir().unwrap();
     let missing = dir.path().join("missing.json");
-    let mut d = SvmDetector::default();
-    let e = d.set_param("model", missing.to_str().unwrap()).unwrap_err();
+    let load = |path: &std::path::Path| ModelChoice::from_file(path.to_str().unwrap());
+    let e = load(&missing).unwrap_err();
     assert!(e.to_string().contains("missing.json"), "{e}");
     let garbage = dir.path().join("garbage.json");
     std::fs::write(&garbage, "{\"format\": \"boundary-svm model\", \"dim\": 2").unwrap();
-    let e = d.set_param("model", garbage.to_str().unwrap()).unwrap_err();
+    let e = load(&garbage).unwrap_err();
     assert!(e.to_string().contains("garbage.json"), "{e}");
     let mut bad = shipped_model(3).unwrap().clone();
     bad.feature_scale[0] = -1.0;
     let invalid = dir.path().join("invalid.json");
     std::fs::write(&invalid, bad.to_json()).unwrap();
-    let e = d.set_param("model", invalid.to_str().unwrap()).unwrap_err();
+    let e = load(&invalid).unwrap_err();
     assert!(
         e.to_string().contains("invalid.json") && e.to_string().contains("scales"),
         "{e}"
     );
-    // A failed load leaves the detector as it was.
-    assert_eq!(d, SvmDetector::default());
-    assert!(d.set_param("refine", "dilts").is_err());
-    assert!(d.set_param("depth", "3").is_err());
+    // A model built in memory is checked by try_new, the error naming its label.
+    let e = SvmDetector::try_new(SvmParams {
+        model: ModelChoice::custom("in-memory", bad),
+        ..SvmParams::default()
+    })
+    .unwrap_err();
+    assert!(
+        e.to_string().contains("in-memory") && e.to_string().contains("scales"),
+        "{e}"
+    );
 }
 
 /// A 3D model used on a 2D set is an error that names the model.
 #[test]
 fn model_of_the_wrong_dimension_is_an_error() {
-    let d = SvmDetector::with_model(shipped_model(3).unwrap().clone(), "my3d.json").unwrap();
+    let d = SvmDetector::try_new(SvmParams {
+        model: ModelChoice::custom("my3d.json", shipped_model(3).unwrap().clone()),
+        ..SvmParams::default()
+    })
+    .unwrap();
     let set = jittered_lattice_disc(5.0, 0.1, 1);
     let e = d.detect_2d(&set, Radius::new(1.5).unwrap()).unwrap_err();
     assert!(e.to_string().contains("my3d.json"), "{e}");
@@ -131,13 +160,12 @@ fn degenerate_sets() {
 fn owned_particles_match_the_whole_set() {
     let (ball, _) = jittered_lattice_ball(3000, 0.15, 9);
     let r = Radius::new(1.2).unwrap();
-    for refine in ["none", "exact"] {
-        let mut d = SvmDetector::default();
-        d.set_param("refine", refine).unwrap();
+    for refine in [Refine::None, Refine::Exact] {
+        let d = with_refine(refine);
         let all = d.detect_3d(&ball, r).unwrap().labels;
         let any = AnyParticleSet::from(ball.clone());
         let owned = d.detect_owned(&any, 1000, r).unwrap().labels;
-        assert_eq!(owned.as_slice(), &all.as_slice()[..1000], "refine={refine}");
+        assert_eq!(owned.as_slice(), &all.as_slice()[..1000], "{refine:?}");
     }
 }
 
@@ -150,18 +178,17 @@ fn cascade_against_exact() {
         return;
     };
     let r = Radius::new(0.022105).unwrap();
-    let truth = ExactDetector.detect_2d(&set, r).unwrap().labels;
+    let truth = ExactDetector::default().detect_2d(&set, r).unwrap().labels;
     let svm = SvmDetector::default().detect_2d(&set, r).unwrap().labels;
     let plain = score(svm.as_slice(), truth.as_slice());
-    for refine in ["exact", "ge"] {
-        let mut d = SvmDetector::default();
-        d.set_param("refine", refine).unwrap();
+    for refine in [Refine::Exact, Refine::Ge] {
+        let d = with_refine(refine);
         let c = d.detect_2d(&set, r).unwrap();
         assert!(c.margin.is_none());
         let cascade = score(c.labels.as_slice(), truth.as_slice());
-        assert_eq!(cascade.tp, plain.tp, "refine={refine}");
-        assert!(cascade.fp <= plain.fp, "refine={refine}");
-        if refine == "exact" {
+        assert_eq!(cascade.tp, plain.tp, "{refine:?}");
+        assert!(cascade.fp <= plain.fp, "{refine:?}");
+        if refine == Refine::Exact {
             assert_eq!(cascade.fp, 0);
             assert_eq!(cascade.fpr(), 0.0);
         }
@@ -188,7 +215,7 @@ fn perfect_lattices_have_no_false_negative() {
         let labels = |r: f64| {
             let set = AnyParticleSet::from(set.clone());
             let r = Radius::new(r).unwrap();
-            let truth = ExactDetector.detect(&set, r).unwrap().labels;
+            let truth = ExactDetector::default().detect(&set, r).unwrap().labels;
             let svm = SvmDetector::default().detect(&set, r).unwrap().labels;
             (svm, truth)
         };
@@ -231,7 +258,7 @@ fn certified_particles_are_boundary_for_exact() {
         AnyParticleSet: From<ParticleSet<D>>,
     {
         let r = Radius::new(r).unwrap();
-        let truth = ExactDetector
+        let truth = ExactDetector::default()
             .detect(&AnyParticleSet::from(set.clone()), r)
             .unwrap()
             .labels;
@@ -266,11 +293,12 @@ fn quoted_held_out_scores_are_reproduced() {
     fn confusion<const D: usize>(file: &str, r: f64) -> Option<[u64; 4]>
     where
         AnyParticleSet: From<ParticleSet<D>>,
+        Dim<D>: SupportedDim,
     {
         let set = shared_set::<D>(file).unwrap()?;
         let r = Radius::new(r).unwrap();
         let any = AnyParticleSet::from(set);
-        let truth = ExactDetector.detect(&any, r).unwrap().labels;
+        let truth = ExactDetector::default().detect(&any, r).unwrap().labels;
         let svm = SvmDetector::default().detect(&any, r).unwrap().labels;
         let c = score(svm.as_slice(), truth.as_slice());
         Some([c.tp, c.fn_, c.fp, c.tn])

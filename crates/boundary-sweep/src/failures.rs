@@ -20,7 +20,9 @@
 //! scene order on ties); its picture is drawn by [`crate::plots`].
 
 use crate::Row;
-use boundary::{AnyParticleSet, Labels, NeighbourGrid, ParticleSet, Radius};
+use boundary::implement::NeighbourGrid;
+use boundary::{AnyParticleSet, Labels, ParticleSet, Radius};
+use boundary::{Dim, SupportedDim};
 use rayon::prelude::*;
 use std::fmt::Write as _;
 
@@ -121,7 +123,10 @@ fn classes_d<const D: usize>(
     set: &ParticleSet<D>,
     r: Radius,
     truth: &Labels,
-) -> Result<SceneClasses, String> {
+) -> Result<SceneClasses, String>
+where
+    Dim<D>: SupportedDim,
+{
     let features =
         boundary_resample::classify(set, r, truth, &boundary_resample::ResampleConfig::default())
             .map_err(|e| e.to_string())?;

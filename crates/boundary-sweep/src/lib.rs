@@ -15,9 +15,9 @@ pub mod report;
 pub mod scale;
 pub mod sequence;
 
+use boundary::implement::NeighbourGrid;
 use boundary::{
-    AnyParticleSet, BoundaryDetector, Confusion, DetectError, Domain, Labels, NeighbourGrid,
-    ParticleSet, Radius,
+    AnyParticleSet, BoundaryDetector, Confusion, DetectError, Domain, Labels, ParticleSet, Radius,
 };
 use boundary_scenes::SceneDomain;
 use std::path::PathBuf;

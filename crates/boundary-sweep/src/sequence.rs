@@ -65,7 +65,7 @@ pub fn run_sequence(
             let set = frame.to_any();
             let start = Instant::now();
             let full = pool
-                .install(|| ExactDetector.detect(&set, r))
+                .install(|| ExactDetector::default().detect(&set, r))
                 .map_err(|e| e.to_string())?;
             let full_time = start.elapsed().as_secs_f64();
             let start = Instant::now();

@@ -5,14 +5,34 @@
 //! it is **boundary** (Sandim, Paiva & Figueiredo, J. Comput. Phys. 2020). Coincident
 //! duplicates do not cover each other.
 //!
-//! This facade re-exports [`boundary_core`] (particle sets, the [`BoundaryDetector`] trait,
-//! the neighbour grid, the metrics) and holds the **registry**: every method compiled in (one
-//! cargo feature per method crate) can be created by its name, with parameters given as
-//! `key=value` strings, exactly as on the command line (`boundary detect --method ge --set
-//! depth=4`). Any method's labels widen to a narrow band with [`Labels::widen`] (the
-//! command line's `--band K`: every particle within `K·r` of a boundary particle).
+//! What a user needs is at the root: particle sets ([`ParticleSet`], [`AnyParticleSet`]),
+//! the resolution [`Radius`], the [`Domain`] around a set (walls, [`Solids`], [`Periodic`]
+//! axes, phases), the [`BoundaryDetector`] trait with its [`Detection`] and [`Labels`], the
+//! detectors of the compiled-in methods (one cargo feature per method crate) with their typed
+//! parameters, the metrics ([`Confusion`]) and the errors. The [`registry`] creates a method
+//! by its name with `key=value` parameters, exactly as on the command line (`boundary detect
+//! --method ge --set depth=4`). What only the author of a new detector needs (the neighbour
+//! grids, the exact covering predicate, domain decomposition, the label helpers) is in
+//! [`implement`]. Any method's labels widen to a narrow band with [`Labels::widen`] (the
+//! command line's `--band K`: every particle within `K·r` of a boundary particle), and
+//! [`Tracker`] labels the successive time steps of a simulation as `exact` does, recomputing
+//! only the particles whose label may have changed.
 //!
-//! # Example
+//! # Typed parameters
+//! Each method has a parameter struct with public fields and the paper's defaults, and a
+//! detector built from it by `try_new`, which checks it (never clamps):
+//! ```
+//! use boundary::{BoundaryDetector, IaDetector, IaParams, ParticleSet, Radius};
+//!
+//! let ia = IaDetector::try_new(IaParams { depth: 4 }).unwrap();
+//! assert_eq!(ia.settings().depth, 4);
+//! assert!(IaDetector::try_new(IaParams { depth: 0 }).is_err());
+//! let set = ParticleSet::<2>::from_rows(&[[0.0, 0.0], [1.0, 0.0]]).unwrap();
+//! let labels = ia.detect_2d(&set, Radius::new(0.8).unwrap()).unwrap().labels;
+//! assert_eq!(labels.boundary_count(), 2);
+//! ```
+//!
+//! # By name
 //! ```
 //! use boundary::{detector_with_params, methods, Confusion, ParticleSet, Radius};
 //!
@@ -32,260 +52,67 @@
 //! assert_eq!(score.recall(), 1.0);
 //! ```
 
-pub use boundary_core::*;
+pub mod registry;
+
+pub use registry::{
+    detector_by_name, detector_with_params, methods, parameters, parse_param, parse_param_list,
+    summary, RegistryError,
+};
+
+pub use boundary_core::{auto_radius, stop};
+pub use boundary_core::{
+    median_nearest_neighbour_distance, AnyParticleSet, BoundaryDetector, Confusion, CoreError,
+    DetectError, Detection, Dim, Domain, DomainDetection, DomainError, Flatness, HalfSpace, Labels,
+    MeshError, ParamError, ParamInfo, Params, ParticleSet, Periodic, Point, Radius, SolidMesh,
+    Solids, SupportedDim, AUTO_RADIUS_FACTOR,
+};
+
+/// Re-export of the linear-algebra crate used in public signatures ([`Point`]).
+pub use boundary_core::nalgebra;
 
 #[cfg(feature = "asymmetry")]
-pub use boundary_asymmetry::AsymmetryDetector;
+pub use boundary_asymmetry::{AsymmetryDetector, AsymmetryParams};
 #[cfg(feature = "dilts")]
-pub use boundary_dilts::DiltsDetector;
+pub use boundary_dilts::{DiltsDetector, DiltsParams};
 #[cfg(feature = "divr")]
-pub use boundary_divr::DivrDetector;
+pub use boundary_divr::{DivrDetector, DivrParams, Threshold as DivrThreshold};
 #[cfg(feature = "exact")]
-pub use boundary_exact::{ExactDetector, Tracker};
+pub use boundary_exact::{ExactDetector, ExactParams, Tracker};
 #[cfg(feature = "ge")]
-pub use boundary_ge::GeDetector;
+pub use boundary_ge::{GeDetector, GeParams};
 #[cfg(feature = "hpr")]
-pub use boundary_hpr::HprDetector;
+pub use boundary_hpr::{Grids, HprDetector, HprParams, Protrusion};
 #[cfg(feature = "ia")]
-pub use boundary_ia::IaDetector;
+pub use boundary_ia::{IaDetector, IaParams};
 #[cfg(feature = "lnm")]
-pub use boundary_lnm::LnmDetector;
+pub use boundary_lnm::{LnmDetector, LnmParams};
 #[cfg(feature = "marrone")]
-pub use boundary_marrone::MarroneDetector;
+pub use boundary_marrone::{Kernel, MarroneDetector, MarroneParams};
+#[cfg(all(feature = "muller", not(feature = "marrone")))]
+pub use boundary_muller::Kernel;
 #[cfg(feature = "muller")]
-pub use boundary_muller::MullerDetector;
+pub use boundary_muller::{MullerDetector, MullerParams};
 #[cfg(feature = "randles")]
-pub use boundary_randles::RandlesDetector;
+pub use boundary_randles::{RandlesDetector, RandlesParams};
 #[cfg(feature = "svm")]
-pub use boundary_svm::SvmDetector;
+pub use boundary_svm::{ModelChoice, Refine, SvmDetector, SvmModel, SvmParams};
 
-use thiserror::Error;
-
-/// Why the registry could not build a detector.
-#[derive(Debug, Error, Clone, PartialEq, Eq)]
-pub enum RegistryError {
-    /// No method of that name is compiled in.
-    #[error("unknown method '{name}' (available: {available})")]
-    UnknownMethod {
-        /// The name asked for.
-        name: String,
-        /// The compiled-in methods, comma-separated.
-        available: String,
-    },
-    /// A parameter was rejected by the method.
-    #[error(transparent)]
-    Param(#[from] ParamError),
-}
-
-/// A registry entry: name, one-line summary and constructor at default parameters.
-struct Entry {
-    name: &'static str,
-    summary: &'static str,
-    make: fn() -> Box<dyn BoundaryDetector>,
-}
-
-/// Every compiled-in method, in the order the reports list them (references first).
-const REGISTRY: &[Entry] = &[
-    #[cfg(feature = "exact")]
-    Entry {
-        name: "exact",
-        summary: "restricted Voronoi cell of each particle reaches beyond r: the reference labels",
-        make: || Box::new(ExactDetector),
-    },
-    #[cfg(feature = "dilts")]
-    Entry {
-        name: "dilts",
-        summary:
-            "explicit covering of S_i by arcs (2D, Dilts 2000) or caps (3D, Haque & Dilts 2007)",
-        make: || Box::new(DiltsDetector),
-    },
-    #[cfg(feature = "ia")]
-    Entry {
-        name: "ia",
-        summary: "interval-arithmetic quadtree/octree over S_i, rules R1-R4 (JCP 2020 Sec. 3.1)",
-        make: || Box::new(IaDetector::default()),
-    },
-    #[cfg(feature = "ge")]
-    Entry {
-        name: "ge",
-        summary: "geometric-enclosure slabs on a mesh of S_i, rules R1-R4 (JCP 2020 Sec. 3.2)",
-        make: || Box::new(GeDetector::default()),
-    },
-    #[cfg(feature = "marrone")]
-    Entry {
-        name: "marrone",
-        summary: "SPH renormalisation-matrix eigenvalue, then a scan cone along the normal \
-                  (Marrone et al., JCP 2010)",
-        make: || Box::new(MarroneDetector::default()),
-    },
-    #[cfg(feature = "muller")]
-    Entry {
-        name: "muller",
-        summary:
-            "SPH colour-field gradient |grad c| h above a threshold (Mueller et al., SCA 2003)",
-        make: || Box::new(MullerDetector::default()),
-    },
-    #[cfg(feature = "divr")]
-    Entry {
-        name: "divr",
-        summary: "SPH divergence of position below a threshold: DualSPHysics, SPHinXsys or \
-                  Chrono::FSI's value by name (Lind et al., JCP 2012)",
-        make: || Box::new(DivrDetector::default()),
-    },
-    #[cfg(feature = "asymmetry")]
-    Entry {
-        name: "asymmetry",
-        summary: "distance to the kernel-weighted mean of the neighbourhood, or a low density \
-                  (He et al., ACM TOG 2012)",
-        make: || Box::new(AsymmetryDetector::default()),
-    },
-    #[cfg(feature = "randles")]
-    Entry {
-        name: "randles",
-        summary: "smallest eigenvalue of the SPH renormalisation matrix at most mu \
-                  (Randles-Doring; Marrone et al., JCP 2010, first step)",
-        make: || Box::new(RandlesDetector::default()),
-    },
-    #[cfg(feature = "lnm")]
-    Entry {
-        name: "lnm",
-        summary: "layered neighbourhood: voxel cells beside an empty cell, and beside a sparse \
-                  one of those (Oliveira & Paiva, CGF 2022)",
-        make: || Box::new(LnmDetector::default()),
-    },
-    #[cfg(feature = "hpr")]
-    Entry {
-        name: "hpr",
-        summary: "visibility: hidden point removal with exponential flipping from grid and \
-                  cavity viewpoints (Sandim 2020, ch. 2, Alg. 1)",
-        make: || Box::new(HprDetector::default()),
-    },
-    #[cfg(feature = "svm")]
-    Entry {
-        name: "svm",
-        summary:
-            "support vector machine (polynomial kernel) on SPH features, trained on exact labels; \
-                  refine=exact|ge re-tests its boundary particles (Sandim 2020, ch. 3)",
-        make: || Box::new(SvmDetector::default()),
-    },
-];
-
-/// The names of the compiled-in methods, references first.
-pub fn methods() -> Vec<&'static str> {
-    REGISTRY.iter().map(|e| e.name).collect()
-}
-
-/// The one-line summary of a method, if it is compiled in.
-pub fn summary(name: &str) -> Option<&'static str> {
-    REGISTRY.iter().find(|e| e.name == name).map(|e| e.summary)
-}
-
-/// The detector called `name`, at its default parameters.
-pub fn detector_by_name(name: &str) -> Result<Box<dyn BoundaryDetector>, RegistryError> {
-    REGISTRY
-        .iter()
-        .find(|e| e.name == name)
-        .map(|e| (e.make)())
-        .ok_or_else(|| RegistryError::UnknownMethod {
-            name: name.to_owned(),
-            available: methods().join(", "),
-        })
-}
-
-/// The detector called `name` with `params` (`(key, value)` pairs, applied in order).
-pub fn detector_with_params<K: AsRef<str>, V: AsRef<str>>(
-    name: &str,
-    params: &[(K, V)],
-) -> Result<Box<dyn BoundaryDetector>, RegistryError> {
-    let mut detector = detector_by_name(name)?;
-    for (key, value) in params {
-        detector.set_param(key.as_ref(), value.as_ref())?;
-    }
-    Ok(detector)
-}
-
-/// Splits a `key=value` command-line parameter; the error says what was expected.
-pub fn parse_param(text: &str) -> Result<(String, String), String> {
-    match text.split_once('=') {
-        Some((key, value)) if !key.trim().is_empty() => {
-            Ok((key.trim().to_owned(), value.trim().to_owned()))
-        }
-        _ => Err(format!("expected KEY=VALUE, got '{text}'")),
-    }
-}
-
-/// Splits a comma-separated parameter list `key=value,key=value` (the syntax of the C API's
-/// `params` string; each item as [`parse_param`], i.e. as one `--set`). Empty items are
-/// skipped, so `""` is no parameter. A value cannot contain a comma.
-pub fn parse_param_list(text: &str) -> Result<Vec<(String, String)>, String> {
-    text.split(',')
-        .filter(|item| !item.trim().is_empty())
-        .map(parse_param)
-        .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn every_registered_name_builds_the_detector_of_that_name() {
-        let names = methods();
-        assert!(!names.is_empty());
-        for name in names {
-            let detector = detector_by_name(name).expect("registered");
-            assert_eq!(detector.name(), name);
-            assert!(summary(name).is_some());
-            // The defaults reported by params() are accepted back by set_param.
-            let params = detector.params();
-            let pairs: Vec<(&str, &str)> = params
-                .0
-                .iter()
-                .map(|p| (p.name, p.value.as_str()))
-                .collect();
-            let again = detector_with_params(name, &pairs).expect("defaults round-trip");
-            assert_eq!(again.params(), params);
-        }
-    }
-
-    #[test]
-    fn unknown_names_and_parameters_are_errors_that_say_what_exists() {
-        let Err(err) = detector_by_name("nope") else {
-            panic!("'nope' is not a method");
-        };
-        let text = err.to_string();
-        assert!(text.contains("nope") && text.contains("exact"), "{text}");
-        let Err(err) = detector_with_params("exact", &[("gamma", "2")]) else {
-            panic!("exact has no gamma");
-        };
-        assert!(err.to_string().contains("gamma"), "{err}");
-    }
-
-    #[test]
-    fn parse_param_list_splits_at_commas_and_skips_empty_items() {
-        assert_eq!(parse_param_list(""), Ok(vec![]));
-        assert_eq!(parse_param_list(" , "), Ok(vec![]));
-        assert_eq!(
-            parse_param_list("gamma=1.5, cavity=off,"),
-            Ok(vec![
-                ("gamma".into(), "1.5".into()),
-                ("cavity".into(), "off".into())
-            ])
-        );
-        let Err(err) = parse_param_list("depth=4,oops") else {
-            panic!("'oops' has no '='");
-        };
-        assert!(err.contains("'oops'"), "{err}");
-    }
-
-    #[test]
-    fn parse_param_splits_at_the_first_equals_sign() {
-        assert_eq!(parse_param("depth=4"), Ok(("depth".into(), "4".into())));
-        assert_eq!(
-            parse_param(" model = a=b "),
-            Ok(("model".into(), "a=b".into()))
-        );
-        assert!(parse_param("depth").is_err());
-        assert!(parse_param("=4").is_err());
-    }
+/// For writing a detector: what an implementation of [`BoundaryDetector`] uses beyond the
+/// types at the crate root. A user who runs the existing methods needs none of it.
+///
+/// - [`NeighbourGrid`](implement::NeighbourGrid) and [`RadiusGrid`](implement::RadiusGrid):
+///   fixed-radius neighbour queries (uniform and per-particle radii), with
+///   [`Neighbourhood`](implement::Neighbourhood);
+/// - [`exact_cover`](implement::exact_cover): the exact covering predicate;
+/// - [`decompose`](implement::decompose): subdomains with halos (what
+///   [`BoundaryDetector::detect_owned`] classifies), as the MPI driver uses them;
+/// - [`domain`](implement::domain) and [`solid_mesh`](implement::solid_mesh): the module docs of
+///   the domain and of solid meshes;
+/// - [`write_label`](implement::write_label) and
+///   [`impl_display_as_label!`](implement::impl_display_as_label): a detector's `Display`.
+pub mod implement {
+    pub use boundary_core::{
+        decompose, domain, exact_cover, impl_display_as_label, radius_grid, solid_mesh,
+        write_label, NeighbourGrid, Neighbourhood, RadiusGrid,
+    };
 }

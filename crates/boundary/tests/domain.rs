@@ -13,10 +13,14 @@ use boundary::{
     detector_by_name, methods, AnyParticleSet, DetectError, Domain, HalfSpace, ParticleSet,
     Periodic, Point, Radius,
 };
+use boundary::{Dim, SupportedDim};
 
 /// A jittered block of spacing 1 with `counts` particles per axis, its lowest layer at
 /// height 0.5 (axis 1), and a floor of two layers of wall particles below it.
-fn tank<const D: usize>(counts: [usize; D], seed: u64) -> (ParticleSet<D>, ParticleSet<D>) {
+fn tank<const D: usize>(counts: [usize; D], seed: u64) -> (ParticleSet<D>, ParticleSet<D>)
+where
+    Dim<D>: SupportedDim,
+{
     let mut state = seed;
     let mut next = move || {
         state = state
@@ -62,7 +66,10 @@ fn tank<const D: usize>(counts: [usize; D], seed: u64) -> (ParticleSet<D>, Parti
     )
 }
 
-fn union<const D: usize>(a: &ParticleSet<D>, b: &ParticleSet<D>) -> ParticleSet<D> {
+fn union<const D: usize>(a: &ParticleSet<D>, b: &ParticleSet<D>) -> ParticleSet<D>
+where
+    Dim<D>: SupportedDim,
+{
     let mut all = a.positions().to_vec();
     all.extend(b.positions());
     ParticleSet::new(all).unwrap()
@@ -71,6 +78,7 @@ fn union<const D: usize>(a: &ParticleSet<D>, b: &ParticleSet<D>) -> ParticleSet<
 fn check_walls<const D: usize>(counts: [usize; D], r: f64)
 where
     AnyParticleSet: From<ParticleSet<D>>,
+    Dim<D>: SupportedDim,
 {
     let (fluid, walls) = tank(counts, 5);
     let r = Radius::new(r).unwrap();
@@ -98,6 +106,7 @@ fn walls_give_every_method_the_labels_of_the_union() {
 fn check_solids<const D: usize>(counts: [usize; D], r: f64)
 where
     AnyParticleSet: From<ParticleSet<D>>,
+    Dim<D>: SupportedDim,
 {
     let (fluid, _) = tank(counts, 9);
     let r = Radius::new(r).unwrap();

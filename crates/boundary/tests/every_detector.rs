@@ -20,6 +20,7 @@ use boundary::{
     detector_by_name, methods, AnyParticleSet, BoundaryDetector, Detection, Labels, ParticleSet,
     Radius,
 };
+use boundary::{Dim, SupportedDim};
 use boundary_scenes::certify::{hard_cases, jittered_lattice, Case};
 use boundary_scenes::{cubic_lattice, square_lattice};
 use proptest::prelude::*;
@@ -39,6 +40,7 @@ fn certified() -> Vec<&'static str> {
 fn set_of<const D: usize>(rows: &[[f64; D]]) -> AnyParticleSet
 where
     ParticleSet<D>: Into<AnyParticleSet>,
+    Dim<D>: SupportedDim,
 {
     ParticleSet::from_rows(rows).unwrap().into()
 }
@@ -46,6 +48,7 @@ where
 fn case<const D: usize>(name: impl Into<String>, rows: &[[f64; D]], radius: f64) -> Case
 where
     ParticleSet<D>: Into<AnyParticleSet>,
+    Dim<D>: SupportedDim,
 {
     Case {
         name: name.into(),
@@ -67,7 +70,10 @@ fn false_negatives(labels: &Labels, truth: &Labels) -> Vec<usize> {
 
 /// A jittered lattice of spacing `spacing` (jitter 0.25 spacing), moved by `offset` on every
 /// axis.
-fn moved_lattice<const D: usize>(n: usize, seed: u64, spacing: f64, offset: f64) -> Vec<[f64; D]> {
+fn moved_lattice<const D: usize>(n: usize, seed: u64, spacing: f64, offset: f64) -> Vec<[f64; D]>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     jittered_lattice::<D>(n, 0.25, seed)
         .into_iter()
         .map(|p| p.map(|c| offset + spacing * c))
@@ -288,6 +294,7 @@ fn every_method_gives_the_same_labels_across_the_supported_radius_range() {
     fn check<const D: usize>(rows: &[[f64; D]], r: f64)
     where
         ParticleSet<D>: Into<AnyParticleSet>,
+        Dim<D>: SupportedDim,
     {
         for method in methods() {
             let base = run(method, &set_of(rows), r).labels;
@@ -357,7 +364,10 @@ fn labels_do_not_depend_on_the_thread_count_or_the_run() {
 
 const FRACTION: f64 = 4096.0;
 
-fn dyadic_lattice<const D: usize>(n: usize, jitter: &[i32]) -> Vec<[f64; D]> {
+fn dyadic_lattice<const D: usize>(n: usize, jitter: &[i32]) -> Vec<[f64; D]>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     (0..n.pow(D as u32))
         .map(|k| {
             let mut p = [0.0; D];
@@ -373,7 +383,10 @@ fn dyadic_lattice<const D: usize>(n: usize, jitter: &[i32]) -> Vec<[f64; D]> {
 }
 
 /// `new[a] = sign[a] · old[axes[a]]`: a signed axis permutation (90° rotations, reflections).
-fn signed_axes<const D: usize>(rows: &[[f64; D]], axes: &[usize], flip: &[bool]) -> Vec<[f64; D]> {
+fn signed_axes<const D: usize>(rows: &[[f64; D]], axes: &[usize], flip: &[bool]) -> Vec<[f64; D]>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     rows.iter()
         .map(|p| std::array::from_fn(|a| if flip[a] { -p[axes[a]] } else { p[axes[a]] }))
         .collect()
@@ -412,7 +425,10 @@ where
 {
     /// Checks `method` under each exact transformation; `Err` names the first that changes a
     /// label.
-    fn check(&self, method: &str) -> Result<(), String> {
+    fn check(&self, method: &str) -> Result<(), String>
+    where
+        Dim<D>: SupportedDim,
+    {
         let base = run(method, &set_of(&self.rows), self.r).labels;
         let compare = |what: &str, labels: Labels| {
             if labels == base {
@@ -466,7 +482,10 @@ where
 fn exact_case<const D: usize>(
     n: usize,
     r_range: std::ops::Range<i32>,
-) -> impl Strategy<Value = Exact<D>> {
+) -> impl Strategy<Value = Exact<D>>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     let count = n.pow(D as u32);
     (
         proptest::collection::vec(-1228i32..=1228, count * D),

@@ -7,10 +7,12 @@
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 #![cfg(all(feature = "exact", feature = "dilts"))]
 
+use boundary::implement::exact_cover;
 use boundary::{
-    detector_by_name, exact_cover, AnyParticleSet, BoundaryDetector, DiltsDetector, ExactDetector,
-    ParticleSet, Point, Radius,
+    detector_by_name, detector_with_params, AnyParticleSet, BoundaryDetector, DiltsDetector,
+    DiltsParams, ExactDetector, ExactParams, ParticleSet, Point, Radius,
 };
+use boundary::{Dim, SupportedDim};
 use boundary_scenes::brute::{lattice_labels_near_tie, uncovered_by_enumeration};
 use boundary_scenes::certify::{near_tie_radii as near, ulps};
 use boundary_scenes::{cubic_lattice, square_lattice};
@@ -20,11 +22,15 @@ use rand::{rngs::StdRng, Rng, SeedableRng};
 type Counting = fn(&AnyParticleSet, Radius) -> (Vec<bool>, usize);
 const METHODS: [(&str, Counting); 2] = [
     ("exact", |set, r| {
-        let (d, f) = ExactDetector.detect_counting_fallbacks(set, r).unwrap();
+        let (d, f) = ExactDetector::default()
+            .detect_counting_fallbacks(set, r)
+            .unwrap();
         (d.labels.as_slice().to_vec(), f)
     }),
     ("dilts", |set, r| {
-        let (d, f) = DiltsDetector.detect_counting_fallbacks(set, r).unwrap();
+        let (d, f) = DiltsDetector::default()
+            .detect_counting_fallbacks(set, r)
+            .unwrap();
         (d.labels.as_slice().to_vec(), f)
     }),
 ];
@@ -78,30 +84,41 @@ fn the_issue_example_below_the_tie_is_all_boundary_and_the_opt_in_tie_keeps_the_
     for (name, _) in METHODS {
         let exact = detector_by_name(name).unwrap().detect(&set, r).unwrap();
         assert_eq!(exact.labels.boundary_count(), 81, "{name}");
-        let mut loose = detector_by_name(name).unwrap();
-        loose.set_param("tie", "1e-9").unwrap();
+        let loose = detector_with_params(name, &[("tie", "1e-9")]).unwrap();
         let got = loose.detect(&set, r).unwrap().labels.boundary_count();
         assert_eq!(got, 32, "{name}");
     }
     // exact's margin stays the float margin: about -1e-10 r at the inner particles.
-    let m = ExactDetector.detect(&set, r).unwrap().margin.unwrap()[40];
+    let m = ExactDetector::default()
+        .detect(&set, r)
+        .unwrap()
+        .margin
+        .unwrap()[40];
     assert!(m > 0.0 && m < 2e-10 * r.get(), "{m}");
 }
 
 #[test]
 fn tie_parameter_is_validated_and_listed() {
     for (name, _) in METHODS {
-        let mut d = detector_by_name(name).unwrap();
+        let d = detector_by_name(name).unwrap();
         assert_eq!(d.params().to_string(), "tie=0", "{name}");
         for bad in ["-1e-9", "NaN", "inf", "x"] {
-            assert!(d.set_param("tie", bad).is_err(), "{name} {bad}");
+            assert!(
+                detector_with_params(name, &[("tie", bad)]).is_err(),
+                "{name} {bad}"
+            );
         }
-        assert!(d.set_param("depth", "3").is_err(), "{name}");
-        d.set_param("tie", "1e-9").unwrap();
+        assert!(
+            detector_with_params(name, &[("depth", "3")]).is_err(),
+            "{name}"
+        );
+        let d = detector_with_params(name, &[("tie", "1e-9")]).unwrap();
         assert_eq!(d.params().to_string(), "tie=0.000000001", "{name}");
     }
-    assert_eq!(ExactDetector::with_tie(1e-9).unwrap().tie(), 1e-9);
-    assert_eq!(DiltsDetector::with_tie(1e-9).unwrap().tie(), 1e-9);
+    let exact = ExactDetector::try_new(ExactParams { tie: 1e-9 }).unwrap();
+    assert_eq!(exact.settings().tie, 1e-9);
+    let dilts = DiltsDetector::try_new(DiltsParams { tie: 1e-9 }).unwrap();
+    assert_eq!(dilts.settings().tie, 1e-9);
 }
 
 /// A centre at `c`, and neighbours `c + s·(u + jitter)` for the unit directions `u` of a
@@ -112,7 +129,10 @@ fn jittered_shell<const D: usize>(
     s: f64,
     jitter: f64,
     rng: &mut StdRng,
-) -> Vec<[f64; D]> {
+) -> Vec<[f64; D]>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     let mut rows = vec![c];
     for axis in 0..D {
         for sign in [1.0, -1.0] {
@@ -135,6 +155,7 @@ fn check_random_near_cospherical<const D: usize>(
 ) -> usize
 where
     ParticleSet<D>: Into<AnyParticleSet>,
+    Dim<D>: SupportedDim,
 {
     let mut rng = StdRng::seed_from_u64(20 + D as u64);
     let tie = if D == 2 {
@@ -151,7 +172,7 @@ where
         // ulps either side of it: offsets round the coordinates far more than the jitter.
         let r0 = s * tie;
         let set: AnyParticleSet = ParticleSet::from_rows(&rows).unwrap().into();
-        let m = ExactDetector
+        let m = ExactDetector::default()
             .detect(&set, Radius::new(r0).unwrap())
             .unwrap()
             .margin
@@ -231,6 +252,7 @@ fn agree_with_the_exact_predicate<const D: usize>(
 ) -> usize
 where
     ParticleSet<D>: Into<AnyParticleSet>,
+    Dim<D>: SupportedDim,
 {
     let set: AnyParticleSet = ParticleSet::from_rows(rows).unwrap().into();
     let radius = Radius::new(r).unwrap();

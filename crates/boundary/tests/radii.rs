@@ -22,6 +22,7 @@
 use boundary::{
     detector_by_name, AnyParticleSet, CoreError, DetectError, ParticleSet, Point, Radius,
 };
+use boundary::{Dim, SupportedDim};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
 const SUPPORTED: [&str; 4] = ["exact", "dilts", "ia", "ge"];
@@ -35,7 +36,10 @@ fn labels(method: &str, set: &AnyParticleSet, r: f64) -> Vec<bool> {
 }
 
 /// A jittered lattice of spacing `a` in the box `[0, side)^D`.
-fn jittered<const D: usize>(side: f64, a: f64, jitter: f64, rng: &mut StdRng) -> Vec<Point<D>> {
+fn jittered<const D: usize>(side: f64, a: f64, jitter: f64, rng: &mut StdRng) -> Vec<Point<D>>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     let n = (side / a).round() as usize;
     let mut out = Vec::new();
     for k in 0..n.pow(D as u32) {
@@ -52,7 +56,10 @@ fn jittered<const D: usize>(side: f64, a: f64, jitter: f64, rng: &mut StdRng) ->
 
 /// A two-level set: spacing `a` (radius factor 1) where `x < side/2`, spacing `ratio·a`
 /// (radius factor `ratio`) elsewhere, jittered.
-fn two_level<const D: usize>(side: f64, a: f64, ratio: f64, seed: u64) -> ParticleSet<D> {
+fn two_level<const D: usize>(side: f64, a: f64, ratio: f64, seed: u64) -> ParticleSet<D>
+where
+    Dim<D>: SupportedDim,
+{
     let mut rng = StdRng::seed_from_u64(seed);
     let mut pts = Vec::new();
     let mut radii = Vec::new();
@@ -81,7 +88,10 @@ fn oracle<const D: usize>(
     i: usize,
     samples: &[Point<D>],
     h: f64,
-) -> Option<bool> {
+) -> Option<bool>
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     let p = set.positions()[i];
     let radii = set.radii().unwrap();
     let ri = r * radii[i];
@@ -112,7 +122,10 @@ fn oracle<const D: usize>(
 
 /// Unit sample directions and their spacing bound (the largest distance from a point of the
 /// unit sphere to the nearest sample, over-estimated).
-fn samples<const D: usize>() -> (Vec<Point<D>>, f64) {
+fn samples<const D: usize>() -> (Vec<Point<D>>, f64)
+where
+    boundary_core::Dim<D>: boundary_core::SupportedDim,
+{
     if D == 2 {
         let n = 4096;
         let pts = (0..n)
@@ -163,7 +176,10 @@ fn samples<const D: usize>() -> (Vec<Point<D>>, f64) {
 /// Every supported method against the oracle and against `exact` on one set: `exact` and
 /// `dilts` equal the oracle wherever it decides and each other everywhere; `ia` and `ge` have
 /// no false negative against `exact`.
-fn check_against_oracle<const D: usize>(set: ParticleSet<D>, what: &str) {
+fn check_against_oracle<const D: usize>(set: ParticleSet<D>, what: &str)
+where
+    Dim<D>: SupportedDim,
+{
     let (dirs, h) = samples::<D>();
     let any = set.to_any();
     let exact = labels("exact", &any, 1.0);
@@ -216,7 +232,10 @@ fn graded_sets_in_3d_match_the_sampled_oracle() {
 /// 1.6 in 3D) over a jittered lattice of spacing 1 with holes, so both labels occur inside.
 #[test]
 fn smoothly_graded_sets_match_the_sampled_oracle() {
-    fn graded<const D: usize>(side: f64, lo: f64, hi: f64, seed: u64) -> ParticleSet<D> {
+    fn graded<const D: usize>(side: f64, lo: f64, hi: f64, seed: u64) -> ParticleSet<D>
+    where
+        Dim<D>: SupportedDim,
+    {
         let mut rng = StdRng::seed_from_u64(seed);
         let pts: Vec<Point<D>> = jittered::<D>(side, 1.0, 0.4, &mut rng)
             .into_iter()
@@ -415,7 +434,10 @@ fn methods_without_support_refuse_radii_by_name() {
 }
 
 /// The label of particle 0 of `centre` + `balls` by `method`, at scale 1.
-fn label_of_centre<const D: usize>(method: &str, r: f64, balls: &[([f64; D], f64)]) -> bool {
+fn label_of_centre<const D: usize>(method: &str, r: f64, balls: &[([f64; D], f64)]) -> bool
+where
+    Dim<D>: SupportedDim,
+{
     let mut rows = vec![[0.0; D]];
     rows.extend(balls.iter().map(|b| b.0));
     let mut radii = vec![r];

@@ -193,6 +193,7 @@ mod tests {
     use super::*;
     use crate::grid::tests::random_set;
     use crate::ParticleSet;
+    use crate::{Dim, SupportedDim};
 
     /// What `for_each_within` reports for every particle `i < count`, in its order.
     fn per_particle<const D: usize>(
@@ -248,7 +249,10 @@ mod tests {
 
     /// A perfect lattice of spacing 1 (coordinates are integers plus `offset`): many pairs at
     /// exactly 1, √2, 2, … from each other, so radii at those values test the closed bound.
-    fn lattice<const D: usize>(side: usize, offset: f64) -> ParticleSet<D> {
+    fn lattice<const D: usize>(side: usize, offset: f64) -> ParticleSet<D>
+    where
+        Dim<D>: SupportedDim,
+    {
         let n = side.pow(D as u32);
         ParticleSet::new(
             (0..n)

@@ -1,0 +1,687 @@
+//! Every compiled-in method by name, with parameters as `key=value` strings: the adapter that
+//! the command line (`boundary detect --method ge --set depth=4`), the Python package and the
+//! C API use. Rust code that knows its method builds the typed parameters instead
+//! (`IaDetector::try_new(IaParams { depth: 4 })`).
+//!
+//! The keys are the field names of each method's parameter struct; the values are their text
+//! forms:
+//!
+//! | method | key | value |
+//! |---|---|---|
+//! | `exact`, `dilts` | `tie` | a finite number `>= 0` |
+//! | `ia`, `ge` | `depth` | an integer in `1..=16` |
+//! | `marrone` | `lambda_surface`, `lambda_interior` | a finite number `>= 0` |
+//! | `marrone` | `cone_angle` | degrees, in `(0, 90)` |
+//! | `marrone`, `muller` | `kernel` | `wendland` or `cubic` |
+//! | `marrone`, `muller` | `h_over_r` | a number in `(0, 100]` |
+//! | `muller` | `threshold` | a finite number `>= 0` |
+//! | `hpr` | `gamma` | a number in `(1, 10]` |
+//! | `hpr` | `cavity` | `on` or `off` (also `true`/`false`, `1`/`0`, `yes`/`no`) |
+//! | `hpr` | `grids` | `1` or `2` |
+//! | `hpr` | `protrusion` | `auto` or a number in `[1e-6, 0.1]` |
+//! | `svm` | `refine` | `none`, `exact` or `ge` |
+//! | `svm` | `model` | `default` or the path of a model file (read when the key is applied) |
+//!
+//! [`parameters`] lists a method's keys with their defaults and descriptions, as
+//! `boundary methods` prints them.
+//!
+//! Pairs are applied in order, each checked at once by the method's `try_new`, so the error
+//! names the first pair that fails: an unknown key lists the method's keys, an invalid value
+//! says what the parameter must be, quoting the value as given. A number that does not parse
+//! is reported like an out-of-range one.
+//!
+//! ```
+//! use boundary::registry::{detector_with_params, parameters};
+//!
+//! let ge = detector_with_params("ge", &[("depth", "4")]).unwrap();
+//! assert_eq!(ge.to_string(), "ge (depth=4)");
+//! let err = detector_with_params("ge", &[("depth", "99")]).unwrap_err();
+//! assert_eq!(
+//!     err.to_string(),
+//!     "method 'ge': invalid value '99' for 'depth': must be an integer in 1..=16"
+//! );
+//! let err = detector_with_params("ge", &[("dept", "4")]).unwrap_err();
+//! assert_eq!(err.to_string(), "method 'ge' has no parameter 'dept' (parameters: depth)");
+//! assert_eq!(parameters("ge").unwrap().0[0].default, "6");
+//! ```
+
+use boundary_core::{BoundaryDetector, ParamError, Params};
+use thiserror::Error;
+
+/// Why the registry could not build a detector.
+#[derive(Debug, Error, Clone, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum RegistryError {
+    /// No method of that name is compiled in.
+    #[error("unknown method '{name}' (available: {available})")]
+    UnknownMethod {
+        /// The name asked for.
+        name: String,
+        /// The compiled-in methods, comma-separated.
+        available: String,
+    },
+    /// A parameter was rejected by the method.
+    #[error(transparent)]
+    Param(#[from] ParamError),
+}
+
+/// Builds a detector from `(key, value)` pairs, applied in order.
+type Build = fn(&[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError>;
+
+/// A registry entry: name, one-line summary and the string adapter of its parameters.
+struct Entry {
+    name: &'static str,
+    summary: &'static str,
+    build: Build,
+}
+
+/// Every compiled-in method, in the order the reports list them (references first).
+const REGISTRY: &[Entry] = &[
+    #[cfg(feature = "exact")]
+    Entry {
+        name: "exact",
+        summary: "restricted Voronoi cell of each particle reaches beyond r: the reference labels",
+        build: adapters::exact,
+    },
+    #[cfg(feature = "dilts")]
+    Entry {
+        name: "dilts",
+        summary:
+            "explicit covering of S_i by arcs (2D, Dilts 2000) or caps (3D, Haque & Dilts 2007)",
+        build: adapters::dilts,
+    },
+    #[cfg(feature = "ia")]
+    Entry {
+        name: "ia",
+        summary: "interval-arithmetic quadtree/octree over S_i, rules R1-R4 (JCP 2020 Sec. 3.1)",
+        build: adapters::ia,
+    },
+    #[cfg(feature = "ge")]
+    Entry {
+        name: "ge",
+        summary: "geometric-enclosure slabs on a mesh of S_i, rules R1-R4 (JCP 2020 Sec. 3.2)",
+        build: adapters::ge,
+    },
+    #[cfg(feature = "marrone")]
+    Entry {
+        name: "marrone",
+        summary: "SPH renormalisation-matrix eigenvalue, then a scan cone along the normal \
+                  (Marrone et al., JCP 2010)",
+        build: adapters::marrone,
+    },
+    #[cfg(feature = "muller")]
+    Entry {
+        name: "muller",
+        summary:
+            "SPH colour-field gradient |grad c| h above a threshold (Mueller et al., SCA 2003)",
+        build: adapters::muller,
+    },
+    #[cfg(feature = "divr")]
+    Entry {
+        name: "divr",
+        summary: "SPH divergence of position below a threshold: DualSPHysics, SPHinXsys or \
+                  Chrono::FSI's value by name (Lind et al., JCP 2012)",
+        build: adapters::divr,
+    },
+    #[cfg(feature = "asymmetry")]
+    Entry {
+        name: "asymmetry",
+        summary: "distance to the kernel-weighted mean of the neighbourhood, or a low density \
+                  (He et al., ACM TOG 2012)",
+        build: adapters::asymmetry,
+    },
+    #[cfg(feature = "randles")]
+    Entry {
+        name: "randles",
+        summary: "smallest eigenvalue of the SPH renormalisation matrix at most mu \
+                  (Randles-Doring; Marrone et al., JCP 2010, first step)",
+        build: adapters::randles,
+    },
+    #[cfg(feature = "lnm")]
+    Entry {
+        name: "lnm",
+        summary: "layered neighbourhood cells: cells beside empty or sparse cells are boundary, \
+                  a narrow band (Oliveira & Paiva, CGF 2022)",
+        build: adapters::lnm,
+    },
+    #[cfg(feature = "hpr")]
+    Entry {
+        name: "hpr",
+        summary: "visibility: hidden point removal with exponential flipping from grid and \
+                  cavity viewpoints (Sandim 2020, ch. 2, Alg. 1)",
+        build: adapters::hpr,
+    },
+    #[cfg(feature = "svm")]
+    Entry {
+        name: "svm",
+        summary: "polynomial-kernel support vector machine on six SPH features, trained on exact labels; \
+                  refine=exact|ge re-tests its boundary particles (Sandim 2020, ch. 3)",
+        build: adapters::svm,
+    },
+];
+
+fn entry(name: &str) -> Result<&'static Entry, RegistryError> {
+    REGISTRY
+        .iter()
+        .find(|e| e.name == name)
+        .ok_or_else(|| RegistryError::UnknownMethod {
+            name: name.to_owned(),
+            available: methods().join(", "),
+        })
+}
+
+/// The names of the compiled-in methods, references first.
+pub fn methods() -> Vec<&'static str> {
+    REGISTRY.iter().map(|e| e.name).collect()
+}
+
+/// The one-line summary of a method, if it is compiled in.
+pub fn summary(name: &str) -> Option<&'static str> {
+    entry(name).ok().map(|e| e.summary)
+}
+
+/// The detector called `name`, at its default parameters.
+pub fn detector_by_name(name: &str) -> Result<Box<dyn BoundaryDetector>, RegistryError> {
+    Ok((entry(name)?.build)(&[])?)
+}
+
+/// The detector called `name` with `params` (`(key, value)` pairs, applied in order; see the
+/// module docs for the keys and the errors).
+pub fn detector_with_params<K: AsRef<str>, V: AsRef<str>>(
+    name: &str,
+    params: &[(K, V)],
+) -> Result<Box<dyn BoundaryDetector>, RegistryError> {
+    let pairs: Vec<(&str, &str)> = params
+        .iter()
+        .map(|(k, v)| (k.as_ref(), v.as_ref()))
+        .collect();
+    Ok((entry(name)?.build)(&pairs)?)
+}
+
+/// The parameters of the method called `name`: its keys in order, each with its default
+/// (the current value of a default detector) and a one-line description.
+pub fn parameters(name: &str) -> Result<Params, RegistryError> {
+    Ok(detector_by_name(name)?.params())
+}
+
+/// Splits a `key=value` command-line parameter; the error says what was expected.
+pub fn parse_param(text: &str) -> Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((key, value)) if !key.trim().is_empty() => {
+            Ok((key.trim().to_owned(), value.trim().to_owned()))
+        }
+        _ => Err(format!("expected KEY=VALUE, got '{text}'")),
+    }
+}
+
+/// Splits a comma-separated parameter list `key=value,key=value` (the syntax of the C API's
+/// `params` string; each item as [`parse_param`], i.e. as one `--set`). Empty items are
+/// skipped, so `""` is no parameter. A value cannot contain a comma.
+pub fn parse_param_list(text: &str) -> Result<Vec<(String, String)>, String> {
+    text.split(',')
+        .filter(|item| !item.trim().is_empty())
+        .map(parse_param)
+        .collect()
+}
+
+/// The string adapters, one per method: each parses a value into its field of the method's
+/// parameter struct and leaves the checks to the method's `try_new`.
+mod adapters {
+    #[allow(unused_imports)] // which helpers are used depends on the features
+    use super::{adapt, integer, number, Field};
+    #[allow(unused_imports)]
+    use boundary_core::{BoundaryDetector, ParamError};
+
+    #[cfg(feature = "exact")]
+    pub(super) fn exact(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
+        use boundary_exact::{ExactDetector, ExactParams};
+        adapt(
+            pairs,
+            ExactDetector::try_new,
+            |p: &mut ExactParams, key, text| {
+                Ok(match key {
+                    "tie" => number(&mut p.tie, text),
+                    _ => Field::Unknown,
+                })
+            },
+        )
+    }
+
+    #[cfg(feature = "dilts")]
+    pub(super) fn dilts(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
+        use boundary_dilts::{DiltsDetector, DiltsParams};
+        adapt(
+            pairs,
+            DiltsDetector::try_new,
+            |p: &mut DiltsParams, key, text| {
+                Ok(match key {
+                    "tie" => number(&mut p.tie, text),
+                    _ => Field::Unknown,
+                })
+            },
+        )
+    }
+
+    #[cfg(feature = "ia")]
+    pub(super) fn ia(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
+        use boundary_ia::{IaDetector, IaParams};
+        adapt(pairs, IaDetector::try_new, |p: &mut IaParams, key, text| {
+            Ok(match key {
+                "depth" => integer(&mut p.depth, text),
+                _ => Field::Unknown,
+            })
+        })
+    }
+
+    #[cfg(feature = "ge")]
+    pub(super) fn ge(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
+        use boundary_ge::{GeDetector, GeParams};
+        adapt(pairs, GeDetector::try_new, |p: &mut GeParams, key, text| {
+            Ok(match key {
+                "depth" => integer(&mut p.depth, text),
+                _ => Field::Unknown,
+            })
+        })
+    }
+
+    /// `kernel=wendland|cubic` (the kernel's own parser, which names the kernels).
+    #[cfg(any(feature = "marrone", feature = "muller"))]
+    fn kernel(field: &mut crate::Kernel, text: &str) -> Result<Field, String> {
+        *field = text.parse::<crate::Kernel>().map_err(|e| e.to_string())?;
+        Ok(Field::Set)
+    }
+
+    /// The methods whose detector takes its `key=value` text itself, one pair at a time.
+    macro_rules! by_text {
+        ($feature:literal, $name:ident, $detector:path) => {
+            #[cfg(feature = $feature)]
+            pub(super) fn $name(
+                pairs: &[(&str, &str)],
+            ) -> Result<Box<dyn BoundaryDetector>, ParamError> {
+                use $detector as Detector;
+                let mut detector = Detector::default();
+                for &(key, text) in pairs {
+                    detector.set_param_text(key, text)?;
+                }
+                Ok(Box::new(detector))
+            }
+        };
+    }
+    by_text!("divr", divr, boundary_divr::DivrDetector);
+    by_text!(
+        "asymmetry",
+        asymmetry,
+        boundary_asymmetry::AsymmetryDetector
+    );
+    by_text!("randles", randles, boundary_randles::RandlesDetector);
+    by_text!("lnm", lnm, boundary_lnm::LnmDetector);
+
+    #[cfg(feature = "marrone")]
+    pub(super) fn marrone(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
+        use boundary_marrone::{MarroneDetector, MarroneParams};
+        adapt(
+            pairs,
+            MarroneDetector::try_new,
+            |p: &mut MarroneParams, key, text| {
+                Ok(match key {
+                    "lambda_surface" => number(&mut p.lambda_surface, text),
+                    "lambda_interior" => number(&mut p.lambda_interior, text),
+                    "cone_angle" => number(&mut p.cone_angle, text),
+                    "kernel" => kernel(&mut p.kernel, text)?,
+                    "h_over_r" => number(&mut p.h_over_r, text),
+                    _ => Field::Unknown,
+                })
+            },
+        )
+    }
+
+    #[cfg(feature = "muller")]
+    pub(super) fn muller(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
+        use boundary_muller::{MullerDetector, MullerParams};
+        adapt(
+            pairs,
+            MullerDetector::try_new,
+            |p: &mut MullerParams, key, text| {
+                Ok(match key {
+                    "threshold" => number(&mut p.threshold, text),
+                    "kernel" => kernel(&mut p.kernel, text)?,
+                    "h_over_r" => number(&mut p.h_over_r, text),
+                    _ => Field::Unknown,
+                })
+            },
+        )
+    }
+
+    #[cfg(feature = "hpr")]
+    pub(super) fn hpr(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
+        use boundary_hpr::{Grids, HprDetector, HprParams, Protrusion};
+        adapt(
+            pairs,
+            HprDetector::try_new,
+            |p: &mut HprParams, key, text| {
+                Ok(match key {
+                    "gamma" => number(&mut p.gamma, text),
+                    "cavity" => {
+                        p.cavity = match text.trim() {
+                            "on" | "true" | "1" | "yes" => true,
+                            "off" | "false" | "0" | "no" => false,
+                            _ => return Err("must be on or off".to_owned()),
+                        };
+                        Field::Set
+                    }
+                    "grids" => {
+                        p.grids = match text.trim().parse::<usize>() {
+                            Ok(1) => Grids::One,
+                            Ok(2) => Grids::Two,
+                            _ => return Err("must be 1 or 2".to_owned()),
+                        };
+                        Field::Set
+                    }
+                    "protrusion" => {
+                        p.protrusion = if text.trim() == "auto" {
+                            Protrusion::Auto
+                        } else {
+                            let mut t = 0.0;
+                            number(&mut t, text);
+                            Protrusion::Value(t)
+                        };
+                        Field::Set
+                    }
+                    _ => Field::Unknown,
+                })
+            },
+        )
+    }
+
+    #[cfg(feature = "svm")]
+    pub(super) fn svm(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
+        use boundary_svm::{ModelChoice, Refine, SvmDetector, SvmParams};
+        adapt(
+            pairs,
+            SvmDetector::try_new,
+            |p: &mut SvmParams, key, text| {
+                Ok(match key {
+                    "refine" => {
+                        p.refine = match text.trim() {
+                            "none" => Refine::None,
+                            "exact" => Refine::Exact,
+                            "ge" => Refine::Ge,
+                            _ => return Err("must be none, exact or ge".to_owned()),
+                        };
+                        Field::Set
+                    }
+                    "model" => {
+                        p.model = match text.trim() {
+                            "default" => ModelChoice::Shipped,
+                            path => ModelChoice::from_file(path).map_err(|e| e.0)?,
+                        };
+                        Field::Set
+                    }
+                    _ => Field::Unknown,
+                })
+            },
+        )
+    }
+}
+
+/// Whether a key named a field of the parameter struct.
+#[allow(dead_code)] // unused when no method is compiled in
+enum Field {
+    /// The field was set from the text.
+    Set,
+    /// The method has no such key.
+    Unknown,
+}
+
+/// Sets a number field from `text`. A text that is not a number sets NaN, which every
+/// numeric parameter refuses, so that `try_new` reports it with the field's own reason.
+#[allow(dead_code)]
+fn number(field: &mut f64, text: &str) -> Field {
+    *field = text.trim().parse().unwrap_or(f64::NAN);
+    Field::Set
+}
+
+/// Sets a depth from `text`. A text that is not an unsigned integer sets 0, which every depth
+/// refuses, so that `try_new` reports it with the field's own reason.
+#[allow(dead_code)]
+fn integer(field: &mut u32, text: &str) -> Field {
+    *field = text.trim().parse().unwrap_or(0);
+    Field::Set
+}
+
+/// Applies `pairs` in order to the default parameters with `set` (which returns the reason
+/// when a text cannot be a value of the field at all), checking each step with `make`; the
+/// error names the first pair that fails and quotes its value as given.
+#[allow(dead_code)]
+fn adapt<P, D>(
+    pairs: &[(&str, &str)],
+    make: fn(P) -> Result<D, ParamError>,
+    set: fn(&mut P, &str, &str) -> Result<Field, String>,
+) -> Result<Box<dyn BoundaryDetector>, ParamError>
+where
+    P: Default + Clone,
+    D: BoundaryDetector + Default + 'static,
+{
+    let mut detector = D::default();
+    let method = detector.name();
+    let mut params = P::default();
+    for &(key, text) in pairs {
+        match set(&mut params, key, text) {
+            Ok(Field::Set) => {}
+            Ok(Field::Unknown) => {
+                let known = detector.params();
+                let known: Vec<&str> = known.0.iter().map(|p| p.name).collect();
+                return Err(ParamError::unknown(method, key, &known));
+            }
+            Err(reason) => return Err(ParamError::invalid(method, key, text, reason)),
+        }
+        detector = make(params.clone()).map_err(|e| match e {
+            ParamError::Invalid {
+                method,
+                key: named,
+                reason,
+                ..
+            } if named == key => ParamError::invalid(method, key, text, reason),
+            other => other,
+        })?;
+    }
+    Ok(Box::new(detector))
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_registered_name_builds_the_detector_of_that_name() {
+        let names = methods();
+        assert!(!names.is_empty());
+        for name in names {
+            let detector = detector_by_name(name).expect("registered");
+            assert_eq!(detector.name(), name);
+            assert!(summary(name).is_some());
+            // The defaults reported by params() are accepted back by the string adapter.
+            let params = detector.params();
+            assert_eq!(parameters(name), Ok(params.clone()));
+            let pairs: Vec<(&str, &str)> = params
+                .0
+                .iter()
+                .map(|p| (p.name, p.value.as_str()))
+                .collect();
+            let again = detector_with_params(name, &pairs).expect("defaults round-trip");
+            assert_eq!(again.params(), params);
+            for p in &params.0 {
+                assert_eq!(p.value, p.default, "{name}: {}", p.name);
+            }
+        }
+    }
+
+    #[test]
+    fn unknown_names_and_parameters_are_errors_that_say_what_exists() {
+        let Err(err) = detector_by_name("nope") else {
+            panic!("'nope' is not a method");
+        };
+        let text = err.to_string();
+        assert!(text.contains("nope") && text.contains("exact"), "{text}");
+        let Err(err) = detector_with_params("exact", &[("gamma", "2")]) else {
+            panic!("exact has no gamma");
+        };
+        assert_eq!(
+            err.to_string(),
+            "method 'exact' has no parameter 'gamma' (parameters: tie)"
+        );
+        let Err(err) = detector_with_params("marrone", &[("depth", "3")]) else {
+            panic!("marrone has no depth");
+        };
+        assert_eq!(
+            err.to_string(),
+            "method 'marrone' has no parameter 'depth' (parameters: lambda_surface, \
+             lambda_interior, cone_angle, kernel, h_over_r)"
+        );
+    }
+
+    /// Every value the adapter must refuse, with the message it gives (the value quoted as
+    /// given, the reason of the field).
+    #[test]
+    fn invalid_values_are_refused_with_the_reason_and_the_value_as_given() {
+        let cases: &[(&str, &str, &str, &str)] = &[
+            ("exact", "tie", "-1e-9", "a finite number >= 0"),
+            ("exact", "tie", "x", "a finite number >= 0"),
+            ("dilts", "tie", "inf", "a finite number >= 0"),
+            ("ia", "depth", "0", "must be an integer in 1..=16"),
+            ("ia", "depth", "17", "must be an integer in 1..=16"),
+            ("ia", "depth", "-1", "must be an integer in 1..=16"),
+            ("ia", "depth", "2.5", "must be an integer in 1..=16"),
+            ("ge", "depth", "x", "must be an integer in 1..=16"),
+            ("marrone", "lambda_surface", "-0.1", "must be a number >= 0"),
+            ("marrone", "lambda_interior", "nan", "must be a number >= 0"),
+            (
+                "marrone",
+                "cone_angle",
+                "90",
+                "must be an angle in degrees in (0, 90)",
+            ),
+            (
+                "marrone",
+                "cone_angle",
+                "0",
+                "must be an angle in degrees in (0, 90)",
+            ),
+            (
+                "marrone",
+                "kernel",
+                "gauss",
+                "unknown kernel 'gauss' (kernels: wendland, cubic)",
+            ),
+            ("marrone", "h_over_r", "0", "must be in (0, 100]"),
+            ("marrone", "h_over_r", "inf", "must be in (0, 100]"),
+            ("muller", "threshold", "-1", "must be a number >= 0"),
+            ("muller", "threshold", " nan", "must be a number >= 0"),
+            ("muller", "threshold", "abc", "must be a number >= 0"),
+            ("muller", "h_over_r", "1e3", "must be in (0, 100]"),
+            ("hpr", "gamma", "1", "must be in (1, 10]"),
+            ("hpr", "gamma", "nan", "must be in (1, 10]"),
+            ("hpr", "cavity", "maybe", "must be on or off"),
+            ("hpr", "grids", "3", "must be 1 or 2"),
+            ("hpr", "grids", "0", "must be 1 or 2"),
+            ("hpr", "grids", "two", "must be 1 or 2"),
+            (
+                "hpr",
+                "protrusion",
+                "0.5",
+                "must be auto or a number in [1e-6, 0.1]",
+            ),
+            (
+                "hpr",
+                "protrusion",
+                "none",
+                "must be auto or a number in [1e-6, 0.1]",
+            ),
+            ("svm", "refine", "dilts", "must be none, exact or ge"),
+        ];
+        for &(method, key, value, reason) in cases {
+            if !methods().contains(&method) {
+                continue;
+            }
+            let err = detector_with_params(method, &[(key, value)]).unwrap_err();
+            assert_eq!(
+                err.to_string(),
+                format!("method '{method}': invalid value '{value}' for '{key}': {reason}"),
+            );
+        }
+    }
+
+    #[test]
+    fn pairs_apply_in_order_into_the_typed_parameters() {
+        let d = detector_with_params(
+            "hpr",
+            &[
+                ("gamma", "1.75"),
+                ("cavity", "off"),
+                ("grids", "2"),
+                ("protrusion", "1e-3"),
+                ("protrusion", "auto"),
+            ],
+        )
+        .unwrap();
+        assert_eq!(
+            d.params().to_string(),
+            "gamma=1.75, cavity=off, grids=2, protrusion=auto"
+        );
+        let d = detector_with_params("marrone", &[("kernel", "cubic"), ("h_over_r", "1.3")]);
+        assert_eq!(
+            d.unwrap().params().to_string(),
+            "lambda_surface=0.2, lambda_interior=0.75, cone_angle=45, kernel=cubic, h_over_r=1.3"
+        );
+        // The first failing pair is reported, even when a later one would fail too.
+        let err = detector_with_params("ia", &[("depth", "3"), ("depth", "x"), ("nope", "1")]);
+        assert!(err.unwrap_err().to_string().contains("'x'"));
+    }
+
+    #[test]
+    fn an_svm_model_path_is_read_when_applied_and_a_missing_file_is_named() {
+        if !methods().contains(&"svm") {
+            return;
+        }
+        let err = detector_with_params("svm", &[("model", "no/such/model.json")]).unwrap_err();
+        let text = err.to_string();
+        assert!(
+            text.starts_with(
+                "method 'svm': invalid value 'no/such/model.json' for 'model': cannot read \
+                 'no/such/model.json': "
+            ),
+            "{text}"
+        );
+        let d = detector_with_params("svm", &[("refine", "ge"), ("model", "default")]).unwrap();
+        assert_eq!(d.params().to_string(), "refine=ge, model=default");
+    }
+
+    #[test]
+    fn parse_param_list_splits_at_commas_and_skips_empty_items() {
+        assert_eq!(parse_param_list(""), Ok(vec![]));
+        assert_eq!(parse_param_list(" , "), Ok(vec![]));
+        assert_eq!(
+            parse_param_list("gamma=1.5, cavity=off,"),
+            Ok(vec![
+                ("gamma".into(), "1.5".into()),
+                ("cavity".into(), "off".into())
+            ])
+        );
+        let Err(err) = parse_param_list("depth=4,oops") else {
+            panic!("'oops' has no '='");
+        };
+        assert!(err.contains("'oops'"), "{err}");
+    }
+
+    #[test]
+    fn parse_param_splits_at_the_first_equals_sign() {
+        assert_eq!(parse_param("depth=4"), Ok(("depth".into(), "4".into())));
+        assert_eq!(
+            parse_param(" model = a=b "),
+            Ok(("model".into(), "a=b".into()))
+        );
+        assert!(parse_param("depth").is_err());
+        assert!(parse_param("=4").is_err());
+    }
+}
