@@ -127,13 +127,6 @@ use rayon::prelude::*;
 use std::fmt;
 
 const METHOD: &str = "divr";
-const KEYS: [&str; 5] = [
-    "threshold",
-    "kernel",
-    "h_over_r",
-    "layers",
-    "min_neighbours",
-];
 
 /// The threshold on `∇·r`: a code's published value (per dimension) or a number.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -442,33 +435,16 @@ impl SphMethod for DivrDetector {
 // periodic images as ghosts, halo of two kernel supports) from the SPH frame.
 boundary_sph::impl_sph_detector!(DivrDetector);
 
-/// The text of `threshold`: a code's name or a number.
-fn parse_threshold(value: &str) -> Result<Threshold, ParamError> {
-    match value.trim() {
-        "dualsphysics" => Ok(Threshold::DualSphysics),
-        "sphinxsys" => Ok(Threshold::Sphinxsys),
-        "chrono" => Ok(Threshold::Chrono),
-        text => {
-            let v = text.parse::<f64>().map_err(|_| threshold_error(value))?;
-            Ok(Threshold::Value(check_threshold(v, value)?))
-        }
-    }
-}
-
-fn threshold_error(shown: &str) -> ParamError {
-    ParamError::invalid(
-        METHOD,
-        "threshold",
-        shown,
-        "must be a number > 0 or dualsphysics, sphinxsys, chrono",
-    )
-}
-
 fn check_threshold(v: f64, shown: &str) -> Result<f64, ParamError> {
     if v.is_finite() && v > 0.0 {
         Ok(v)
     } else {
-        Err(threshold_error(shown))
+        Err(ParamError::invalid(
+            METHOD,
+            "threshold",
+            shown,
+            "must be a number > 0 or dualsphysics, sphinxsys, chrono",
+        ))
     }
 }
 
@@ -501,111 +477,10 @@ fn check_min_neighbours(n: usize, shown: &str) -> Result<usize, ParamError> {
     }
 }
 
-impl DivrDetector {
-    /// Sets a parameter from its `key=value` text, as the registry of the `boundary` crate
-    /// (the command line's `--set`, the bindings' keyword arguments) gives it; on error
-    /// `self` is unchanged.
-    #[doc(hidden)]
-    pub fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        let mut params = self.params.clone();
-        let mut smoothing = self.smoothing();
-        if smoothing.set_text(METHOD, key, value)? {
-            (params.kernel, params.h_over_r) = (smoothing.kernel, smoothing.h_over_r);
-        } else {
-            match key {
-                "threshold" => params.threshold = parse_threshold(value)?,
-                "layers" => {
-                    let n = value
-                        .trim()
-                        .parse::<u8>()
-                        .map_err(|_| layers_error(value))?;
-                    params.layers = check_layers(n, value)?;
-                }
-                "min_neighbours" => {
-                    params.min_neighbours = if value.trim() == "auto" {
-                        None
-                    } else {
-                        let n = value
-                            .trim()
-                            .parse::<usize>()
-                            .map_err(|_| min_neighbours_error(value))?;
-                        Some(check_min_neighbours(n, value)?)
-                    }
-                }
-                _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
-            }
-        }
-        *self = DivrDetector::try_new(params)?;
-        Ok(())
-    }
-}
-
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 mod tests {
     use super::*;
-    use boundary_core::BoundaryDetector;
-
-    #[test]
-    fn parameters_round_trip_and_are_validated() {
-        let mut d = DivrDetector::default();
-        assert_eq!(
-            d.params().to_string(),
-            "threshold=dualsphysics, kernel=wendland, h_over_r=1, layers=0, min_neighbours=auto"
-        );
-        d.set_param_text("threshold", "sphinxsys").unwrap();
-        d.set_param_text("layers", "1").unwrap();
-        d.set_param_text("min_neighbours", "5").unwrap();
-        d.set_param_text("kernel", "cubic").unwrap();
-        assert_eq!(
-            d.settings(),
-            &DivrParams {
-                threshold: Threshold::Sphinxsys,
-                kernel: Kernel::CubicSpline,
-                h_over_r: 1.0,
-                layers: 1,
-                min_neighbours: Some(5),
-            }
-        );
-        let before = d.clone();
-        for (key, bad) in [
-            ("threshold", "0"),
-            ("threshold", "nan"),
-            ("threshold", "lind"),
-            ("layers", "2"),
-            ("layers", "-1"),
-            ("min_neighbours", "1001"),
-            ("min_neighbours", "x"),
-            ("h_over_r", "0"),
-            ("kernel", "poly6"),
-        ] {
-            let err = d.set_param_text(key, bad).unwrap_err().to_string();
-            assert!(err.contains(bad) && err.contains(key), "{err}");
-        }
-        assert_eq!(d, before, "a rejected value changes nothing");
-        assert!(d.set_param_text("beta", "0.9").is_err());
-        d.set_param_text("threshold", "1.25").unwrap();
-        d.set_param_text("min_neighbours", "auto").unwrap();
-        assert_eq!(d.settings().threshold, Threshold::Value(1.25));
-        assert_eq!(d.settings().min_neighbours, None);
-        // The typed constructor rejects what the text rejects.
-        for bad in [
-            DivrParams {
-                threshold: Threshold::Value(-1.0),
-                ..DivrParams::default()
-            },
-            DivrParams {
-                layers: 2,
-                ..DivrParams::default()
-            },
-            DivrParams {
-                h_over_r: f64::INFINITY,
-                ..DivrParams::default()
-            },
-        ] {
-            assert!(DivrDetector::try_new(bad).is_err());
-        }
-    }
 
     #[test]
     fn named_thresholds_have_the_published_values() {
@@ -614,8 +489,7 @@ mod tests {
             .map(|t| (t.value(2), t.value(3)))
             .collect();
         assert_eq!(got, [(1.5, 2.75), (1.5, 2.25), (2.0, 2.0)]);
-        for t in Threshold::NAMED {
-            assert_eq!(parse_threshold(&t.name()).unwrap(), t);
-        }
+        let names: Vec<String> = Threshold::NAMED.iter().map(|t| t.name()).collect();
+        assert_eq!(names, ["dualsphysics", "sphinxsys", "chrono"]);
     }
 }

@@ -121,7 +121,6 @@ use rustc_hash::FxHashMap;
 pub const DEFAULT_CELL_OVER_R: f64 = 2.0;
 
 const METHOD: &str = "lnm";
-const KEYS: [&str; 2] = ["cell_over_r", "delta"];
 const NO_RADII: &str = "the cell side and the count of a full cell (Oliveira & Paiva 2022) assume one particle spacing";
 /// Cell indices stay below this in magnitude, so they and their neighbours are exact.
 const MAX_INDEX: f64 = 9_007_199_254_740_992.0; // 2^53
@@ -311,95 +310,10 @@ impl BoundaryDetector for LnmDetector {
     }
 }
 
-/// The `key=value` adapter of today's `BoundaryDetector::set_param`: parses into
-/// [`LnmParams`] and validates through [`LnmDetector::try_new`]. Kept apart so that it can move
-/// into the facade's registry.
-mod text_params {
-    use super::*;
-
-    /// `params` with `key` set from the text `value`; on error nothing changes.
-    pub(crate) fn with(
-        params: &LnmParams,
-        key: &str,
-        value: &str,
-    ) -> Result<LnmParams, ParamError> {
-        let mut next = params.clone();
-        match key {
-            "cell_over_r" => {
-                let v = value
-                    .trim()
-                    .parse::<f64>()
-                    .map_err(|_| ParamError::invalid(METHOD, key, value, "must be in [0.5, 16]"))?;
-                next.cell_over_r = check_cell(v, value)?;
-            }
-            "delta" => {
-                next.delta = match value.trim() {
-                    "auto" => None,
-                    text => Some(text.parse::<u32>().map_err(|_| {
-                        ParamError::invalid(
-                            METHOD,
-                            key,
-                            value,
-                            "must be auto or a whole number >= 0",
-                        )
-                    })?),
-                }
-            }
-            _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
-        }
-        LnmDetector::try_new(next.clone())?;
-        Ok(next)
-    }
-}
-
-impl LnmDetector {
-    /// Sets a parameter from its `key=value` text, as the registry of the `boundary` crate
-    /// (the command line's `--set`, the bindings' keyword arguments) gives it; on error
-    /// `self` is unchanged.
-    #[doc(hidden)]
-    pub fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        self.params = text_params::with(&self.params, key, value)?;
-        Ok(())
-    }
-}
-
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 mod tests {
     use super::*;
-
-    #[test]
-    fn parameters_round_trip_and_are_validated_without_clamping() {
-        let mut d = LnmDetector::default();
-        assert_eq!(d.params().to_string(), "cell_over_r=2, delta=auto");
-        assert_eq!((d.delta(2), d.delta(3)), (4, 8));
-        d.set_param_text("delta", "3").unwrap();
-        d.set_param_text("cell_over_r", "1.5").unwrap();
-        let typed = LnmDetector::try_new(LnmParams {
-            cell_over_r: 1.5,
-            delta: Some(3),
-        })
-        .unwrap();
-        assert_eq!(d, typed);
-        assert_eq!(d.delta(3), 3);
-        for (key, bad) in [
-            ("cell_over_r", "0.25"),
-            ("cell_over_r", "nan"),
-            ("delta", "-1"),
-            ("delta", "2.5"),
-        ] {
-            let err = d.set_param_text(key, bad).unwrap_err();
-            assert!(err.to_string().contains(bad), "{err}");
-        }
-        assert_eq!(d, typed, "a failed set_param changes nothing");
-        d.set_param_text("delta", "auto").unwrap();
-        assert_eq!(d.delta(2), 2, "floor(1.5^2)");
-        assert!(d
-            .set_param_text("depth", "1")
-            .unwrap_err()
-            .to_string()
-            .contains("delta"));
-    }
 
     #[test]
     fn a_coordinate_too_far_for_the_grid_is_an_error_naming_the_particle() {

@@ -141,7 +141,6 @@ pub const DEFAULT_MU_2D: f64 = 0.6;
 pub const DEFAULT_MU_3D: f64 = 0.625;
 
 const METHOD: &str = "randles";
-const KEYS: [&str; 4] = ["mu_2d", "mu_3d", "kernel", "h_over_r"];
 
 /// The Randles–Doring criterion on the smallest eigenvalue `λ` of the renormalisation matrix:
 /// free surface iff `λ <= mu`. Closed, as Marrone et al. (2010) write their first step.
@@ -333,60 +332,10 @@ impl SphMethod for RandlesDetector {
 
 boundary_sph::impl_sph_detector!(RandlesDetector);
 
-/// The `key=value` adapter of today's `BoundaryDetector::set_param`: parses into
-/// [`RandlesParams`] and validates through [`RandlesDetector::try_new`]. Kept apart so that it
-/// can move into the facade's registry.
-mod text_params {
-    use super::*;
-
-    /// `params` with `key` set from the text `value`; on error nothing changes.
-    pub(crate) fn with(
-        params: &RandlesParams,
-        key: &str,
-        value: &str,
-    ) -> Result<RandlesParams, ParamError> {
-        let mu = || {
-            let v = value
-                .trim()
-                .parse::<f64>()
-                .map_err(|_| ParamError::invalid(METHOD, key, value, "must be a number >= 0"))?;
-            check_mu(key, v, value)
-        };
-        let mut next = params.clone();
-        let mut smoothing = Smoothing {
-            kernel: next.kernel,
-            h_over_r: next.h_over_r,
-        };
-        match key {
-            "mu_2d" => next.mu_2d = mu()?,
-            "mu_3d" => next.mu_3d = mu()?,
-            _ if smoothing.set_text(METHOD, key, value)? => {
-                next.kernel = smoothing.kernel;
-                next.h_over_r = smoothing.h_over_r;
-            }
-            _ => return Err(ParamError::unknown(METHOD, key, &KEYS)),
-        }
-        RandlesDetector::try_new(next.clone())?;
-        Ok(next)
-    }
-}
-
-impl RandlesDetector {
-    /// Sets a parameter from its `key=value` text, as the registry of the `boundary` crate
-    /// (the command line's `--set`, the bindings' keyword arguments) gives it; on error
-    /// `self` is unchanged.
-    #[doc(hidden)]
-    pub fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-        self.params = text_params::with(&self.params, key, value)?;
-        Ok(())
-    }
-}
-
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 mod tests {
     use super::*;
-    use boundary_core::BoundaryDetector;
 
     #[test]
     fn the_cholesky_test_agrees_with_the_smallest_eigenvalue() {
@@ -418,50 +367,5 @@ mod tests {
         assert!(is_free_surface(0.2, 0.2));
         assert!(!is_free_surface(0.2 + 1e-15, 0.2));
         assert!(is_free_surface(0.0, 0.0));
-    }
-
-    #[test]
-    fn parameters_round_trip_and_are_validated_without_clamping() {
-        let mut d = RandlesDetector::default();
-        assert_eq!(
-            d.params().to_string(),
-            format!("mu_2d={DEFAULT_MU_2D}, mu_3d={DEFAULT_MU_3D}, kernel=wendland, h_over_r=1")
-        );
-        d.set_param_text("mu_3d", "0.3").unwrap();
-        d.set_param_text("kernel", "cubic").unwrap();
-        let typed = RandlesDetector::try_new(RandlesParams {
-            mu_3d: 0.3,
-            kernel: Kernel::CubicSpline,
-            ..Default::default()
-        })
-        .unwrap();
-        assert_eq!(d, typed);
-        assert_eq!((d.mu(2), d.mu(3)), (DEFAULT_MU_2D, 0.3));
-        for (key, bad) in [
-            ("mu_2d", "-0.1"),
-            ("mu_3d", "nan"),
-            ("mu_2d", "x"),
-            ("kernel", "gauss"),
-            ("h_over_r", "0"),
-        ] {
-            let err = d.set_param_text(key, bad).unwrap_err();
-            assert!(err.to_string().contains(bad), "{err}");
-        }
-        assert_eq!(d, typed, "a failed set_param changes nothing");
-        assert!(d
-            .set_param_text("mu", "1")
-            .unwrap_err()
-            .to_string()
-            .contains("mu_2d"));
-        assert!(RandlesDetector::try_new(RandlesParams {
-            mu_2d: f64::INFINITY,
-            ..Default::default()
-        })
-        .is_err());
-        assert!(RandlesDetector::try_new(RandlesParams {
-            h_over_r: 0.0,
-            ..Default::default()
-        })
-        .is_err());
     }
 }

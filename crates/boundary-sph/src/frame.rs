@@ -14,7 +14,7 @@
 //! [`Smoothing::try_new`] and listed by [`Smoothing::param_infos`], with the same rules and
 //! messages in every method.
 
-use crate::kernel::{Kernel, SphKernel, UnknownKernel, SUPPORT_FACTOR};
+use crate::kernel::{Kernel, SphKernel, SUPPORT_FACTOR};
 use crate::sums::SphContext;
 use boundary_core::{
     AnyParticleSet, CoreError, DetectError, Detection, Labels, ParamError, ParamInfo, Params,
@@ -72,38 +72,6 @@ impl Smoothing {
                 "must be in (0, 100]",
             ))
         }
-    }
-
-    /// Parses the text of `h_over_r` (an unparsable text gets the message of a bad value).
-    pub fn parse_h_over_r(method: &'static str, value: &str) -> Result<f64, ParamError> {
-        let v = value
-            .trim()
-            .parse::<f64>()
-            .map_err(|_| ParamError::invalid(method, "h_over_r", value, "must be in (0, 100]"))?;
-        Self::check_h_over_r(method, v, value)
-    }
-
-    /// Parses the text of `kernel` (`wendland` or `cubic`).
-    pub fn parse_kernel(method: &'static str, value: &str) -> Result<Kernel, ParamError> {
-        value
-            .parse()
-            .map_err(|e: UnknownKernel| ParamError::invalid(method, "kernel", value, e.to_string()))
-    }
-
-    /// Sets `kernel` or `h_over_r` from text and returns `Ok(true)`, or returns `Ok(false)`
-    /// for any other key (the method's own); on error `self` is unchanged.
-    pub fn set_text(
-        &mut self,
-        method: &'static str,
-        key: &str,
-        value: &str,
-    ) -> Result<bool, ParamError> {
-        match key {
-            "kernel" => self.kernel = Self::parse_kernel(method, value)?,
-            "h_over_r" => self.h_over_r = Self::parse_h_over_r(method, value)?,
-            _ => return Ok(false),
-        }
-        Ok(true)
     }
 
     /// The listing of `kernel` and `h_over_r` for [`BoundaryDetector::params`](boundary_core::BoundaryDetector::params).

@@ -37,7 +37,7 @@
 //!
 //! # A criterion on the frame
 //! ```
-//! use boundary_core::{BoundaryDetector, ParamError, Params, ParticleSet, Radius};
+//! use boundary_core::{BoundaryDetector, Params, ParticleSet, Radius};
 //! use boundary_sph::{Smoothing, SphContext, SphCriterion, SphMethod, Verdict};
 //!
 //! /// Boundary iff fewer than `min` other particles lie within the kernel support.
@@ -64,13 +64,6 @@
 //!     const SOLID_REFUSAL: &'static str = "a half-space is no particle";
 //!     fn param_list(&self) -> Params {
 //!         Params(self.smoothing.param_infos().to_vec())
-//!     }
-//!     fn set_param_text(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
-//!         if self.smoothing.set_text(Self::METHOD, key, value)? {
-//!             Ok(())
-//!         } else {
-//!             Err(ParamError::unknown(Self::METHOD, key, &["kernel", "h_over_r"]))
-//!         }
 //!     }
 //! }
 //!

@@ -285,36 +285,123 @@ mod adapters {
     }
 
     /// `kernel=wendland|cubic` (the kernel's own parser, which names the kernels).
-    #[cfg(any(feature = "marrone", feature = "muller"))]
+    #[cfg(any(
+        feature = "marrone",
+        feature = "muller",
+        feature = "divr",
+        feature = "asymmetry",
+        feature = "randles"
+    ))]
     fn kernel(field: &mut crate::Kernel, text: &str) -> Result<Field, String> {
         *field = text.parse::<crate::Kernel>().map_err(|e| e.to_string())?;
         Ok(Field::Set)
     }
 
-    /// The methods whose detector takes its `key=value` text itself, one pair at a time.
-    macro_rules! by_text {
-        ($feature:literal, $name:ident, $detector:path) => {
-            #[cfg(feature = $feature)]
-            pub(super) fn $name(
-                pairs: &[(&str, &str)],
-            ) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-                use $detector as Detector;
-                let mut detector = Detector::default();
-                for &(key, text) in pairs {
-                    detector.set_param_text(key, text)?;
-                }
-                Ok(Box::new(detector))
-            }
-        };
+    #[cfg(feature = "divr")]
+    pub(super) fn divr(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
+        use boundary_divr::{DivrDetector, DivrParams, Threshold};
+        adapt(
+            pairs,
+            DivrDetector::try_new,
+            |p: &mut DivrParams, key, text| {
+                Ok(match key {
+                    "threshold" => {
+                        p.threshold = match text.trim() {
+                            "dualsphysics" => Threshold::DualSphysics,
+                            "sphinxsys" => Threshold::Sphinxsys,
+                            "chrono" => Threshold::Chrono,
+                            number => Threshold::Value(number.parse().map_err(|_| {
+                                "must be a number > 0 or dualsphysics, sphinxsys, chrono".to_owned()
+                            })?),
+                        };
+                        Field::Set
+                    }
+                    "kernel" => kernel(&mut p.kernel, text)?,
+                    "h_over_r" => number(&mut p.h_over_r, text),
+                    "layers" => {
+                        p.layers = text
+                            .trim()
+                            .parse()
+                            .map_err(|_| "must be 0 or 1".to_owned())?;
+                        Field::Set
+                    }
+                    "min_neighbours" => {
+                        p.min_neighbours = match text.trim() {
+                            "auto" => None,
+                            count => Some(count.parse().map_err(|_| {
+                                "must be auto or a whole number in [0, 1000]".to_owned()
+                            })?),
+                        };
+                        Field::Set
+                    }
+                    _ => Field::Unknown,
+                })
+            },
+        )
     }
-    by_text!("divr", divr, boundary_divr::DivrDetector);
-    by_text!(
-        "asymmetry",
-        asymmetry,
-        boundary_asymmetry::AsymmetryDetector
-    );
-    by_text!("randles", randles, boundary_randles::RandlesDetector);
-    by_text!("lnm", lnm, boundary_lnm::LnmDetector);
+
+    #[cfg(feature = "asymmetry")]
+    pub(super) fn asymmetry(
+        pairs: &[(&str, &str)],
+    ) -> Result<Box<dyn BoundaryDetector>, ParamError> {
+        use boundary_asymmetry::{AsymmetryDetector, AsymmetryParams};
+        adapt(
+            pairs,
+            AsymmetryDetector::try_new,
+            |p: &mut AsymmetryParams, key, text| {
+                Ok(match key {
+                    "threshold" => number(&mut p.threshold, text),
+                    "density_ratio" => number(&mut p.density_ratio, text),
+                    "kernel" => kernel(&mut p.kernel, text)?,
+                    "h_over_r" => number(&mut p.h_over_r, text),
+                    _ => Field::Unknown,
+                })
+            },
+        )
+    }
+
+    #[cfg(feature = "randles")]
+    pub(super) fn randles(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
+        use boundary_randles::{RandlesDetector, RandlesParams};
+        adapt(
+            pairs,
+            RandlesDetector::try_new,
+            |p: &mut RandlesParams, key, text| {
+                Ok(match key {
+                    "mu_2d" => number(&mut p.mu_2d, text),
+                    "mu_3d" => number(&mut p.mu_3d, text),
+                    "kernel" => kernel(&mut p.kernel, text)?,
+                    "h_over_r" => number(&mut p.h_over_r, text),
+                    _ => Field::Unknown,
+                })
+            },
+        )
+    }
+
+    #[cfg(feature = "lnm")]
+    pub(super) fn lnm(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
+        use boundary_lnm::{LnmDetector, LnmParams};
+        adapt(
+            pairs,
+            LnmDetector::try_new,
+            |p: &mut LnmParams, key, text| {
+                Ok(match key {
+                    "cell_over_r" => number(&mut p.cell_over_r, text),
+                    "delta" => {
+                        p.delta =
+                            match text.trim() {
+                                "auto" => None,
+                                count => Some(count.parse().map_err(|_| {
+                                    "must be auto or a whole number >= 0".to_owned()
+                                })?),
+                            };
+                        Field::Set
+                    }
+                    _ => Field::Unknown,
+                })
+            },
+        )
+    }
 
     #[cfg(feature = "marrone")]
     pub(super) fn marrone(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
@@ -609,6 +696,102 @@ mod tests {
                 err.to_string(),
                 format!("method '{method}': invalid value '{value}' for '{key}': {reason}"),
             );
+        }
+    }
+
+    #[test]
+    fn the_sph_criteria_take_their_text_parameters_into_their_typed_ones() {
+        use boundary_divr::Threshold;
+        let built = |name: &str, pairs: &[(&str, &str)]| {
+            detector_with_params(name, pairs)
+                .unwrap()
+                .params()
+                .to_string()
+        };
+        let divr = boundary_divr::DivrDetector::try_new(boundary_divr::DivrParams {
+            threshold: Threshold::Sphinxsys,
+            layers: 1,
+            min_neighbours: Some(5),
+            ..Default::default()
+        })
+        .unwrap();
+        let pairs = [
+            ("threshold", "sphinxsys"),
+            ("layers", "1"),
+            ("min_neighbours", "5"),
+        ];
+        assert_eq!(built("divr", &pairs), divr.params().to_string());
+        for name in Threshold::NAMED.map(|t| t.name()) {
+            assert!(built("divr", &[("threshold", &name)]).contains(&name));
+        }
+        assert!(built("divr", &[("threshold", "1.25")]).contains("threshold=1.25"));
+        let asym =
+            boundary_asymmetry::AsymmetryDetector::try_new(boundary_asymmetry::AsymmetryParams {
+                threshold: 0.4,
+                density_ratio: 0.0,
+                kernel: crate::Kernel::CubicSpline,
+                ..Default::default()
+            })
+            .unwrap();
+        let pairs = [
+            ("threshold", "0.4"),
+            ("kernel", "cubic"),
+            ("density_ratio", "0"),
+        ];
+        assert_eq!(built("asymmetry", &pairs), asym.params().to_string());
+        let randles = boundary_randles::RandlesDetector::try_new(boundary_randles::RandlesParams {
+            mu_3d: 0.3,
+            ..Default::default()
+        })
+        .unwrap();
+        assert_eq!(
+            built("randles", &[("mu_3d", "0.3")]),
+            randles.params().to_string()
+        );
+        let lnm = boundary_lnm::LnmDetector::try_new(boundary_lnm::LnmParams {
+            cell_over_r: 1.5,
+            delta: Some(3),
+        })
+        .unwrap();
+        let pairs = [("delta", "3"), ("cell_over_r", "1.5")];
+        assert_eq!(built("lnm", &pairs), lnm.params().to_string());
+        assert!(built("lnm", &[("delta", "3"), ("delta", "auto")]).contains("delta=auto"));
+        // Every bad value is refused, quoting the text as given; unknown keys list the known.
+        for (name, key, bad) in [
+            ("divr", "threshold", "-1"),
+            ("divr", "threshold", "deep"),
+            ("divr", "layers", "2"),
+            ("divr", "layers", "one"),
+            ("divr", "min_neighbours", "2000"),
+            ("divr", "min_neighbours", "-3"),
+            ("divr", "h_over_r", "0"),
+            ("asymmetry", "threshold", "-0.1"),
+            ("asymmetry", "density_ratio", "1.5"),
+            ("asymmetry", "kernel", "gauss"),
+            ("randles", "mu_2d", "nan"),
+            ("randles", "h_over_r", "inf"),
+            ("lnm", "cell_over_r", "0"),
+            ("lnm", "delta", "-1"),
+            ("lnm", "delta", "2.5"),
+        ] {
+            let err = detector_with_params(name, &[(key, bad)])
+                .unwrap_err()
+                .to_string();
+            assert!(
+                err.contains(bad) && err.contains(key),
+                "{name} {key}={bad}: {err}"
+            );
+        }
+        for (name, known) in [
+            ("divr", "min_neighbours"),
+            ("asymmetry", "density_ratio"),
+            ("randles", "mu_2d"),
+            ("lnm", "cell_over_r"),
+        ] {
+            let err = detector_with_params(name, &[("depth", "3")])
+                .unwrap_err()
+                .to_string();
+            assert!(err.contains(known), "{name}: {err}");
         }
     }
 
