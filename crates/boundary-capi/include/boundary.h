@@ -81,6 +81,12 @@
 typedef struct boundary_detector boundary_detector;
 
 /**
+ * An incremental `exact` tracker over the time steps of one particle set. Opaque: create with
+ * `boundary_tracker_new`, release with `boundary_tracker_free`.
+ */
+typedef struct boundary_tracker boundary_tracker;
+
+/**
  * Confusion counts and rates of predicted labels against the truth, boundary the positive
  * class: the keys of `boundary score --json` and of Python's `confusion`. A rate whose
  * denominator is zero is 0.
@@ -123,12 +129,6 @@ typedef struct boundary_confusion {
    */
   double f1;
 } boundary_confusion;
-
-/**
- * An incremental `exact` tracker over the time steps of one particle set. Opaque: create with
- * `boundary_tracker_new`, release with `boundary_tracker_free`.
- */
-typedef struct boundary_tracker boundary_tracker;
 
 #ifdef __cplusplus
 extern "C" {
