@@ -5,7 +5,7 @@
 //! the default is tuned here: M = Rec·(1 − FPR) against `exact`, averaged over the *tuning
 //! scenes* below, for thresholds 0.025, 0.05, …, 1, and the default must be the best of them.
 //!
-//! The tuning scenes are made only for this purpose by the seeded generator [`tuning_scene`]:
+//! The tuning scenes are made only for this purpose by the seeded generator `boundary_scenes::tuning::tuning_scene`:
 //! unions of discs/balls and a flat pool, with bubbles cut out and a few droplets, on a
 //! jittered lattice of spacing 1, at `r` = 1 to 4 spacings. None of them is in
 //! `fixtures/scenes.toml` (the scenes the sweep reports, and on which the threshold was first
@@ -14,69 +14,15 @@
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 #![allow(clippy::print_stdout)] // the table is the evidence
 
-use boundary_core::{BoundaryDetector, Confusion, ParticleSet, Point, Radius};
+use boundary_core::{BoundaryDetector, Confusion, ParticleSet, Radius};
 use boundary_core::{Dim, SupportedDim};
 use boundary_exact::ExactDetector;
 use boundary_muller::{MullerDetector, DEFAULT_THRESHOLD};
-use boundary_scenes::fill;
-use rand::{rngs::StdRng, Rng, SeedableRng};
+use boundary_scenes::tuning::tuning_scene;
 
 /// The thresholds tried: `k/40` for `k = 1..=40` (0.025 to 1).
 fn grid() -> Vec<f64> {
     (1..=40).map(|k| k as f64 / 40.0).collect()
-}
-
-/// A tuning scene in a box of side `side` (lattice spacing 1): two or three balls of radius
-/// 0.2–0.35·side, a pool (the half-space below 0.15–0.3·side along the last axis), two
-/// bubbles of radius 1 + (0.06–0.12)·side cut out, and three droplets of radius 0.5–2.5; the lattice
-/// points inside get uniform jitter `±jitter`. Seeded: the same scene on every run.
-fn tuning_scene<const D: usize>(seed: u64, side: f64, jitter: f64) -> ParticleSet<D>
-where
-    Dim<D>: SupportedDim,
-{
-    let mut rng = StdRng::seed_from_u64(seed);
-    // A sphere with its centre uniform in [lo, hi]^D and its radius uniform in [rlo, rhi).
-    fn sphere<const D: usize>(
-        rng: &mut StdRng,
-        (lo, hi): (f64, f64),
-        (rlo, rhi): (f64, f64),
-    ) -> (Point<D>, f64)
-    where
-        boundary_core::Dim<D>: boundary_core::SupportedDim,
-    {
-        let centre = Point::<D>::from_fn(|_, _| rng.gen_range(lo..hi));
-        (centre, rng.gen_range(rlo..rhi))
-    }
-    let count = rng.gen_range(2..=3);
-    let balls: Vec<(Point<D>, f64)> = (0..count)
-        .map(|_| {
-            sphere(
-                &mut rng,
-                (0.3 * side, 0.7 * side),
-                (0.2 * side, 0.35 * side),
-            )
-        })
-        .collect();
-    let bubbles: Vec<(Point<D>, f64)> = (0..2)
-        .map(|_| {
-            sphere(
-                &mut rng,
-                (0.25 * side, 0.75 * side),
-                (1.0 + 0.06 * side, 1.0 + 0.12 * side),
-            )
-        })
-        .collect();
-    let droplets: Vec<(Point<D>, f64)> = (0..3)
-        .map(|_| sphere(&mut rng, (0.1 * side, 0.9 * side), (0.5, 2.5)))
-        .collect();
-    let pool = rng.gen_range(0.15 * side..0.3 * side);
-    let within =
-        |p: &Point<D>, set: &[(Point<D>, f64)]| set.iter().any(|(c, r)| (p - c).norm() <= *r);
-    let points = fill([0.0; D], [side; D], 1.0, jitter, &mut rng, |p| {
-        let fluid = within(p, &balls) || p[D - 1] < pool;
-        (fluid && !within(p, &bubbles)) || within(p, &droplets)
-    });
-    ParticleSet::new(points).unwrap()
 }
 
 /// `|∇c|·h` at the default kernel and `h = r`, and the exact labels, of a scene.

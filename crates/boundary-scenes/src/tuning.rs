@@ -1,5 +1,5 @@
 //! Tuning scenes: seeded scenes made only to choose the default thresholds of the SPH criteria
-//! (`asymmetry`, `randles`), never listed in `fixtures/scenes.toml`, so that no default is
+//! (`muller`, `asymmetry`, `randles`), never listed in `fixtures/scenes.toml`, so that no default is
 //! chosen on the scenes the sweep reports.
 //!
 //! A tuning scene lies in a box of side `side` on a lattice of spacing 1: two or three balls
