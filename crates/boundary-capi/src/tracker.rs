@@ -3,8 +3,8 @@
 //! may have changed since the previous step.
 
 use super::{
-    guarded, make_pool, out_slice, particle_set, refuse_flat, Failure, BOUNDARY_ERR_DETECT,
-    BOUNDARY_ERR_INPUT, BOUNDARY_ERR_NULL,
+    guarded, out_slice, particle_set, refuse_flat, Failure, BOUNDARY_ERR_DETECT,
+    BOUNDARY_ERR_INPUT, BOUNDARY_ERR_NULL, BOUNDARY_ERR_THREADS,
 };
 use boundary::{Domain, Radius, Tracker};
 use std::ffi::{c_char, c_int};
@@ -33,11 +33,11 @@ pub unsafe extern "C" fn boundary_tracker_new(
     let mut handle = std::ptr::null_mut();
     let body = || {
         let r = Radius::new(r).map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, e.to_string()))?;
-        // Checks that the threads can start; the tracker builds its own pool of that size.
-        make_pool(threads)?;
+        // The tracker builds its own pool of `threads` workers: its only failure is that they
+        // cannot start.
         let threads = (threads > 0).then_some(threads);
         let tracker = Tracker::new(r, threads, Domain::new())
-            .map_err(|e| Failure::new(BOUNDARY_ERR_DETECT, e.to_string()))?;
+            .map_err(|e| Failure::new(BOUNDARY_ERR_THREADS, e.to_string()))?;
         handle = Box::into_raw(Box::new(boundary_tracker { tracker }));
         Ok(())
     };
