@@ -68,10 +68,33 @@
 //! decision (certificates, exact predicate) and budget 0: they are recomputed at every step.
 //! So every label is the exact label of the step, as a full detection gives it.
 //!
+//! # Inflow and outflow
+//! With stable ids ([`Tracker::update_with_ids`]) particles may come and go between two
+//! updates. Each case reduces to the argument above by a *fictitious history* over a fixed
+//! index set, which agrees with the real configuration at every update from now on:
+//!
+//! - *A particle `j` leaves:* in the fictitious history `j` stays, frozen where it was last
+//!   seen. Its movement is 0, so every recorded movement still bounds the fictitious one. An
+//!   interior certificate over `J` holds as long as every member of `J` is a real particle:
+//!   the interior particles with `j ∈ J` are evaluated again, the others keep their budget
+//!   (`G_i <= G_J` needs `J`, not the rest). A boundary particle keeps its budget: the real
+//!   configuration has fewer balls than the fictitious one, so its `G_i` is at least the
+//!   fictitious one (and no particle comes to coincide with `p_i` by leaving).
+//! - *A particle `k` arrives at `a_k`:* in the fictitious history `k` was at `a_k` all along,
+//!   frozen until now. Interior certificates are unaffected (`k ∉ J`). For a boundary particle
+//!   evaluated at `e_i` with budget `b_i`, let `x*` be the farthest point of `S_i` from the
+//!   others at the evaluation: `d(x*) = G_i >= r + b_i`. If `|e_i − a_k| >= 2r + b_i`, then
+//!   `|x* − a_k| >= r + b_i`, so with `k` present `G_i` was still at least `r + b_i`, and the
+//!   nearest neighbour still at `min(m_i, 2r) = m_i`: the budget held in the fictitious history
+//!   from the evaluation on. Boundary particles with a new particle closer than `2r + b_i` to
+//!   `e_i` (rounded up by `1e-9` relative) are evaluated again, as are the new particles.
+//!
+//! Walls have no ids: they are matched by place, as in [`Tracker::move_walls`].
+//!
 //! # Fallbacks and scope
-//! - The first update, a change of the particle count, the dimension or the number of walls
-//!   start over (every particle evaluated). Without stable ids the tracker cannot follow
-//!   inflow and outflow: a new count starts over.
+//! - The first update, a change of the dimension or of the number of walls start over
+//!   (every particle evaluated); so does a change of the particle count without ids, and the
+//!   first update with ids after one without.
 //! - A large step: when more than 60 % of the particles would be recomputed, the step runs a
 //!   full detection instead. The budgets are then spent: the next 1, 2, 4, … 32 steps (doubling
 //!   at each fallback in a row) run full detections, then every particle is evaluated again.
@@ -95,6 +118,7 @@ use boundary_core::{
     domain, AnyParticleSet, DetectError, Domain, Labels, NeighbourGrid, ParticleSet, Point, Radius,
 };
 use rayon::prelude::*;
+use rustc_hash::FxHashMap;
 
 /// Budgets shrink and movements grow by this relative amount: far above the few `u` of
 /// relative rounding in the distances, sums and formulas compared (module docs).
@@ -139,7 +163,28 @@ pub struct Tracker {
     state: State,
     labels: Labels,
     recomputed: usize,
+    /// The ids of the last update, when it had them (and where each id was).
+    ids: Option<Ids>,
 }
+
+/// Stable particle ids of one update: the list, and each id's place in it.
+struct Ids {
+    list: Vec<u64>,
+    place: FxHashMap<u64, u32>,
+}
+
+/// Where this update's particles were at the last update.
+enum Follow {
+    /// Particle `k` is the last update's particle `k` (when the counts agree).
+    Positional,
+    /// Per particle, its index at the last update, or [`ADDED`].
+    Ids(Vec<u32>),
+    /// Nothing is known: every particle is evaluated.
+    StartOver,
+}
+
+/// A particle that was not there at the last update (see [`Follow::Ids`]).
+const ADDED: u32 = u32::MAX;
 
 impl std::fmt::Debug for Tracker {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -211,6 +256,7 @@ impl Tracker {
             state: State::Empty,
             labels: Labels::new(Vec::new()),
             recomputed: 0,
+            ids: None,
         })
     }
 
@@ -235,7 +281,99 @@ impl Tracker {
 
     /// The labels of `set`, the particles' positions at this step (same order as before),
     /// identical to a full `exact` detection of `set` in the tracker's domain.
+    ///
+    /// Particle `k` is taken to be the last update's particle `k`; when the count changed,
+    /// the tracker starts over (every particle evaluated). Particles that come and go
+    /// (inflow, outflow) keep their saving with [`Tracker::update_with_ids`].
     pub fn update(&mut self, set: &AnyParticleSet) -> Result<&Labels, DetectError> {
+        self.ids = None;
+        self.follow(set, Follow::Positional)
+    }
+
+    /// As [`Tracker::update`], with a stable id per particle (`ids[k]` is particle `k`'s):
+    /// particles are matched to the last update's by id, in any order, so inflow (new ids) and
+    /// outflow (ids that are gone) keep the saving. A new particle is evaluated; so are the
+    /// interior particles whose certificate used a particle that left, and the boundary
+    /// particles within `2r` plus their budget of a new one (module docs, "Inflow and
+    /// outflow"). The labels are those of a full detection of `set`, as always.
+    ///
+    /// After an update without ids, the tracker starts over. Fails when `ids` has another
+    /// length than `set` or repeats an id (naming both particles).
+    ///
+    /// ```
+    /// use boundary_core::{Domain, ParticleSet, Radius};
+    /// use boundary_exact::Tracker;
+    ///
+    /// let rows: Vec<[f64; 2]> = (0..100).map(|k| [(k % 10) as f64, (k / 10) as f64]).collect();
+    /// let ids: Vec<u64> = (0..100).collect();
+    /// let mut tracker = Tracker::new(Radius::new(0.8).unwrap(), Some(1), Domain::new()).unwrap();
+    /// let set = ParticleSet::from_rows(&rows).unwrap().to_any();
+    /// tracker.update_with_ids(&set, &ids).unwrap();
+    /// // Outflow: the first row leaves; the other particles keep their ids.
+    /// let set = ParticleSet::from_rows(&rows[10..]).unwrap().to_any();
+    /// let labels = tracker.update_with_ids(&set, &ids[10..]).unwrap();
+    /// assert_eq!(labels.boundary_count(), 34);
+    /// // Only the particles next to the row that left were evaluated again.
+    /// assert!(tracker.recomputed() < 90);
+    /// ```
+    pub fn update_with_ids(
+        &mut self,
+        set: &AnyParticleSet,
+        ids: &[u64],
+    ) -> Result<&Labels, DetectError> {
+        if ids.len() != set.len() {
+            return Err(DetectError::Method {
+                method: "exact",
+                message: format!(
+                    "tracker: {} ids for {} particles (one id per particle)",
+                    ids.len(),
+                    set.len()
+                ),
+            });
+        }
+        let previous = self.ids.take();
+        if previous.as_ref().is_some_and(|p| p.list == ids) {
+            // The same particles in the same order (already checked for repeats).
+            self.ids = previous;
+            return self.follow(set, Follow::Positional);
+        }
+        let mut place = FxHashMap::with_capacity_and_hasher(ids.len(), Default::default());
+        for (k, &id) in ids.iter().enumerate() {
+            if let Some(first) = place.insert(id, k as u32) {
+                return Err(DetectError::Method {
+                    method: "exact",
+                    message: format!(
+                        "tracker: id {id} is given to particles {first} and {k} (ids must be unique)"
+                    ),
+                });
+            }
+        }
+        let follow = match &previous {
+            None => Follow::StartOver,
+            Some(prev) => Follow::Ids(
+                ids.iter()
+                    .map(|id| prev.place.get(id).copied().unwrap_or(ADDED))
+                    .collect(),
+            ),
+        };
+        self.ids = Some(Ids {
+            list: ids.to_vec(),
+            place,
+        });
+        self.follow(set, follow)
+    }
+
+    /// One update, the particles matched to the last update's by `follow`.
+    fn follow(&mut self, set: &AnyParticleSet, follow: Follow) -> Result<&Labels, DetectError> {
+        if u32::try_from(set.len()).is_err() {
+            return Err(DetectError::Method {
+                method: "exact",
+                message: format!(
+                    "tracker: {} particles, more than the tracker indexes (2^32 - 1)",
+                    set.len()
+                ),
+            });
+        }
         let incremental = self.domain.solids().is_empty()
             && self.domain.periodic().is_empty()
             && self.domain.phases().is_none()
@@ -269,7 +407,17 @@ impl Tracker {
                 });
             }
         }
-        let state = std::mem::replace(&mut self.state, State::Empty);
+        let state = match follow {
+            Follow::StartOver => {
+                self.state = State::Empty;
+                State::Empty
+            }
+            _ => std::mem::replace(&mut self.state, State::Empty),
+        };
+        let map = match &follow {
+            Follow::Ids(map) => Some(map.as_slice()),
+            _ => None,
+        };
         let run = |state: State| -> Result<(State, usize), DetectError> {
             Ok(match (set, walls) {
                 (AnyParticleSet::D2(s), w) => {
@@ -281,7 +429,7 @@ impl Tracker {
                         State::D2(t) => Some(t),
                         _ => None,
                     };
-                    let (t, n) = Track::<2>::step::<Polygon>(old, s.positions(), w, r)?;
+                    let (t, n) = Track::<2>::step::<Polygon>(old, map, s.positions(), w, r)?;
                     (State::D2(t), n)
                 }
                 (AnyParticleSet::D3(s), w) => {
@@ -293,7 +441,7 @@ impl Tracker {
                         State::D3(t) => Some(t),
                         _ => None,
                     };
-                    let (t, n) = Track::<3>::step::<Polyhedron>(old, s.positions(), w, r)?;
+                    let (t, n) = Track::<3>::step::<Polyhedron>(old, map, s.positions(), w, r)?;
                     (State::D3(t), n)
                 }
             })
@@ -323,6 +471,7 @@ impl<const D: usize> Track<D> {
     /// `fluid` and `walls`; returns the new state and the number of particles recomputed.
     fn step<C>(
         old: Option<Track<D>>,
+        map: Option<&[u32]>,
         fluid: &[Point<D>],
         walls: &[Point<D>],
         r: Radius,
@@ -334,7 +483,18 @@ impl<const D: usize> Track<D> {
         let count = fluid.len();
         let all: Vec<Point<D>> = fluid.iter().chain(walls).copied().collect();
         let set = ParticleSet::new(all)?;
-        let old = old.filter(|t| t.count == count && t.prev.len() == set.len());
+        let old = match (old, map) {
+            (Some(mut t), Some(map)) => {
+                if t.prev.len() - t.count == walls.len() {
+                    t.remap(map, fluid, r.get())?;
+                    Some(t)
+                } else {
+                    None
+                }
+            }
+            (old, None) => old.filter(|t| t.count == count && t.prev.len() == set.len()),
+            (None, Some(_)) => None,
+        };
         let Some(mut track) = old else {
             // Start over: every particle evaluated.
             let mut track = Track {
@@ -420,6 +580,100 @@ impl<const D: usize> Track<D> {
         };
         track.evaluate::<C>(&set, &recompute, r.get())?;
         Ok((track, recompute.len()))
+    }
+
+    /// Follows the particles to this update's order: `map[k]` is particle `k`'s index at the
+    /// last update, or [`ADDED`] (module docs, "Inflow and outflow"). Positions of the last
+    /// update carry over (an added particle is where it is now: it has not moved), budgets
+    /// are revoked where a particle that left was in the certificate or one that came may
+    /// cover the witness.
+    fn remap(&mut self, map: &[u32], fluid: &[Point<D>], r: f64) -> Result<(), DetectError>
+    where
+        boundary_core::Dim<D>: boundary_core::SupportedDim,
+    {
+        let (old_count, count) = (self.count, map.len());
+        let mut new_of_old = vec![ADDED; old_count];
+        for (k, &o) in map.iter().enumerate() {
+            if o != ADDED {
+                new_of_old[o as usize] = k as u32;
+            }
+        }
+        // Input indices of the last update (fluid, then walls) to this update's; a particle
+        // that left maps to ADDED.
+        let index = |j: u32| -> u32 {
+            let j = j as usize;
+            if j < old_count {
+                new_of_old[j]
+            } else {
+                (j - old_count + count) as u32
+            }
+        };
+        let pick = |k: usize| (map[k] != ADDED).then(|| map[k] as usize);
+        let mut prev: Vec<Point<D>> = (0..count)
+            .map(|k| pick(k).map_or(fluid[k], |o| self.prev[o]))
+            .collect();
+        prev.extend_from_slice(&self.prev[old_count..]);
+        self.prev = prev;
+        self.eval = (0..count)
+            .map(|k| pick(k).map_or(fluid[k], |o| self.eval[o]))
+            .collect();
+        self.budget = (0..count)
+            .map(|k| pick(k).map_or(0.0, |o| self.budget[o]))
+            .collect();
+        self.sum_eval = (0..count)
+            .map(|k| pick(k).map_or(self.sum, |o| self.sum_eval[o]))
+            .collect();
+        self.relative = (0..count)
+            .map(|k| pick(k).map_or(0.0, |o| self.relative[o]))
+            .collect();
+        self.labels = (0..count)
+            .map(|k| pick(k).is_some_and(|o| self.labels[o]))
+            .collect();
+        let mut cells = std::mem::take(&mut self.cell_of);
+        self.cell_of = (0..count)
+            .map(|k| match pick(k) {
+                None => Box::default(),
+                Some(o) => {
+                    let cell = std::mem::take(&mut cells[o]);
+                    let moved: Option<Box<[u32]>> = cell
+                        .iter()
+                        .map(|&j| Some(index(j)).filter(|&j| j != ADDED))
+                        .collect();
+                    moved.unwrap_or_else(|| {
+                        // A particle of the certificate left: evaluate again.
+                        self.budget[k] = 0.0;
+                        Box::default()
+                    })
+                }
+            })
+            .collect();
+        self.count = count;
+        // Boundary particles: a new particle within 2r + b of the evaluation position may
+        // cover the witness (interior certificates are untouched by more particles).
+        let added: Vec<Point<D>> = (0..count)
+            .filter(|&k| map[k] == ADDED)
+            .map(|k| fluid[k])
+            .collect();
+        if !added.is_empty() {
+            let added = ParticleSet::new(added)?;
+            let grid = NeighbourGrid::new(&added, 2.0 * r)?;
+            let (budget, cells, eval) = (&mut self.budget, &self.cell_of, &self.eval);
+            budget
+                .par_iter_mut()
+                .zip(cells)
+                .zip(eval)
+                .filter(|((b, cell), _)| **b > 0.0 && cell.is_empty())
+                .for_each(|((b, _), e)| {
+                    // Grown by ROUNDING for the rounding of the distances.
+                    let reach = (2.0 * r + *b) * (1.0 + ROUNDING);
+                    let mut near = false;
+                    grid.for_each_within(e, reach, |_, _| near = true);
+                    if near {
+                        *b = 0.0;
+                    }
+                });
+        }
+        Ok(())
     }
 
     /// Evaluates the fluid particles `which` (ascending) of `set`: their labels and budgets.

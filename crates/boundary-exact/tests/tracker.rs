@@ -412,3 +412,200 @@ fn slow_stretch_turns_particles_boundary_one_by_one() {
     };
     assert!(boundary(&frames[19]) > boundary(&frames[0]) + 10);
 }
+
+/// Runs the tracker with ids over `frames` (positions and ids per step) and checks every step
+/// against a full detection; returns the number of particles recomputed at each step.
+fn check_with_ids(frames: &[(Vec<[f64; 2]>, Vec<u64>)], r: f64) -> Vec<usize> {
+    let radius = Radius::new(r).unwrap();
+    let mut tracker = Tracker::new(radius, Some(1), Domain::new()).unwrap();
+    let mut recomputed = vec![];
+    for (step, (rows, ids)) in frames.iter().enumerate() {
+        let set = set2(rows);
+        let full = ExactDetector::default().detect(&set, radius).unwrap();
+        let labels = tracker.update_with_ids(&set, ids).unwrap();
+        assert_eq!(
+            first_difference(labels, &full.labels),
+            None,
+            "step {step}"
+        );
+        recomputed.push(tracker.recomputed());
+    }
+    recomputed
+}
+
+/// A channel with inflow and outflow: particles drift along x, those past the outlet leave,
+/// new ones (new ids) enter at the inlet, and the order is shuffled now and then. Labels of a
+/// full detection at every step, with most particles never recomputed.
+#[test]
+fn inflow_and_outflow_with_ids_match_full_detection() {
+    let mut rng = Rng(21);
+    let (width, length) = (10usize, 30usize);
+    // Particles on a jittered lattice; each lattice column is one inflow batch.
+    let mut particles: Vec<([f64; 2], u64)> = vec![];
+    let mut next_id = 0u64;
+    let column = |x: f64, rng: &mut Rng, next_id: &mut u64| -> Vec<([f64; 2], u64)> {
+        (0..width)
+            .map(|k| {
+                *next_id += 1;
+                (
+                    [x + 0.2 * (rng.next() - 0.5), k as f64 + 0.2 * (rng.next() - 0.5)],
+                    *next_id * 7 + 3,
+                )
+            })
+            .collect()
+    };
+    for c in 0..length {
+        particles.extend(column(c as f64, &mut rng, &mut next_id));
+    }
+    let speed = 0.05;
+    let mut frames = vec![];
+    let mut inlet = 0.0;
+    for step in 0..40 {
+        for (p, _) in particles.iter_mut() {
+            // A shear flow: faster in the middle of the channel.
+            let y = p[1] / width as f64;
+            p[0] += speed * (1.0 + 0.5 * y * (1.0 - y));
+            p[1] += 0.002 * (rng.next() - 0.5);
+        }
+        inlet += speed;
+        particles.retain(|(p, _)| p[0] < length as f64);
+        if inlet >= 1.0 {
+            inlet -= 1.0;
+            particles.extend(column(inlet, &mut rng, &mut next_id));
+        }
+        if step % 7 == 3 {
+            // A solver that reorders its particles (e.g. sorted into cells) every few steps.
+            for k in (1..particles.len()).rev() {
+                let j = (rng.next() * (k + 1) as f64) as usize;
+                particles.swap(k, j.min(k));
+            }
+        }
+        let rows = particles.iter().map(|(p, _)| *p).collect();
+        let ids = particles.iter().map(|(_, id)| *id).collect();
+        frames.push((rows, ids));
+    }
+    let recomputed = check_with_ids(&frames, 0.8);
+    let total: usize = frames[1..].iter().map(|(rows, _)| rows.len()).sum();
+    let done: usize = recomputed[1..].iter().sum();
+    // Counts changed at about every 20th step and the order at every 7th: without ids each
+    // of those steps would start over.
+    assert!(
+        frames.windows(2).filter(|w| w[0].0.len() != w[1].0.len()).count() >= 2,
+        "the scene has no inflow"
+    );
+    assert!(done * 4 < total, "recomputed {recomputed:?} of {total}");
+}
+
+/// A particle that arrives in a hole covers its neighbours' gap, and one that leaves opens
+/// it: the labels flip at once, as a full detection has them.
+#[test]
+fn a_particle_arriving_or_leaving_flips_its_neighbours() {
+    let rows: Vec<[f64; 2]> = (0..144)
+        .map(|k| [(k % 12) as f64, (k / 12) as f64])
+        .collect();
+    let ids: Vec<u64> = (0..144).collect();
+    let hole = 6 * 12 + 6;
+    let without: Vec<usize> = (0..144).filter(|&k| k != hole).collect();
+    let pick = |keep: &[usize]| -> (Vec<[f64; 2]>, Vec<u64>) {
+        (
+            keep.iter().map(|&k| rows[k]).collect(),
+            keep.iter().map(|&k| ids[k]).collect(),
+        )
+    };
+    let all: Vec<usize> = (0..144).collect();
+    // r between the lattice's covering tie (√2/2) and its spacing: a full lattice covers its
+    // inside, a missing particle leaves its four neighbours uncovered.
+    let frames = vec![pick(&all), pick(&without), pick(&all), pick(&without)];
+    let recomputed = check_with_ids(&frames, 0.8);
+    let full = ExactDetector::default()
+        .detect(&set2(&frames[1].0), Radius::new(0.8).unwrap())
+        .unwrap();
+    let before = ExactDetector::default()
+        .detect(&set2(&frames[0].0), Radius::new(0.8).unwrap())
+        .unwrap();
+    assert_eq!(
+        full.labels.boundary_count(),
+        before.labels.boundary_count() + 4,
+        "the hole opens four boundary particles"
+    );
+    assert!(recomputed[1..].iter().all(|&n| n < 40), "{recomputed:?}");
+}
+
+/// Ids are checked: one per particle, none repeated (the error names both particles); after an
+/// update without ids the tracker starts over.
+#[test]
+fn ids_are_checked_and_follow_only_ids() {
+    let mut tracker = Tracker::new(Radius::new(0.8).unwrap(), Some(1), Domain::new()).unwrap();
+    let rows: Vec<[f64; 2]> = (0..25).map(|k| [(k % 5) as f64, (k / 5) as f64]).collect();
+    let set = set2(&rows);
+    let err = tracker.update_with_ids(&set, &[1, 2, 3]).unwrap_err();
+    assert!(err.to_string().contains("3 ids for 25 particles"), "{err}");
+    let mut ids: Vec<u64> = (100..125).collect();
+    ids[17] = ids[4];
+    let err = tracker.update_with_ids(&set, &ids).unwrap_err();
+    assert!(
+        err.to_string().contains("id 104 is given to particles 4 and 17"),
+        "{err}"
+    );
+    ids[17] = 117;
+    tracker.update(&set).unwrap();
+    tracker.update_with_ids(&set, &ids).unwrap();
+    assert_eq!(tracker.recomputed(), 25, "ids after an update without: start over");
+    // The same ids reversed: the same particles, nothing to recompute.
+    let reversed: Vec<[f64; 2]> = rows.iter().rev().copied().collect();
+    let back: Vec<u64> = ids.iter().rev().copied().collect();
+    let labels = tracker.update_with_ids(&set2(&reversed), &back).unwrap().clone();
+    assert_eq!(tracker.recomputed(), 0);
+    let full = ExactDetector::default()
+        .detect(&set2(&reversed), Radius::new(0.8).unwrap())
+        .unwrap();
+    assert_eq!(labels, full.labels);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    /// Random sequences with ids: particles move (tiny to large), leave, arrive (some onto
+    /// others, as duplicates) and are shuffled; the tracker equals a full detection every step.
+    #[test]
+    fn tracker_with_ids_equals_full_detection_on_random_sequences(
+        start in point_strategy(),
+        steps in prop::collection::vec((0usize..4, 0usize..4, any::<u64>()), 1..8),
+        r in 0.3..1.2f64,
+    ) {
+        let radius = Radius::new(r).unwrap();
+        let mut tracker = Tracker::new(radius, Some(1), Domain::new()).unwrap();
+        let mut points: Vec<([f64; 2], u64)> =
+            start.into_iter().zip(0u64..).collect();
+        let mut next_id = points.len() as u64;
+        for (step, &(kind, churn, seed)) in std::iter::once(&(0, 0, 0)).chain(&steps).enumerate() {
+            let mut rng = Rng(seed | 1);
+            let scale = [0.0, 1e-3, 0.05, 0.5][kind];
+            for (p, _) in points.iter_mut() {
+                p[0] += scale * (rng.next() - 0.5);
+                p[1] += scale * (rng.next() - 0.5);
+            }
+            for _ in 0..churn {
+                if rng.next() < 0.5 && points.len() > 1 {
+                    let k = (rng.next() * points.len() as f64) as usize;
+                    points.remove(k.min(points.len() - 1));
+                }
+                let p = if rng.next() < 0.3 && !points.is_empty() {
+                    points[(rng.next() * points.len() as f64) as usize % points.len()].0
+                } else {
+                    [4.0 * rng.next(), 4.0 * rng.next()]
+                };
+                points.push((p, next_id));
+                next_id += 1;
+            }
+            if churn == 3 {
+                points.reverse();
+            }
+            let rows: Vec<[f64; 2]> = points.iter().map(|(p, _)| *p).collect();
+            let ids: Vec<u64> = points.iter().map(|(_, id)| *id).collect();
+            let set = set2(&rows);
+            let full = ExactDetector::default().detect(&set, radius).unwrap();
+            let labels = tracker.update_with_ids(&set, &ids).unwrap();
+            prop_assert_eq!(first_difference(labels, &full.labels), None, "step {}", step);
+        }
+    }
+}
