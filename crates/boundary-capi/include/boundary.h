@@ -409,6 +409,26 @@ int boundary_tracker_update(struct boundary_tracker *handle,
                             size_t err_len);
 
 /**
+ * As `boundary_tracker_update`, with a stable id per particle (`ids[0..n]`, unique): the
+ * particles are matched to the previous step's by id, so they may come (inflow), go
+ * (outflow) and change order without the tracker starting over. Repeated ids are an input
+ * error naming both particles; after an update without ids, the tracker starts over.
+ *
+ * # Safety
+ * As `boundary_tracker_update`; `ids` is valid for reads of `n` values (may be NULL when
+ * `n == 0`).
+ */
+int boundary_tracker_update_ids(struct boundary_tracker *handle,
+                                const double *xyz,
+                                size_t n,
+                                int dim,
+                                const uint64_t *ids,
+                                uint8_t *out_labels,
+                                size_t *out_recomputed,
+                                char *err,
+                                size_t err_len);
+
+/**
  * Releases a tracker from `boundary_tracker_new`; NULL is ignored.
  *
  * # Safety

@@ -69,6 +69,7 @@ use std::sync::{Arc, Mutex};
 mod tracker;
 pub use tracker::{
     boundary_tracker, boundary_tracker_free, boundary_tracker_new, boundary_tracker_update,
+    boundary_tracker_update_ids,
 };
 
 /// Success.

@@ -6,7 +6,7 @@ use super::{
     guarded, out_slice, particle_set, refuse_flat, Failure, BOUNDARY_ERR_DETECT,
     BOUNDARY_ERR_INPUT, BOUNDARY_ERR_NULL, BOUNDARY_ERR_THREADS,
 };
-use boundary::{Domain, Radius, Tracker};
+use boundary::{DetectError, Domain, Radius, Tracker};
 use std::ffi::{c_char, c_int};
 
 /// An incremental `exact` tracker over the time steps of one particle set. Opaque: create with
@@ -68,6 +68,75 @@ pub unsafe extern "C" fn boundary_tracker_update(
     err: *mut c_char,
     err_len: usize,
 ) -> c_int {
+    // SAFETY: forwarded from this function's contract; no ids.
+    unsafe {
+        update(
+            handle,
+            xyz,
+            n,
+            dim,
+            None,
+            out_labels,
+            out_recomputed,
+            err,
+            err_len,
+        )
+    }
+}
+
+/// As `boundary_tracker_update`, with a stable id per particle (`ids[0..n]`, unique): the
+/// particles are matched to the previous step's by id, so they may come (inflow), go
+/// (outflow) and change order without the tracker starting over. Repeated ids are an input
+/// error naming both particles; after an update without ids, the tracker starts over.
+///
+/// # Safety
+/// As `boundary_tracker_update`; `ids` is valid for reads of `n` values (may be NULL when
+/// `n == 0`).
+#[no_mangle]
+#[allow(clippy::too_many_arguments)] // the C signature
+pub unsafe extern "C" fn boundary_tracker_update_ids(
+    handle: *mut boundary_tracker,
+    xyz: *const f64,
+    n: usize,
+    dim: c_int,
+    ids: *const u64,
+    out_labels: *mut u8,
+    out_recomputed: *mut usize,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    // SAFETY: forwarded from this function's contract.
+    unsafe {
+        update(
+            handle,
+            xyz,
+            n,
+            dim,
+            Some(ids),
+            out_labels,
+            out_recomputed,
+            err,
+            err_len,
+        )
+    }
+}
+
+/// Both updates: `ids` is `None` without ids, else the pointer to `n` ids.
+///
+/// # Safety
+/// As `boundary_tracker_update_ids`.
+#[allow(clippy::too_many_arguments)] // the C signature
+unsafe fn update(
+    handle: *mut boundary_tracker,
+    xyz: *const f64,
+    n: usize,
+    dim: c_int,
+    ids: Option<*const u64>,
+    out_labels: *mut u8,
+    out_recomputed: *mut usize,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
     let body = || {
         // SAFETY: NULL or a live, unaliased handle (this function's contract).
         let handle = unsafe { handle.as_mut() }
@@ -75,12 +144,29 @@ pub unsafe extern "C" fn boundary_tracker_update(
         // SAFETY: `xyz` as this function's contract says; no radii.
         let set = unsafe { particle_set(xyz, n, dim, std::ptr::null()) }?;
         refuse_flat(&set)?;
+        let ids: Option<&[u64]> = match ids {
+            None => None,
+            Some(_) if n == 0 => Some(&[]),
+            Some(p) if p.is_null() => {
+                return Err(Failure::new(BOUNDARY_ERR_NULL, "ids is NULL"));
+            }
+            // SAFETY: `ids` valid for `n` reads (this function's contract), not NULL.
+            Some(p) => Some(unsafe { std::slice::from_raw_parts(p, n) }),
+        };
         // SAFETY: `out_labels` valid for `n` bytes (this function's contract).
         let out = unsafe { out_slice(out_labels, n, "out_labels") }?;
-        let labels = handle
-            .tracker
-            .update(&set)
-            .map_err(|e| Failure::new(BOUNDARY_ERR_DETECT, e.to_string()))?;
+        let labels = match ids {
+            Some(ids) => handle.tracker.update_with_ids(&set, ids),
+            None => handle.tracker.update(&set),
+        }
+        .map_err(|e| {
+            // Repeated ids are the caller's input; anything else is the detection's.
+            let code = match e {
+                DetectError::Core(_) => BOUNDARY_ERR_INPUT,
+                _ => BOUNDARY_ERR_DETECT,
+            };
+            Failure::new(code, e.to_string())
+        })?;
         for (slot, i) in out.iter_mut().zip(0..n) {
             *slot = u8::from(labels.is_boundary(i));
         }

@@ -150,3 +150,93 @@ fn bad_arguments_are_error_codes() {
     // SAFETY: released once.
     unsafe { boundary_tracker_free(tracker) };
 }
+
+/// One `boundary_tracker_update_ids` call: the code, the labels and the recomputed count.
+fn update_ids(
+    tracker: *mut boundary_tracker,
+    xyz: &[f64],
+    ids: &[u64],
+    err: &mut [c_char],
+) -> (i32, Vec<u8>, usize) {
+    let n = xyz.len() / 2;
+    let mut labels = vec![0u8; n];
+    let mut recomputed = usize::MAX;
+    // SAFETY: a live handle; buffers of the stated sizes (`ids` as long as it is: the test
+    // passes `n` only when it has `n` ids).
+    let code = unsafe {
+        boundary_tracker_update_ids(
+            tracker,
+            xyz.as_ptr(),
+            n,
+            2,
+            ids.as_ptr(),
+            labels.as_mut_ptr(),
+            &mut recomputed,
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    (code, labels, recomputed)
+}
+
+/// With ids, particles that leave and arrive keep the saving; the labels stay exact's; bad ids
+/// are input errors naming the particles.
+#[test]
+fn tracker_with_ids_follows_inflow_and_outflow() {
+    let mut err = [0 as c_char; 256];
+    // SAFETY: `err` is valid for its length.
+    let tracker = unsafe { boundary_tracker_new(0.8, 1, err.as_mut_ptr(), err.len()) };
+    assert!(!tracker.is_null(), "{}", message(&err));
+    // A 20 × 20 block; each step the last row leaves and a new one enters below, listed first.
+    let mut particles: Vec<([f64; 2], u64)> = (0..400u64)
+        .map(|k| {
+            let j = ((k * 7919) % 97) as f64 / 97.0 - 0.5;
+            ([(k % 20) as f64 + 0.2 * j, (k / 20) as f64], k)
+        })
+        .collect();
+    let mut counts = vec![];
+    for step in 0..4u64 {
+        if step > 0 {
+            particles.retain(|(p, _)| p[1] < (19 - step) as f64 + 0.5);
+            let row: Vec<([f64; 2], u64)> = (0..20)
+                .map(|k| ([k as f64, -(step as f64)], 1000 * step + k))
+                .collect();
+            particles.splice(0..0, row);
+        }
+        let xyz: Vec<f64> = particles.iter().flat_map(|(p, _)| *p).collect();
+        let ids: Vec<u64> = particles.iter().map(|(_, id)| *id).collect();
+        let (code, labels, recomputed) = update_ids(tracker, &xyz, &ids, &mut err);
+        assert_eq!(code, BOUNDARY_OK, "{}", message(&err));
+        assert_eq!(labels, exact(&xyz, 2, 0.8), "step {step}");
+        counts.push(recomputed);
+    }
+    assert_eq!(counts[0], 400);
+    assert!(counts[1..].iter().all(|&c| c < 120), "{counts:?}");
+    let xyz = [0.0, 0.0, 1.0, 0.0];
+    let (code, _, _) = update_ids(tracker, &xyz, &[5, 5], &mut err);
+    assert_eq!(code, BOUNDARY_ERR_INPUT);
+    assert!(
+        message(&err).contains("id 5 is given to particles 0 and 1"),
+        "{}",
+        message(&err)
+    );
+    let mut labels = [0u8; 2];
+    // SAFETY: NULL ids with n > 0 are reported, not read.
+    let code = unsafe {
+        boundary_tracker_update_ids(
+            tracker,
+            xyz.as_ptr(),
+            2,
+            2,
+            std::ptr::null(),
+            labels.as_mut_ptr(),
+            std::ptr::null_mut(),
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert_eq!(code, BOUNDARY_ERR_NULL);
+    assert!(message(&err).contains("ids"), "{}", message(&err));
+    // SAFETY: the handle from `boundary_tracker_new`, released once.
+    unsafe { boundary_tracker_free(tracker) };
+}

@@ -1,9 +1,9 @@
 //! `boundary detect`: label the particles of one file, or of every frame a pattern matches.
 
 use crate::common::{
-    attach_radii, auto_warning, method_label, output_format, parse_format, percent, pool, radius,
-    read_options, refuse_flat, resolve_radius, run_timed, run_timed_in, InputArgs, MethodArgs,
-    RadiiUsed, RadiusArg, RadiusMode,
+    attach_radii, auto_warning, method_label, output_format, parse_format, percent,
+    point_attribute, pool, radius, read_options, refuse_flat, resolve_radius, run_timed,
+    run_timed_in, InputArgs, MethodArgs, RadiiUsed, RadiusArg, RadiusMode,
 };
 use crate::domain::{DomainArgs, DomainSetup};
 use crate::error::CliError;
@@ -12,7 +12,9 @@ use crate::output::{errln, outln};
 use boundary::{
     detector_with_params, AnyParticleSet, BoundaryDetector, Detection, Domain, Tracker,
 };
-use boundary_io::{read_particle_file, write_particles, Column, Format, ReadOptions};
+use boundary_io::{
+    read_particle_file, write_particles, AttributeValues, Column, Format, ParticleFile, ReadOptions,
+};
 use clap::Args;
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -63,11 +65,18 @@ pub(crate) struct DetectArgs {
     resume: bool,
     /// With several frames of the same particles (same count, same order): label them in
     /// order with the incremental tracker, which recomputes only the particles whose label
-    /// may have changed since the previous frame; the labels are those of `exact`. Needs
-    /// --method exact (default parameters), a uniform --radius and no domain options; the
-    /// summary gets a `recomputed` column.
+    /// may have changed since the previous frame; the labels are those of `exact`. A frame
+    /// with another particle count starts over (every particle recomputed) unless
+    /// --track-ids names the particles' ids. Needs --method exact (default parameters), a
+    /// uniform --radius and no domain options; the summary gets a `recomputed` column.
     #[arg(long, conflicts_with_all = ["resume", "margin"])]
     track: bool,
+    /// With --track: the point attribute that holds each particle's stable id (DualSPHysics'
+    /// `Idp`, for example). The tracker then follows particles by id, so frames may gain and
+    /// lose particles (inflow, outflow) and reorder them. Ids are whole numbers >= 0, unique
+    /// within a frame.
+    #[arg(long, value_name = "NAME", requires = "track")]
+    track_ids: Option<String>,
 }
 
 /// A frame's output: `Some((path, format))`, `None` (no output), or the input whose format
@@ -143,6 +152,8 @@ struct FrameJob<'a> {
     pool: &'a rayon::ThreadPool,
     /// With `--track`: the tracker, created at the first frame (frames run in order).
     tracker: Option<&'a std::sync::Mutex<Option<Tracker>>>,
+    /// `--track-ids`: the attribute of the particles' ids.
+    track_ids: Option<&'a str>,
 }
 
 impl FrameJob<'_> {
@@ -157,6 +168,7 @@ impl FrameJob<'_> {
         let per_particle = matches!(radius_mode, RadiusMode::PerParticle { .. });
         let with_attributes = output.is_some()
             || per_particle
+            || self.track_ids.is_some()
             || self.domain.is_some_and(DomainSetup::needs_attributes);
         let file = if with_attributes {
             read_particle_file(input, &self.options)?
@@ -210,13 +222,23 @@ impl FrameJob<'_> {
                     Some(t) => t,
                     None => guard.insert(Tracker::new(r, None, Domain::new())?),
                 };
+                let ids = match self.track_ids {
+                    Some(name) => Some(particle_ids(&file, name, input, &self.options)?),
+                    None => None,
+                };
                 let (labels, seconds) = self.pool.install(|| {
                     let start = std::time::Instant::now();
-                    let labels = tracker.update(set).cloned();
+                    let labels = match &ids {
+                        Some(ids) => tracker.update_with_ids(set, ids).cloned(),
+                        None => tracker.update(set).cloned(),
+                    };
                     (labels, start.elapsed().as_secs_f64())
                 });
                 let detection = Detection {
-                    labels: labels?,
+                    labels: labels.map_err(|error| CliError::Track {
+                        path: input.to_path_buf(),
+                        error,
+                    })?,
                     margin: None,
                 };
                 (detection, seconds, Some(tracker.recomputed()))
@@ -453,6 +475,46 @@ fn check_track(
     Ok(())
 }
 
+/// The stable ids of `--track-ids` (whole numbers >= 0), or an error naming the particle.
+fn particle_ids(
+    file: &ParticleFile,
+    name: &str,
+    input: &Path,
+    options: &ReadOptions,
+) -> Result<Vec<u64>, CliError> {
+    let attribute = point_attribute(file, name, input, "--track-ids", "an id")?;
+    let bad = |index: usize, problem: String| CliError::IdValue {
+        path: input.to_path_buf(),
+        attribute: attribute.name.clone(),
+        index,
+        // Looked up only on the error path (CSV only).
+        line: boundary_io::particle_line(input, options, index)
+            .ok()
+            .flatten(),
+        problem,
+    };
+    // Below 2^53 every whole number is exact in f64.
+    const EXACT: f64 = 9_007_199_254_740_992.0;
+    match &attribute.values {
+        AttributeValues::Int(v) => v
+            .iter()
+            .enumerate()
+            .map(|(k, &i)| u64::try_from(i).map_err(|_| bad(k, format!("{i} is negative"))))
+            .collect(),
+        AttributeValues::Float(v) => v
+            .iter()
+            .enumerate()
+            .map(|(k, &x)| {
+                if (0.0..EXACT).contains(&x) && x.fract() == 0.0 {
+                    Ok(x as u64)
+                } else {
+                    Err(bad(k, format!("{x} is not a whole number >= 0 below 2^53")))
+                }
+            })
+            .collect(),
+    }
+}
+
 /// `--normals` smooth over one length h = r: not defined with a radius per particle.
 fn check_normals(normals: bool, mode: &RadiusMode) -> Result<(), CliError> {
     if normals && matches!(mode, RadiusMode::PerParticle { .. }) {
@@ -495,6 +557,7 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
         band: args.band,
         pool: &pool,
         tracker: None,
+        track_ids: None,
     };
     let output = args.output.as_deref().zip(output_format);
     let outcome = job.run(&args.input.input, &radius_mode, output)?;
@@ -725,6 +788,7 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
         band: args.band,
         pool: &pool,
         tracker: args.track.then_some(&tracker),
+        track_ids: args.track_ids.as_deref(),
     };
     let bar = if args.input.json {
         indicatif::ProgressBar::hidden()

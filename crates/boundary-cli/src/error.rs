@@ -92,6 +92,33 @@ pub enum CliError {
         /// What is wrong with its radius.
         problem: String,
     },
+    /// The tracker refused a frame (`--track`: its ids).
+    #[error("{}: {error}", .path.display())]
+    Track {
+        /// The frame.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        error: boundary::DetectError,
+    },
+    /// A `--track-ids` value that is not a whole number >= 0.
+    #[error(
+        "{}: id attribute {attribute:?}: particle {index}{}: {problem}",
+        .path.display(),
+        .line.map(|l| format!(" (line {l})")).unwrap_or_default()
+    )]
+    IdValue {
+        /// The input.
+        path: PathBuf,
+        /// The attribute.
+        attribute: String,
+        /// The particle, in file order.
+        index: usize,
+        /// Its line (CSV).
+        line: Option<usize>,
+        /// What is wrong with its id.
+        problem: String,
+    },
     /// A `--walls` file that cannot serve as walls (empty, or of another dimension than the
     /// other wall files).
     #[error("{}: --walls: {problem}", .path.display())]

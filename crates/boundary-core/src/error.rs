@@ -48,6 +48,32 @@ pub enum CoreError {
         /// Number of radii given.
         radii: usize,
     },
+    /// The particle ids do not match the particles one to one.
+    #[error("{ids} ids for {particles} particles (one id per particle)")]
+    IdsLengthMismatch {
+        /// Number of particles.
+        particles: usize,
+        /// Number of ids given.
+        ids: usize,
+    },
+    /// Two particles carry the same id.
+    #[error("id {id} is given to particles {first} and {second} (ids must be unique)")]
+    RepeatedId {
+        /// The id.
+        id: u64,
+        /// The first particle with it.
+        first: usize,
+        /// The next one.
+        second: usize,
+    },
+    /// Particles moved in a neighbour grid that indexes another number of them.
+    #[error("neighbour grid: it indexes {indexed} particles, {given} positions given")]
+    GridLengthMismatch {
+        /// Particles in the grid.
+        indexed: usize,
+        /// Positions given.
+        given: usize,
+    },
     /// The neighbour grid cannot index this scene at this cell size.
     #[error("neighbour grid: extent {extent:e} is too large for cell size {cell:e}")]
     GridTooFine {

@@ -54,6 +54,12 @@ pub struct NeighbourGrid<const D: usize> {
     /// Positions in the same order as `order`.
     sorted: Vec<Point<D>>,
     layout: Layout<D>,
+    /// The positions the particles were sorted into cells by, in the order of `sorted`; empty
+    /// until [`NeighbourGrid::move_particles`] moves them.
+    built: Vec<Point<D>>,
+    /// Added to every query radius when choosing cells: the drift of the particles from
+    /// `built`, rounded up (0 until they move).
+    pad: f64,
 }
 
 #[derive(Debug, Clone)]
@@ -85,6 +91,8 @@ impl<const D: usize> NeighbourGrid<D> {
                     dims: [1; D],
                     starts: vec![0, 0],
                 },
+                built: Vec::new(),
+                pad: 0.0,
             });
         };
         let mut dims = [1i64; D];
@@ -107,6 +115,8 @@ impl<const D: usize> NeighbourGrid<D> {
             layout: Layout::Hashed {
                 ranges: FxHashMap::default(),
             },
+            built: Vec::new(),
+            pad: 0.0,
         };
         Ok(if dense_fits(n, total) {
             grid.fill_dense(positions, dims)
@@ -183,6 +193,56 @@ impl<const D: usize> NeighbourGrid<D> {
     /// `cell_order()[s]`.
     pub fn cell_sorted_positions(&self) -> &[Point<D>] {
         &self.sorted
+    }
+
+    /// Moves the particles to the positions of `set` (the same particles in the same order)
+    /// without sorting them into cells again, and returns the **drift**: the largest distance
+    /// of a particle from the position the grid sorted it by. Queries stay exact: they scan
+    /// the cells within `radius + drift` (the drift grown by `1e-9` relative for its own
+    /// rounding) and test the particles' new positions, which
+    /// [`NeighbourGrid::cell_sorted_positions`] now holds. Cheaper than a new grid (no
+    /// sorting) while the drift is small against the query radii: the skin of a Verlet list;
+    /// build a new grid once the drift costs more than it saves.
+    ///
+    /// Fails with [`CoreError::GridLengthMismatch`] when `set` has another number of particles.
+    ///
+    /// ```
+    /// use boundary_core::{NeighbourGrid, ParticleSet};
+    ///
+    /// let set = ParticleSet::from_rows(&[[0.0, 0.0], [1.0, 0.0], [3.0, 0.0]]).unwrap();
+    /// let mut grid = NeighbourGrid::new(&set, 1.0).unwrap();
+    /// let moved = ParticleSet::from_rows(&[[0.0, 0.0], [1.0, 0.0], [1.5, 0.25]]).unwrap();
+    /// let drift = grid.move_particles(&moved).unwrap();
+    /// assert!((drift - (1.5f64.powi(2) + 0.0625).sqrt()).abs() < 1e-12);
+    /// let mut near = vec![];
+    /// grid.within_sorted(&moved.positions()[0], 1.6, &mut near);
+    /// assert_eq!(near.iter().map(|x| x.0).collect::<Vec<_>>(), [0, 1, 2]);
+    /// ```
+    pub fn move_particles(&mut self, set: &ParticleSet<D>) -> Result<f64, CoreError> {
+        let positions = set.positions();
+        if positions.len() != self.order.len() {
+            return Err(CoreError::GridLengthMismatch {
+                indexed: self.order.len(),
+                given: positions.len(),
+            });
+        }
+        if self.built.is_empty() {
+            self.built = self.sorted.clone();
+        }
+        self.sorted
+            .par_iter_mut()
+            .zip(&self.order)
+            .for_each(|(s, &i)| *s = positions[i as usize]);
+        let drift = self
+            .sorted
+            .par_iter()
+            .zip(&self.built)
+            .map(|(a, b)| dist2(a, b))
+            .reduce(|| 0.0, f64::max)
+            .sqrt();
+        // The computed distances carry a relative rounding of a few `u`.
+        self.pad = drift * (1.0 + 1e-9);
+        Ok(drift)
     }
 
     /// The cell side.
@@ -280,6 +340,8 @@ impl<const D: usize> NeighbourGrid<D> {
         if self.order.is_empty() || radius.is_nan() || radius < 0.0 {
             return;
         }
+        // Moved particles lie within `pad` of the positions they were sorted by.
+        let radius = radius + self.pad;
         let mut lo = [0i64; D];
         let mut hi = [0i64; D];
         for k in 0..D {
@@ -545,6 +607,68 @@ mod tests {
             Vec::<usize>::new()
         );
         assert_eq!(grid_query(&g, &Point::<2>::new(1.3, 0.5), 0.4), vec![2]);
+    }
+
+    /// A grid whose particles moved (small drifts and large, dense and hashed layouts, query
+    /// points off the particles) finds exactly the particles a brute-force search finds at
+    /// their new positions, with the same squared distances as a new grid; its sorted
+    /// positions are the new ones.
+    #[test]
+    fn moved_particles_are_found_where_they_are_now() {
+        fn check<const D: usize>(seed: u64, cell: f64, radii: &[f64], offset: f64)
+        where
+            Dim<D>: SupportedDim,
+        {
+            let set = random_set::<D>(seed, 300, 1.0, offset);
+            let mut grid = NeighbourGrid::new(&set, cell).unwrap();
+            let mut rng = rand::rngs::StdRng::seed_from_u64(seed + 100);
+            let mut positions = set.positions().to_vec();
+            for scale in [0.0, 1e-9, 0.01, 0.05, 0.3, 2.0] {
+                for p in positions.iter_mut() {
+                    *p += Point::<D>::from_fn(|_, _| scale * (rng.gen::<f64>() - 0.5));
+                }
+                let moved = ParticleSet::new(positions.clone()).unwrap();
+                let drift = grid.move_particles(&moved).unwrap();
+                let most = positions
+                    .iter()
+                    .zip(set.positions())
+                    .map(|(a, b)| (a - b).norm())
+                    .fold(0.0, f64::max);
+                assert!(
+                    (drift - most).abs() <= 1e-12 * (1.0 + most),
+                    "{drift} {most}"
+                );
+                let fresh = NeighbourGrid::new(&moved, cell).unwrap();
+                for (k, q) in moved.positions().iter().enumerate() {
+                    let q = if k % 2 == 0 { *q } else { q.map(|x| x + 0.013) };
+                    for &radius in radii {
+                        assert_eq!(grid_query(&grid, &q, radius), brute(&moved, &q, radius));
+                        let (mut a, mut b) = (vec![], vec![]);
+                        grid.within_sorted(&q, radius, &mut a);
+                        fresh.within_sorted(&q, radius, &mut b);
+                        assert_eq!(a, b, "scale {scale}, radius {radius}");
+                    }
+                }
+                for (s, &i) in grid.cell_order().iter().enumerate() {
+                    assert_eq!(
+                        grid.cell_sorted_positions()[s],
+                        moved.positions()[i as usize]
+                    );
+                }
+            }
+            let fewer = ParticleSet::new(positions[1..].to_vec()).unwrap();
+            assert!(matches!(
+                grid.move_particles(&fewer),
+                Err(CoreError::GridLengthMismatch {
+                    indexed: 300,
+                    given: 299
+                })
+            ));
+        }
+        check::<2>(7, 0.1, &[0.0, 0.05, 0.1, 0.23], 0.0);
+        check::<3>(8, 0.2, &[0.1, 0.2, 0.5], 0.0);
+        // Far from the origin with a fine cell: the hashed layout.
+        check::<3>(9, 1e-3, &[0.01, 0.1], 1e7);
     }
 
     #[test]

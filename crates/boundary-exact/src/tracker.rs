@@ -91,6 +91,14 @@
 //!
 //! Walls have no ids: they are matched by place, as in [`Tracker::move_walls`].
 //!
+//! # Reuse
+//! Besides the budgets, labels and each interior particle's certificate neighbours, an update
+//! keeps the neighbour grid of the last evaluation: the grid is not sorted again while no
+//! particle has drifted more than `0.1r` from where it was sorted, the Verlet-list rule with
+//! a skin of `0.2r` ([`NeighbourGrid::move_particles`]: its queries scan `drift` farther and
+//! test the current positions, so they find the same particles at the same distances as a
+//! new grid would). The labels and the proofs of the budgets do not depend on the reuse.
+//!
 //! # Fallbacks and scope
 //! - The first update, a change of the dimension or of the number of walls start over
 //!   (every particle evaluated); so does a change of the particle count without ids, and the
@@ -115,7 +123,8 @@ use crate::{cell_margin, classify, detect_with, Near, Neighbours, Scratch, NEAR_
 /// half of it, so it needs no other neighbour.
 const FIRST_REACH: f64 = 1.6;
 use boundary_core::{
-    domain, AnyParticleSet, DetectError, Domain, Labels, NeighbourGrid, ParticleSet, Point, Radius,
+    domain, AnyParticleSet, CoreError, DetectError, Domain, Labels, NeighbourGrid, ParticleSet,
+    Point, Radius,
 };
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
@@ -127,6 +136,11 @@ const ROUNDING: f64 = 1e-9;
 /// The witness looks for particles within `WITNESS_REACH·r` of its point: the boundary budget
 /// is at most `(WITNESS_REACH − 1)·r`.
 const WITNESS_REACH: f64 = 1.5;
+
+/// The neighbour grid is reused, its particles moved, while no particle (fluid or wall) has
+/// drifted more than `SKIN·r` from where the grid sorted it: queries then scan cells up to
+/// `SKIN·r` farther (module docs, "Reuse").
+const SKIN: f64 = 0.1;
 
 /// More than this fraction of particles to recompute: a full detection is cheaper (an
 /// evaluation costs about 1.5 times a particle of a full detection: the cell is clipped to
@@ -229,6 +243,9 @@ struct Track<const D: usize> {
     /// The number of full detections after the next fallback: doubled at each fallback (up
     /// to [`MAX_BACKOFF`]), back to 1 after a step that recomputes few particles.
     backoff: u32,
+    /// The neighbour grid of the last evaluation (fluid and walls), moved along with the
+    /// particles until their drift passes [`SKIN`] (module docs, "Reuse").
+    grid: Option<NeighbourGrid<D>>,
 }
 
 impl Tracker {
@@ -297,8 +314,9 @@ impl Tracker {
     /// particles within `2r` plus their budget of a new one (module docs, "Inflow and
     /// outflow"). The labels are those of a full detection of `set`, as always.
     ///
-    /// After an update without ids, the tracker starts over. Fails when `ids` has another
-    /// length than `set` or repeats an id (naming both particles).
+    /// After an update without ids, the tracker starts over. Fails with
+    /// [`CoreError::IdsLengthMismatch`] when `ids` has another length than `set`, and
+    /// [`CoreError::RepeatedId`] (naming both particles) when it repeats an id.
     ///
     /// ```
     /// use boundary_core::{Domain, ParticleSet, Radius};
@@ -322,14 +340,11 @@ impl Tracker {
         ids: &[u64],
     ) -> Result<&Labels, DetectError> {
         if ids.len() != set.len() {
-            return Err(DetectError::Method {
-                method: "exact",
-                message: format!(
-                    "tracker: {} ids for {} particles (one id per particle)",
-                    ids.len(),
-                    set.len()
-                ),
-            });
+            return Err(CoreError::IdsLengthMismatch {
+                particles: set.len(),
+                ids: ids.len(),
+            }
+            .into());
         }
         let previous = self.ids.take();
         if previous.as_ref().is_some_and(|p| p.list == ids) {
@@ -340,12 +355,12 @@ impl Tracker {
         let mut place = FxHashMap::with_capacity_and_hasher(ids.len(), Default::default());
         for (k, &id) in ids.iter().enumerate() {
             if let Some(first) = place.insert(id, k as u32) {
-                return Err(DetectError::Method {
-                    method: "exact",
-                    message: format!(
-                        "tracker: id {id} is given to particles {first} and {k} (ids must be unique)"
-                    ),
-                });
+                return Err(CoreError::RepeatedId {
+                    id,
+                    first: first as usize,
+                    second: k,
+                }
+                .into());
             }
         }
         let follow = match &previous {
@@ -366,13 +381,7 @@ impl Tracker {
     /// One update, the particles matched to the last update's by `follow`.
     fn follow(&mut self, set: &AnyParticleSet, follow: Follow) -> Result<&Labels, DetectError> {
         if u32::try_from(set.len()).is_err() {
-            return Err(DetectError::Method {
-                method: "exact",
-                message: format!(
-                    "tracker: {} particles, more than the tracker indexes (2^32 - 1)",
-                    set.len()
-                ),
-            });
+            return Err(CoreError::TooManyParticles(set.len()).into());
         }
         let incremental = self.domain.solids().is_empty()
             && self.domain.periodic().is_empty()
@@ -509,6 +518,7 @@ impl<const D: usize> Track<D> {
                 labels: vec![false; count],
                 stale: 0,
                 backoff: 1,
+                grid: None,
             };
             let all: Vec<usize> = (0..count).collect();
             track.evaluate::<C>(&set, &all, r.get())?;
@@ -592,6 +602,8 @@ impl<const D: usize> Track<D> {
         boundary_core::Dim<D>: boundary_core::SupportedDim,
     {
         let (old_count, count) = (self.count, map.len());
+        // The grid indexes the last update's order.
+        self.grid = None;
         let mut new_of_old = vec![ADDED; old_count];
         for (k, &o) in map.iter().enumerate() {
             if o != ADDED {
@@ -689,7 +701,17 @@ impl<const D: usize> Track<D> {
         if which.is_empty() {
             return Ok(());
         }
-        let grid = NeighbourGrid::new(set, r * crate::GRID_CELL)?;
+        // The last grid, its particles moved, while they have drifted less than the skin.
+        let grid = match self.grid.take() {
+            Some(mut grid) if grid.cell_order().len() == set.len() => {
+                if grid.move_particles(set)? <= SKIN * r {
+                    grid
+                } else {
+                    NeighbourGrid::new(set, r * crate::GRID_CELL)?
+                }
+            }
+            _ => NeighbourGrid::new(set, r * crate::GRID_CELL)?,
+        };
         let positions = set.positions();
         let sorted = grid.cell_sorted_positions();
         let results: Vec<(bool, f64, Box<[u32]>)> = which
@@ -706,6 +728,7 @@ impl<const D: usize> Track<D> {
             self.eval[i] = positions[i];
             self.sum_eval[i] = self.sum;
         }
+        self.grid = Some(grid);
         Ok(())
     }
 }

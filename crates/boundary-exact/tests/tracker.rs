@@ -423,11 +423,7 @@ fn check_with_ids(frames: &[(Vec<[f64; 2]>, Vec<u64>)], r: f64) -> Vec<usize> {
         let set = set2(rows);
         let full = ExactDetector::default().detect(&set, radius).unwrap();
         let labels = tracker.update_with_ids(&set, ids).unwrap();
-        assert_eq!(
-            first_difference(labels, &full.labels),
-            None,
-            "step {step}"
-        );
+        assert_eq!(first_difference(labels, &full.labels), None, "step {step}");
         recomputed.push(tracker.recomputed());
     }
     recomputed
@@ -448,7 +444,10 @@ fn inflow_and_outflow_with_ids_match_full_detection() {
             .map(|k| {
                 *next_id += 1;
                 (
-                    [x + 0.2 * (rng.next() - 0.5), k as f64 + 0.2 * (rng.next() - 0.5)],
+                    [
+                        x + 0.2 * (rng.next() - 0.5),
+                        k as f64 + 0.2 * (rng.next() - 0.5),
+                    ],
                     *next_id * 7 + 3,
                 )
             })
@@ -490,7 +489,11 @@ fn inflow_and_outflow_with_ids_match_full_detection() {
     // Counts changed at about every 20th step and the order at every 7th: without ids each
     // of those steps would start over.
     assert!(
-        frames.windows(2).filter(|w| w[0].0.len() != w[1].0.len()).count() >= 2,
+        frames
+            .windows(2)
+            .filter(|w| w[0].0.len() != w[1].0.len())
+            .count()
+            >= 2,
         "the scene has no inflow"
     );
     assert!(done * 4 < total, "recomputed {recomputed:?} of {total}");
@@ -544,17 +547,25 @@ fn ids_are_checked_and_follow_only_ids() {
     ids[17] = ids[4];
     let err = tracker.update_with_ids(&set, &ids).unwrap_err();
     assert!(
-        err.to_string().contains("id 104 is given to particles 4 and 17"),
+        err.to_string()
+            .contains("id 104 is given to particles 4 and 17"),
         "{err}"
     );
     ids[17] = 117;
     tracker.update(&set).unwrap();
     tracker.update_with_ids(&set, &ids).unwrap();
-    assert_eq!(tracker.recomputed(), 25, "ids after an update without: start over");
+    assert_eq!(
+        tracker.recomputed(),
+        25,
+        "ids after an update without: start over"
+    );
     // The same ids reversed: the same particles, nothing to recompute.
     let reversed: Vec<[f64; 2]> = rows.iter().rev().copied().collect();
     let back: Vec<u64> = ids.iter().rev().copied().collect();
-    let labels = tracker.update_with_ids(&set2(&reversed), &back).unwrap().clone();
+    let labels = tracker
+        .update_with_ids(&set2(&reversed), &back)
+        .unwrap()
+        .clone();
     assert_eq!(tracker.recomputed(), 0);
     let full = ExactDetector::default()
         .detect(&set2(&reversed), Radius::new(0.8).unwrap())

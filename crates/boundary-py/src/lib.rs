@@ -366,25 +366,33 @@ fn texts(value: &Bound<'_, PyAny>, what: &str, example: &str) -> PyResult<Vec<St
 /// The phase numbers of a `phases` argument: a one-dimensional array-like of integers in
 /// 0..=2^32-1, one per particle (the library checks the count).
 fn phase_numbers(phases: &Bound<'_, PyAny>) -> PyResult<Vec<u32>> {
-    let py = phases.py();
+    let values = whole_numbers(phases, "phases", "phase", u64::from(u32::MAX))?;
+    // In range: checked against u32::MAX.
+    Ok(values.into_iter().map(|v| v as u32).collect())
+}
+
+/// A one-dimensional array-like of integers in 0..=`max`, one per particle: the `name`
+/// argument, each value a `what` (named with its particle in the errors).
+fn whole_numbers(arg: &Bound<'_, PyAny>, name: &str, what: &str, max: u64) -> PyResult<Vec<u64>> {
+    let py = arg.py();
     let numpy = py.import("numpy")?;
-    let array = numpy.call_method1("asarray", (phases,)).map_err(|e| {
+    let array = numpy.call_method1("asarray", (arg,)).map_err(|e| {
         value_error(format!(
-            "phases must be an array of integers: {}",
+            "{name} must be an array of integers: {}",
             e.value(py)
         ))
     })?;
     let shape: Vec<usize> = array.getattr("shape")?.extract()?;
     if shape.len() != 1 {
         return Err(value_error(format!(
-            "phases must be a one-dimensional array (one phase number per particle), got shape {}",
+            "{name} must be a one-dimensional array (one {what} per particle), got shape {}",
             shape_text(&shape)
         )));
     }
     let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
     if shape[0] > 0 && !matches!(kind.as_str(), "i" | "u") {
         return Err(value_error(format!(
-            "phases must be integers, got an array of dtype {}",
+            "{name} must be integers, got an array of dtype {}",
             array.getattr("dtype")?.str()?
         )));
     }
@@ -393,28 +401,32 @@ fn phase_numbers(phases: &Bound<'_, PyAny>) -> PyResult<Vec<u32>> {
     }
     let out_of_range = |i: usize, v: &dyn std::fmt::Display| {
         value_error(format!(
-            "phases: particle {i}: phase {v} is outside 0..={}",
-            u32::MAX
+            "{name}: particle {i}: {what} {v} is outside 0..={max}"
         ))
     };
-    // Every integer dtype fits in uint64 or int64 without wrapping; the values are then checked.
+    // Every integer dtype fits in uint64 or int64 without wrapping; the values are then
+    // checked. `astype` gives a contiguous copy, read as one slice.
     if kind == "u" {
-        let values: Vec<u64> = array
-            .call_method1("astype", (numpy.getattr("uint64")?,))?
-            .extract()?;
-        values
-            .into_iter()
-            .enumerate()
-            .map(|(i, v)| u32::try_from(v).map_err(|_| out_of_range(i, &v)))
-            .collect()
+        let values = array.call_method1("astype", (numpy.getattr("uint64")?,))?;
+        let values: numpy::PyReadonlyArray1<'_, u64> = values.extract()?;
+        let values = values.as_slice()?;
+        if let Some((i, v)) = values.iter().enumerate().find(|(_, &v)| v > max) {
+            return Err(out_of_range(i, v));
+        }
+        Ok(values.to_vec())
     } else {
-        let values: Vec<i64> = array
-            .call_method1("astype", (numpy.getattr("int64")?,))?
-            .extract()?;
+        let values = array.call_method1("astype", (numpy.getattr("int64")?,))?;
+        let values: numpy::PyReadonlyArray1<'_, i64> = values.extract()?;
         values
-            .into_iter()
+            .as_slice()?
+            .iter()
             .enumerate()
-            .map(|(i, v)| u32::try_from(v).map_err(|_| out_of_range(i, &v)))
+            .map(|(i, &v)| {
+                u64::try_from(v)
+                    .ok()
+                    .filter(|&v| v <= max)
+                    .ok_or_else(|| out_of_range(i, &v))
+            })
             .collect()
     }
 }

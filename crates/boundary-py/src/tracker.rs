@@ -4,6 +4,7 @@
 
 use super::{
     bool_array, detector, param_pairs, radius, read_points, run_interruptible, value_error,
+    whole_numbers,
 };
 use boundary::{Domain, Radius, Tracker};
 use numpy::PyArray1;
@@ -17,8 +18,10 @@ use pyo3::types::PyDict;
 /// method: "exact" (the only method with a tracker); threads: worker threads (default: all
 /// cores); **params: the method's parameters (exact: tie must stay 0, the exact labels).
 ///
-/// update(points) -> bool array of length n (True = boundary): the labels of this step's
-/// positions, the same particles in the same order as before (another count starts over).
+/// update(points, ids=None) -> bool array of length n (True = boundary): the labels of this
+/// step's positions, the same particles in the same order as before (another count starts
+/// over), or, with ids (one whole number per particle, unique), matched to the last update's
+/// particles by id: particles may come, go and reorder.
 /// recomputed: how many particles the last update recomputed.
 #[derive(Debug)]
 #[pyclass(name = "Tracker", module = "boundary_particles._native")]
@@ -68,22 +71,30 @@ impl PyTracker {
         })
     }
 
-    /// The labels of this step's positions (an (n, 2) or (n, 3) array-like of reals).
+    /// The labels of this step's positions (an (n, 2) or (n, 3) array-like of reals), the
+    /// particles matched by `ids` when given.
+    #[pyo3(signature = (points, ids = None))]
     fn update<'py>(
         &mut self,
         py: Python<'py>,
         points: &Bound<'py, PyAny>,
+        ids: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
         let set = read_points(points, None)?;
+        let ids = ids
+            .map(|ids| whole_numbers(ids, "ids", "id", u64::MAX))
+            .transpose()?;
         let mut tracker = match self.tracker.take() {
             Some(t) => t,
             // The update runs on the interruptible pool of `threads` workers.
             None => Tracker::new(self.r, None, Domain::new()).map_err(value_error)?,
         };
         let (tracker, outcome) = run_interruptible(py, self.threads, move || {
-            let outcome = tracker
-                .update(&set)
-                .map(|labels| labels.as_slice().to_vec());
+            let outcome = match &ids {
+                Some(ids) => tracker.update_with_ids(&set, ids),
+                None => tracker.update(&set),
+            }
+            .map(|labels| labels.as_slice().to_vec());
             (tracker, outcome)
         })?;
         let labels = outcome.map_err(value_error)?;

@@ -532,14 +532,18 @@ class Tracker:
         detection)."""
         return self._native.recomputed
 
-    def update(self, points: ArrayLike) -> Labels:
+    def update(self, points: ArrayLike, ids: Optional[ArrayLike] = None) -> Labels:
         """The labels of this step's positions.
 
         Parameters
         ----------
         points : array_like, shape (n, 2) or (n, 3)
-            The same particles in the same order as at the previous step; another count
-            starts over with a full detection.
+            Without ``ids``: the same particles in the same order as at the previous step;
+            another count starts over with a full detection.
+        ids : array_like of int, shape (n,), optional
+            A stable id per particle (whole numbers >= 0, unique), e.g. the solver's particle
+            id: particles are matched to the previous step's by id, so they may come (inflow),
+            go (outflow) and change order without the tracker starting over.
 
         Returns
         -------
@@ -549,11 +553,28 @@ class Tracker:
         Raises
         ------
         ValueError
-            Positions that are not finite reals (naming the particle).
+            Positions that are not finite reals (naming the particle); ``ids`` of another
+            length than ``points``, negative, not integers or repeated (naming the particles).
         KeyboardInterrupt
             On Ctrl-C, after the workers have stopped; the next update starts over.
+
+        Examples
+        --------
+        Outflow: the particles past x = 0.9 leave, the others keep their ids.
+
+        >>> import numpy as np, boundary_particles as bp
+        >>> points = np.random.default_rng(3).random((3000, 3))
+        >>> ids = np.arange(3000)
+        >>> tracker = bp.Tracker(r=0.06)
+        >>> _ = tracker.update(points, ids=ids)
+        >>> stay = points[:, 0] < 0.9
+        >>> labels = tracker.update(points[stay], ids=ids[stay])
+        >>> bool((labels == bp.detect(points[stay], r=0.06)).all())
+        True
+        >>> tracker.recomputed < int(stay.sum())
+        True
         """
-        return self._native.update(points)
+        return self._native.update(points, ids)
 
 
 def auto_radius(points: ArrayLike, dim: Optional[int] = None) -> float:
