@@ -233,7 +233,8 @@
 //! every step the labels a full detection gives, bit for bit, recomputing only the particles
 //! whose label may have changed: a coverage depth that moves by at most twice the largest
 //! displacement, bounded below at each particle's last evaluation from its float cell (module
-//! [`tracker`], with the proof).
+//! [`tracker`], with the proof). With stable particle ids ([`Tracker::update_with_ids`]) it
+//! follows inflow, outflow and reordering.
 //!
 //! # Policy: ties, duplicates, degenerate input
 //! - **Ties.** A cell that reaches exactly to `r` touches `S_i` only at points equidistant from
