@@ -92,8 +92,12 @@
 //! Walls have no ids: they are matched by place, as in [`Tracker::move_walls`].
 //!
 //! # Reuse
-//! Besides the budgets, labels and each interior particle's certificate neighbours, an update
-//! keeps the neighbour grid of the last evaluation: the grid is not sorted again while no
+//! The tracker holds the particles in an order of its own, spatial (the grid's cell order)
+//! from the first update on; the caller may list them in any order from step to step when it
+//! passes ids (a solver that sorts its particles into cells every step loses nothing but a
+//! gather of the positions and a scatter of the labels). Besides the budgets, labels and each
+//! interior particle's certificate neighbours, an update keeps the neighbour grid of the last
+//! evaluation: the grid is not sorted again while no
 //! particle has drifted more than `0.1r` from where it was sorted, the Verlet-list rule with
 //! a skin of `0.2r` ([`NeighbourGrid::move_particles`]: its queries scan `drift` farther and
 //! test the current positions, so they find the same particles at the same distances as a
@@ -216,20 +220,27 @@ enum State {
     D3(Track<3>),
 }
 
-/// The state of the incremental path in `D` dimensions.
+/// The state of the incremental path in `D` dimensions. Fluid particles are held in an order
+/// of their own, the *slots*: spatial (the neighbour grid's cell order) when the tracker
+/// starts over, kept from step to step whatever order the caller lists them in, particles
+/// that leave taken out and arrivals appended. Neighbours then sit near each other in memory
+/// at every step, and the certificates' neighbour lists stay valid when the caller reorders.
 struct Track<const D: usize> {
-    /// Fluid then wall positions of the last update.
+    /// Fluid (in slot order) then wall positions of the last update.
     prev: Vec<Point<D>>,
     /// Number of fluid (classified) particles.
     count: usize,
+    /// Per slot: the particle's index in the caller's list at the last update.
+    input_of_slot: Vec<u32>,
     /// Per fluid particle: its position at its last evaluation.
     eval: Vec<Point<D>>,
     /// Per fluid particle: its budget (length units; 0 = recompute at the next step).
     budget: Vec<f64>,
     /// Per fluid particle: the running sum `sum` at its last evaluation.
     sum_eval: Vec<f64>,
-    /// Per interior particle: the neighbours whose cell proved it interior (input indices of
-    /// fluid and walls); empty for the others, which count the global movement.
+    /// Per interior particle: the neighbours whose cell proved it interior (slots of fluid
+    /// particles, `count + w` for wall `w`); empty for the others, which count the global
+    /// movement.
     cell_of: Vec<Box<[u32]>>,
     /// Per interior particle: the running sum of the steps' largest movement of a neighbour
     /// of `cell_of` relative to the particle, rounded up (reset at each evaluation).
@@ -460,8 +471,8 @@ impl Tracker {
             None => run(state)?,
         };
         self.labels = match &state {
-            State::D2(t) => Labels::new(t.labels.clone()),
-            State::D3(t) => Labels::new(t.labels.clone()),
+            State::D2(t) => Labels::new(t.input_labels()),
+            State::D3(t) => Labels::new(t.input_labels()),
             State::Empty => Labels::new(Vec::new()),
         };
         self.state = state;
@@ -490,8 +501,6 @@ impl<const D: usize> Track<D> {
         boundary_core::Dim<D>: boundary_core::SupportedDim,
     {
         let count = fluid.len();
-        let all: Vec<Point<D>> = fluid.iter().chain(walls).copied().collect();
-        let set = ParticleSet::new(all)?;
         let old = match (old, map) {
             (Some(mut t), Some(map)) => {
                 if t.prev.len() - t.count == walls.len() {
@@ -501,15 +510,34 @@ impl<const D: usize> Track<D> {
                     None
                 }
             }
-            (old, None) => old.filter(|t| t.count == count && t.prev.len() == set.len()),
+            (old, None) => old.filter(|t| t.count == count && t.prev.len() == count + walls.len()),
             (None, Some(_)) => None,
         };
+        // The caller's positions in slot order, then the walls.
+        let in_slots = |order: &[u32]| -> Result<ParticleSet<D>, DetectError> {
+            let all: Vec<Point<D>> = order
+                .par_iter()
+                .map(|&k| fluid[k as usize])
+                .chain(walls.par_iter().copied())
+                .collect();
+            Ok(ParticleSet::new(all)?)
+        };
         let Some(mut track) = old else {
-            // Start over: every particle evaluated.
+            // Start over: every particle evaluated, the slots in the grid's cell order.
+            let order: Vec<u32> = if count == 0 {
+                Vec::new()
+            } else {
+                let input = ParticleSet::new(fluid.to_vec())?;
+                NeighbourGrid::new(&input, r.get() * crate::GRID_CELL)?
+                    .cell_order()
+                    .to_vec()
+            };
+            let set = in_slots(&order)?;
             let mut track = Track {
                 prev: set.positions().to_vec(),
                 count,
-                eval: fluid.to_vec(),
+                input_of_slot: order,
+                eval: set.positions()[..count].to_vec(),
                 budget: vec![0.0; count],
                 sum_eval: vec![0.0; count],
                 cell_of: vec![Box::default(); count],
@@ -524,6 +552,8 @@ impl<const D: usize> Track<D> {
             track.evaluate::<C>(&set, &all, r.get())?;
             return Ok((track, count));
         };
+        let set = in_slots(&track.input_of_slot)?;
+        let now = &set.positions()[..count];
         // The step's movements, and the largest, rounded up (module docs, "Rounding").
         let moves: Vec<Point<D>> = set
             .positions()
@@ -563,7 +593,7 @@ impl<const D: usize> Track<D> {
                 .into_par_iter()
                 .filter(|&i| {
                     let moved = if track.cell_of[i].is_empty() {
-                        dist(&fluid[i], &track.eval[i]) + (sum - track.sum_eval[i])
+                        dist(&now[i], &track.eval[i]) + (sum - track.sum_eval[i])
                     } else {
                         track.relative[i]
                     };
@@ -592,82 +622,124 @@ impl<const D: usize> Track<D> {
         Ok((track, recompute.len()))
     }
 
-    /// Follows the particles to this update's order: `map[k]` is particle `k`'s index at the
-    /// last update, or [`ADDED`] (module docs, "Inflow and outflow"). Positions of the last
-    /// update carry over (an added particle is where it is now: it has not moved), budgets
-    /// are revoked where a particle that left was in the certificate or one that came may
-    /// cover the witness.
+    /// Follows the particles through an update with ids: `map[k]` is the caller's particle
+    /// `k`'s index in the caller's list at the last update, or [`ADDED`] (module docs, "Inflow
+    /// and outflow"). Slots of particles that left are taken out (the others keep their
+    /// order), arrivals get slots at the end, where they are now (they have not moved).
+    /// Budgets are revoked where a particle that left was in the certificate or one that came
+    /// may cover the witness.
     fn remap(&mut self, map: &[u32], fluid: &[Point<D>], r: f64) -> Result<(), DetectError>
     where
         boundary_core::Dim<D>: boundary_core::SupportedDim,
     {
         let (old_count, count) = (self.count, map.len());
-        // The grid indexes the last update's order.
-        self.grid = None;
-        let mut new_of_old = vec![ADDED; old_count];
+        let walls = self.prev.len() - old_count;
+        // The caller's particle at each old slot, now (ADDED: it left).
+        let mut old_input_slot = vec![ADDED; old_count];
+        for (s, &k) in self.input_of_slot.iter().enumerate() {
+            old_input_slot[k as usize] = s as u32;
+        }
+        let mut now_of_slot = vec![ADDED; old_count];
         for (k, &o) in map.iter().enumerate() {
             if o != ADDED {
-                new_of_old[o as usize] = k as u32;
+                now_of_slot[old_input_slot[o as usize] as usize] = k as u32;
             }
         }
-        // Input indices of the last update (fluid, then walls) to this update's; a particle
-        // that left maps to ADDED.
+        let arrivals: Vec<u32> = (0..count as u32)
+            .filter(|&k| map[k as usize] == ADDED)
+            .collect();
+        let kept = old_count - now_of_slot.iter().filter(|&&k| k == ADDED).count();
+        if kept == old_count && arrivals.is_empty() {
+            // The same particles in another order: the slots stay, the grid too.
+            self.input_of_slot = now_of_slot;
+            return Ok(());
+        }
+        // Old slot to new slot (ADDED: left), in order; walls move with the fluid count.
+        let mut new_slot = vec![ADDED; old_count];
+        let mut next = 0u32;
+        for (s, &k) in now_of_slot.iter().enumerate() {
+            if k != ADDED {
+                new_slot[s] = next;
+                next += 1;
+            }
+        }
         let index = |j: u32| -> u32 {
             let j = j as usize;
             if j < old_count {
-                new_of_old[j]
+                new_slot[j]
             } else {
                 (j - old_count + count) as u32
             }
         };
-        let pick = |k: usize| (map[k] != ADDED).then(|| map[k] as usize);
-        let mut prev: Vec<Point<D>> = (0..count)
-            .map(|k| pick(k).map_or(fluid[k], |o| self.prev[o]))
-            .collect();
+        let stay = |s: &usize| now_of_slot[*s] != ADDED;
+        let compact = |v: &[f64], fresh: f64| -> Vec<f64> {
+            (0..old_count)
+                .filter(stay)
+                .map(|s| v[s])
+                .chain(arrivals.iter().map(|_| fresh))
+                .collect()
+        };
+        let positions = |v: &[Point<D>]| -> Vec<Point<D>> {
+            (0..old_count)
+                .filter(stay)
+                .map(|s| v[s])
+                .chain(arrivals.iter().map(|&k| fluid[k as usize]))
+                .collect()
+        };
+        self.eval = positions(&self.eval);
+        let mut prev = positions(&self.prev);
         prev.extend_from_slice(&self.prev[old_count..]);
         self.prev = prev;
-        self.eval = (0..count)
-            .map(|k| pick(k).map_or(fluid[k], |o| self.eval[o]))
+        // Certificates renumbered in place; one that used a particle that left is revoked
+        // (evaluated again). Nothing to renumber when no particle left and there are no walls.
+        if kept < old_count || walls > 0 {
+            self.cell_of
+                .par_iter_mut()
+                .zip(&mut self.budget)
+                .zip(&now_of_slot)
+                .filter(|((cell, _), &k)| k != ADDED && !cell.is_empty())
+                .for_each(|((cell, budget), _)| {
+                    let mut lost = false;
+                    for j in cell.iter_mut() {
+                        *j = index(*j);
+                        lost |= *j == ADDED;
+                    }
+                    if lost {
+                        *cell = Box::default();
+                        *budget = 0.0;
+                    }
+                });
+        }
+        let mut kept_cells = 0;
+        for (s, &k) in now_of_slot.iter().enumerate() {
+            if k != ADDED {
+                self.cell_of.swap(kept_cells, s);
+                kept_cells += 1;
+            }
+        }
+        self.cell_of.truncate(kept_cells);
+        self.cell_of
+            .extend(arrivals.iter().map(|_| Box::<[u32]>::default()));
+        self.budget = compact(&self.budget, 0.0);
+        self.sum_eval = compact(&self.sum_eval, self.sum);
+        self.relative = compact(&self.relative, 0.0);
+        self.labels = (0..old_count)
+            .filter(stay)
+            .map(|s| self.labels[s])
+            .chain(arrivals.iter().map(|_| false))
             .collect();
-        self.budget = (0..count)
-            .map(|k| pick(k).map_or(0.0, |o| self.budget[o]))
-            .collect();
-        self.sum_eval = (0..count)
-            .map(|k| pick(k).map_or(self.sum, |o| self.sum_eval[o]))
-            .collect();
-        self.relative = (0..count)
-            .map(|k| pick(k).map_or(0.0, |o| self.relative[o]))
-            .collect();
-        self.labels = (0..count)
-            .map(|k| pick(k).is_some_and(|o| self.labels[o]))
-            .collect();
-        let mut cells = std::mem::take(&mut self.cell_of);
-        self.cell_of = (0..count)
-            .map(|k| match pick(k) {
-                None => Box::default(),
-                Some(o) => {
-                    let cell = std::mem::take(&mut cells[o]);
-                    let moved: Option<Box<[u32]>> = cell
-                        .iter()
-                        .map(|&j| Some(index(j)).filter(|&j| j != ADDED))
-                        .collect();
-                    moved.unwrap_or_else(|| {
-                        // A particle of the certificate left: evaluate again.
-                        self.budget[k] = 0.0;
-                        Box::default()
-                    })
-                }
-            })
+        self.input_of_slot = now_of_slot
+            .into_iter()
+            .filter(|&k| k != ADDED)
+            .chain(arrivals.iter().copied())
             .collect();
         self.count = count;
+        // The grid indexes the old slots.
+        self.grid = None;
         // Boundary particles: a new particle within 2r + b of the evaluation position may
         // cover the witness (interior certificates are untouched by more particles).
-        let added: Vec<Point<D>> = (0..count)
-            .filter(|&k| map[k] == ADDED)
-            .map(|k| fluid[k])
-            .collect();
-        if !added.is_empty() {
-            let added = ParticleSet::new(added)?;
+        if !arrivals.is_empty() {
+            let added = ParticleSet::new(arrivals.iter().map(|&k| fluid[k as usize]).collect())?;
             let grid = NeighbourGrid::new(&added, 2.0 * r)?;
             let (budget, cells, eval) = (&mut self.budget, &self.cell_of, &self.eval);
             budget
@@ -686,6 +758,15 @@ impl<const D: usize> Track<D> {
                 });
         }
         Ok(())
+    }
+
+    /// The labels in the caller's order of the last update.
+    fn input_labels(&self) -> Vec<bool> {
+        let mut out = vec![false; self.count];
+        for (&k, &label) in self.input_of_slot.iter().zip(&self.labels) {
+            out[k as usize] = label;
+        }
+        out
     }
 
     /// Evaluates the fluid particles `which` (ascending) of `set`: their labels and budgets.

@@ -620,3 +620,68 @@ proptest! {
         }
     }
 }
+
+/// Ids beside walls: particles flow over a wall floor that slides the other way (every other
+/// wall particle bobbing), leave at
+/// the outlet, enter at the inlet (a few every step) and are listed in a new order every step;
+/// the labels of a full detection in the domain of the step.
+#[test]
+fn ids_beside_walls_match_full_detection() {
+    let mut rng = Rng(33);
+    // Every other wall particle bobs up and down: neighbouring walls move differently.
+    let wall = |step: usize| -> AnyParticleSet {
+        let rows: Vec<[f64; 2]> = (0..60)
+            .map(|k| {
+                let bob = if k % 2 == 1 {
+                    0.25 * (0.9 * step as f64).sin()
+                } else {
+                    0.0
+                };
+                [k as f64 - 20.0 - 0.03 * step as f64, -1.0 + bob]
+            })
+            .collect();
+        set2(&rows)
+    };
+    let radius = Radius::new(0.8).unwrap();
+    let mut tracker = Tracker::new(radius, Some(1), Domain::new().with_walls(wall(0))).unwrap();
+    let mut particles: Vec<([f64; 2], u64)> = jittered_square(12, 0.2, &mut rng)
+        .into_iter()
+        .zip(0u64..)
+        .collect();
+    let mut next_id = 1000u64;
+    let mut saved = 0;
+    for step in 0..40 {
+        for (p, _) in particles.iter_mut() {
+            p[0] += 0.05 + 0.01 * p[1] / 12.0;
+        }
+        // A large outflow at step 20: a third of the particles leave at once.
+        let outlet = if step == 20 { 8.0 } else { 12.0 };
+        particles.retain(|(p, _)| p[0] < outlet);
+        for _ in 0..if step % 2 == 0 { 1 } else { 0 } {
+            let y = (rng.next() * 12.0).floor();
+            particles.push(([-0.5 + 0.1 * rng.next(), y], next_id));
+            next_id += 1;
+        }
+        for k in (1..particles.len()).rev() {
+            let j = (rng.next() * (k + 1) as f64) as usize;
+            particles.swap(k, j.min(k));
+        }
+        let walls = wall(step);
+        tracker.move_walls(walls.clone()).unwrap();
+        let domain = Domain::new().with_walls(walls);
+        let rows: Vec<[f64; 2]> = particles.iter().map(|(p, _)| *p).collect();
+        let ids: Vec<u64> = particles.iter().map(|(_, id)| *id).collect();
+        let set = set2(&rows);
+        let full = domain::detect_in(&ExactDetector::default(), &set, &domain, radius).unwrap();
+        let labels = tracker.update_with_ids(&set, &ids).unwrap();
+        assert_eq!(
+            first_difference(labels, &full.detection.labels),
+            None,
+            "step {step}"
+        );
+        if step > 0 {
+            saved += set.len() - tracker.recomputed();
+        }
+    }
+    assert!(saved > 0, "nothing saved");
+}
