@@ -21,7 +21,8 @@
 //! *Coincidence.* At the evaluation, a particle with an exact duplicate gets budget 0 (it is
 //! recomputed at every step). Otherwise its nearest neighbour lies at `m_i > 0` (or beyond
 //! `2r`), and no particle can coincide with it while the movement stays below `m_i`: the
-//! budget is capped at `min(m_i, 2r)`.
+//! interior budget is capped at `min(m_i, 2r)`. The boundary budget needs no cap: a particle
+//! that comes to coincide with `p_i` leaves the cover, which only widens the gap it bounds.
 //!
 //! *Interior budget* (the float cell proves `G_i <= r`). Let `g(x) = min_j (|x − p_j|² −
 //! |x − p_i|²)` over the neighbours within `2r` (a subset of all particles, so on `S_i`
@@ -36,9 +37,16 @@
 //! cell clipped to the end (not stopped at `1 − 1e-6`, as a single detection does).
 //!
 //! *Boundary budget* (the float cell proves `G_i > r`): a witness. `x` is the point of `S_i`
-//! in the direction of the float cell's farthest vertex, and `G_i >= d(x)`, where `d(x)` is
-//! computed from the particles within `1.5r` of `x` (every other particle is farther):
-//! **`b_i = min(d(x), 1.5r) − r`**, positive when `x` is uncovered (it usually is, being near
+//! in the direction of the float cell's farthest vertex, and `G_i >= d(x)` (with the
+//! particles that coincide with `p_i` left out of `d`, as the definition has it, `d` is only
+//! larger). Split the others at the evaluation into `W`, those within `1.5r` of `x`, and the
+//! rest, farther than `1.5r`. The witness moves with `i` (`x − p_i` fixed), so each distance
+//! `|x − p_j| = |(x − p_i) − q_j|` moves by at most `|Δq_j|`, the movement of `j` relative to
+//! `i`. The label stays boundary while every particle stays farther than `r` from the witness,
+//! which two budgets guarantee: the **near budget `b_i = d_W(x) − r`** (`d_W` the distance to
+//! the nearest member of `W`; `1.5r` if none) against the movement of the members of `W`
+//! relative to `i`, and the **far budget `0.5r`** against `|Δp_i| + sup_j |Δp_j|`, which bounds
+//! every other `|Δq_j|`. `b_i` is positive when `x` is uncovered (it usually is, being near
 //! the cell's farthest point; otherwise `b_i = 0`). No cell topology is trusted here: only
 //! the distances from one point.
 //!
@@ -53,11 +61,11 @@
 //! flow that is the velocity gradient times the distance, far below the displacement itself.
 //! (The cap `m_i` keeps the members of `J` off `p_i`.)
 //!
-//! *Bookkeeping.* Per interior particle, the sum over the steps since its evaluation of
-//! `max_{j ∈ J} |Δq_j|` for the step (triangle inequality); per boundary particle, its own
-//! displacement since the evaluation plus the sum of each step's largest displacement
-//! (fluid and walls), which bounds `sup_j |Δp_j|`. A particle is recomputed when that
-//! reaches its budget.
+//! *Bookkeeping.* Per particle, the sum over the steps since its evaluation of the step's
+//! `max |Δq_j|` over the neighbours it watches (`J`, or `W`; triangle inequality), against its
+//! budget; per boundary particle also its own displacement since the evaluation plus the sum
+//! of each step's largest displacement (fluid and walls), which bounds `sup_j |Δp_j|`,
+//! against the far budget. A particle is recomputed when either reaches its budget.
 //!
 //! *Rounding.* Every quantity compared above carries a relative rounding error of a few `u`
 //! (`u = 2^-53`): distances, the running sum (rounded up at each step), the budgets' formula.
@@ -77,17 +85,17 @@
 //!   seen. Its movement is 0, so every recorded movement still bounds the fictitious one. An
 //!   interior certificate over `J` holds as long as every member of `J` is a real particle:
 //!   the interior particles with `j ∈ J` are evaluated again, the others keep their budget
-//!   (`G_i <= G_J` needs `J`, not the rest). A boundary particle keeps its budget: the real
-//!   configuration has fewer balls than the fictitious one, so its `G_i` is at least the
-//!   fictitious one (and no particle comes to coincide with `p_i` by leaving).
+//!   (`G_i <= G_J` needs `J`, not the rest). A boundary particle keeps its budgets, `j` leaving
+//!   its list `W`: the real configuration has fewer balls than the fictitious one, so every
+//!   distance from the witness is at least the fictitious one.
 //! - *A particle `k` arrives at `a_k`:* in the fictitious history `k` was at `a_k` all along,
 //!   frozen until now. Interior certificates are unaffected (`k ∉ J`). For a boundary particle
-//!   evaluated at `e_i` with budget `b_i`, let `x*` be the farthest point of `S_i` from the
-//!   others at the evaluation: `d(x*) = G_i >= r + b_i`. If `|e_i − a_k| >= 2r + b_i`, then
-//!   `|x* − a_k| >= r + b_i`, so with `k` present `G_i` was still at least `r + b_i`, and the
-//!   nearest neighbour still at `min(m_i, 2r) = m_i`: the budget held in the fictitious history
-//!   from the evaluation on. Boundary particles with a new particle closer than `2r + b_i` to
-//!   `e_i` (rounded up by `1e-9` relative) are evaluated again, as are the new particles.
+//!   evaluated at `e_i`, the witness lay within `r` (plus its rounding) of `e_i`; if
+//!   `|e_i − a_k| > 2.5r`, then `k` was farther than `1.5r` from the witness, one of the far
+//!   particles, whose movement since (none until now, then counted in each step's largest)
+//!   the far budget already bounds. Boundary particles with a new particle within `2.5r` of
+//!   `e_i` (grown by `1e-9` relative and the witness's rounding) are evaluated again, as are
+//!   the new particles.
 //!
 //! Walls have no ids: they are matched by place, as in [`Tracker::move_walls`].
 //!
@@ -238,9 +246,9 @@ struct Track<const D: usize> {
     budget: Vec<f64>,
     /// Per fluid particle: the running sum `sum` at its last evaluation.
     sum_eval: Vec<f64>,
-    /// Per interior particle: the neighbours whose cell proved it interior (slots of fluid
-    /// particles, `count + w` for wall `w`); empty for the others, which count the global
-    /// movement.
+    /// Per particle, the neighbours its budget watches (slots of fluid particles, `count + w`
+    /// for wall `w`): for an interior particle those whose cell proved it interior, for a
+    /// boundary particle those near its witness point; empty when the budget is 0.
     cell_of: Vec<Box<[u32]>>,
     /// Per interior particle: the running sum of the steps' largest movement of a neighbour
     /// of `cell_of` relative to the particle, rounded up (reset at each evaluation).
@@ -592,12 +600,16 @@ impl<const D: usize> Track<D> {
             let list: Vec<usize> = (0..count)
                 .into_par_iter()
                 .filter(|&i| {
-                    let moved = if track.cell_of[i].is_empty() {
-                        dist(&now[i], &track.eval[i]) + (sum - track.sum_eval[i])
-                    } else {
-                        track.relative[i]
-                    };
-                    moved * (1.0 + ROUNDING) >= track.budget[i]
+                    // The watched neighbours' movement relative to the particle.
+                    if track.relative[i] * (1.0 + ROUNDING) >= track.budget[i] {
+                        return true;
+                    }
+                    // Boundary: the particles away from the witness, by the movement of
+                    // everything (module docs, "Boundary budget").
+                    track.labels[i] && {
+                        let far = dist(&now[i], &track.eval[i]) + (sum - track.sum_eval[i]);
+                        far * (1.0 + ROUNDING) >= far_budget(&track.eval[i], r.get())
+                    }
                 })
                 .collect();
             if list.len() as f64 > FULL_FRACTION * count as f64 {
@@ -690,21 +702,26 @@ impl<const D: usize> Track<D> {
         let mut prev = positions(&self.prev);
         prev.extend_from_slice(&self.prev[old_count..]);
         self.prev = prev;
-        // Certificates renumbered in place; one that used a particle that left is revoked
-        // (evaluated again). Nothing to renumber when no particle left and there are no walls.
+        // Watched neighbours renumbered in place. An interior certificate that used a particle
+        // that left is revoked (evaluated again); a boundary particle's witness only loses a
+        // particle that could have covered it, which is dropped from the list. Nothing to
+        // renumber when no particle left and there are no walls.
         if kept < old_count || walls > 0 {
             self.cell_of
                 .par_iter_mut()
                 .zip(&mut self.budget)
                 .zip(&now_of_slot)
-                .filter(|((cell, _), &k)| k != ADDED && !cell.is_empty())
-                .for_each(|((cell, budget), _)| {
+                .zip(&self.labels)
+                .filter(|(((cell, _), &k), _)| k != ADDED && !cell.is_empty())
+                .for_each(|(((cell, budget), _), &boundary)| {
                     let mut lost = false;
                     for j in cell.iter_mut() {
                         *j = index(*j);
                         lost |= *j == ADDED;
                     }
-                    if lost {
+                    if lost && boundary {
+                        *cell = cell.iter().copied().filter(|&j| j != ADDED).collect();
+                    } else if lost {
                         *cell = Box::default();
                         *budget = 0.0;
                     }
@@ -736,20 +753,23 @@ impl<const D: usize> Track<D> {
         self.count = count;
         // The grid indexes the old slots.
         self.grid = None;
-        // Boundary particles: a new particle within 2r + b of the evaluation position may
-        // cover the witness (interior certificates are untouched by more particles).
+        // Boundary particles: a new particle within `(1 + WITNESS_REACH)·r` of the evaluation
+        // position may be near the witness (interior certificates are untouched by more
+        // particles).
         if !arrivals.is_empty() {
             let added = ParticleSet::new(arrivals.iter().map(|&k| fluid[k as usize]).collect())?;
-            let grid = NeighbourGrid::new(&added, 2.0 * r)?;
-            let (budget, cells, eval) = (&mut self.budget, &self.cell_of, &self.eval);
+            let reach = ((1.0 + WITNESS_REACH) * r) * (1.0 + ROUNDING);
+            let grid = NeighbourGrid::new(&added, reach)?;
+            let (budget, labels, eval) = (&mut self.budget, &self.labels, &self.eval);
             budget
                 .par_iter_mut()
-                .zip(cells)
+                .zip(labels)
                 .zip(eval)
-                .filter(|((b, cell), _)| **b > 0.0 && cell.is_empty())
+                .filter(|((b, &boundary), _)| **b > 0.0 && boundary)
                 .for_each(|((b, _), e)| {
-                    // Grown by ROUNDING for the rounding of the distances.
-                    let reach = (2.0 * r + *b) * (1.0 + ROUNDING);
+                    // Grown by ROUNDING for the rounding of the distances and of `e`'s
+                    // witness point.
+                    let reach = reach + witness_rounding(e, r);
                     let mut near = false;
                     grid.for_each_within(e, reach, |_, _| near = true);
                     if near {
@@ -874,7 +894,7 @@ fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
         return (boundary, 0.0, Box::default());
     }
     // The nearest neighbour, first of the sorted list (or `2r`, if none is within it), caps
-    // every budget.
+    // the interior budget.
     let m = match scratch.near.first() {
         Some(x) if cell.used > 0 => f64::from_bits(x.0).sqrt().min(2.0 * r),
         _ => 2.0 * r,
@@ -891,20 +911,35 @@ fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
         let neighbours: Box<[u32]> = scratch.near[..cell.used].iter().map(|x| x.1).collect();
         return (false, budget.min(m) * (1.0 - ROUNDING), neighbours);
     }
-    // Boundary: the witness x on S_i toward the farthest vertex.
+    // Boundary: the witness x on S_i toward the farthest vertex, and the particles within
+    // WITNESS_REACH·r of it, which its budget watches (the others count as far).
     let norm = far.iter().map(|a| a * a).sum::<f64>().sqrt();
     let x = Point::<D>::from_fn(|k, _| p[k] + r * (far[k] / norm));
     let mut d2min = (WITNESS_REACH * r).powi(2);
+    let mut watched = Vec::new();
     grid.for_each_within(&x, WITNESS_REACH * r, |j, d2| {
         if j != i {
             d2min = d2min.min(d2);
+            watched.push(j as u32);
         }
     });
+    let budget = d2min.sqrt() - r - witness_rounding(&p, r);
+    if budget <= 0.0 {
+        return (true, 0.0, Box::default());
+    }
+    (true, budget * (1.0 - ROUNDING), watched.into_boxed_slice())
+}
+
+/// What the witness point loses to its own rounding: its distance from `S_i` is below
+/// `4u·(r + √D·|p_i|_∞)` (module docs, "Rounding").
+fn witness_rounding<const D: usize>(p: &Point<D>, r: f64) -> f64 {
     let pmax = p.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-    let budget = d2min.sqrt() - r - (1e-12 * r + 1e-14 * pmax);
-    (
-        true,
-        budget.min(m).max(0.0) * (1.0 - ROUNDING),
-        Box::default(),
-    )
+    1e-12 * r + 1e-14 * pmax
+}
+
+/// A boundary particle's far budget: every particle farther than `WITNESS_REACH·r` from its
+/// witness point must close the gap to `r` (module docs, "Boundary budget"); `eval` is the
+/// particle's position at its evaluation.
+fn far_budget<const D: usize>(eval: &Point<D>, r: f64) -> f64 {
+    ((WITNESS_REACH - 1.0) * r - witness_rounding(eval, r)) * (1.0 - ROUNDING)
 }
