@@ -278,7 +278,10 @@ fn real_main() -> Result<(), String> {
     plots::register_font()?;
     written.extend(plots::write_all(&outcome, &args.out)?);
     if let (Some(path), Some(provenance)) = (&args.benchmarks, &provenance) {
-        let text = benchmarks::benchmarks_md(&outcome, provenance);
+        let mut text = benchmarks::benchmarks_md(&outcome, provenance);
+        if !sequence_points.is_empty() {
+            text += &sequence::sequence_md(&sequence_points);
+        }
         boundary_io::write_atomic(path, |out| out.write_all(text.as_bytes()))
             .map_err(|e| e.to_string())?;
         written.push(path.clone());
