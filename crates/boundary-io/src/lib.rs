@@ -106,7 +106,11 @@
 //! them, so writing one there is an error naming the column and the particle. VTK XML is
 //! binary and writes every value exactly (NaN included); integer columns are `Int32` when every
 //! value fits, `Int64` otherwise, and consecutive columns `name:0`, `name:1`, … of one kind are
-//! written as one array `name` with that many components.
+//! written as one array `name` with that many components. PLY property names are identifiers
+//! (letters, digits, `_`, `-`): other characters of a column name become `_` there (a
+//! vector's `name:0` is the property `name_0`, read back as a scalar attribute of that name),
+//! and a name starting with a digit or `-` gets a `_` before it; two columns that would get the
+//! same property name are an error naming both.
 //!
 //! # Meshes
 //!
@@ -796,6 +800,24 @@ fn check_columns(
             .any(|(other, _)| other.eq_ignore_ascii_case(column))
         {
             return Err(column_error(column, "duplicate column name".into()));
+        }
+        if format == Format::Ply {
+            let property = ply::property_name(column);
+            if text::position_axis(&property).is_some() {
+                return Err(column_error(
+                    column,
+                    format!("its PLY property name {property} would be read back as a position"),
+                ));
+            }
+            if let Some((other, _)) = columns[..k]
+                .iter()
+                .find(|(other, _)| ply::property_name(other).eq_ignore_ascii_case(&property))
+            {
+                return Err(column_error(
+                    column,
+                    format!("it and column {other} would both be the PLY property {property}"),
+                ));
+            }
         }
         if format == Format::Bgeo {
             if let Err((column, message)) = bgeo::check(&columns[k..=k]) {

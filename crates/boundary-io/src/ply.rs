@@ -256,6 +256,27 @@ pub(crate) fn read<R: BufRead>(
     })
 }
 
+/// `name` as a PLY property name, which the PLY grammar of readers (ours included) takes as
+/// an identifier: letters, digits, `_` and `-`, not starting with a digit or `-`. Any other
+/// character becomes `_` (a vector's `v:0` is written `v_0`), and a name that would start
+/// with a digit or `-` gets a `_` before it.
+pub(crate) fn property_name(name: &str) -> String {
+    let mut out: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if out.starts_with(|c: char| c.is_ascii_digit() || c == '-') {
+        out.insert(0, '_');
+    }
+    out
+}
+
 pub(crate) fn write(
     out: &mut dyn Write,
     set: &AnyParticleSet,
@@ -268,7 +289,7 @@ pub(crate) fn write(
     }
     let types: Vec<&str> = columns.iter().map(|(_, c)| out::binary_type(c)).collect();
     for ((name, _), ty) in columns.iter().zip(&types) {
-        writeln!(out, "property {ty} {name}")?;
+        writeln!(out, "property {ty} {}", property_name(name))?;
     }
     writeln!(out, "end_header")?;
     for i in 0..set.len() {

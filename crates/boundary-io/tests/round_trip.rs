@@ -380,3 +380,50 @@ fn binary_ply_properties_are_kept_and_lists_skipped() {
     );
     assert!(file.skipped[0].contains("\"idx\""), "{:?}", file.skipped);
 }
+
+/// PLY property names are identifiers: a vector's `name:k` columns and other characters are
+/// written with `_`, so the file reads back (here and in any PLY reader); names that would
+/// collide there are refused, naming both columns.
+#[test]
+fn ply_property_names_read_back() {
+    use boundary_io::{read_particle_file, AttributeValues};
+    let dir = tempfile::tempdir().unwrap();
+    let (_, set) = sets()[1].clone();
+    let n = set.len();
+    let v0: Vec<f64> = (0..n).map(|i| i as f64 + 0.5).collect();
+    let v1: Vec<f64> = (0..n).map(|i| -(i as f64)).collect();
+    let ids: Vec<i64> = (0..n as i64).collect();
+    let columns = [
+        ("velocity:0", Column::Float(&v0)),
+        ("velocity:1", Column::Float(&v1)),
+        ("Pressure[Pa]", Column::Float(&v0)),
+        ("2nd", Column::Int(&ids)),
+    ];
+    let path = dir.path().join("v.ply");
+    write_particles(&path, None, &set, &columns).unwrap();
+    let file = read_particle_file(&path, &ReadOptions::default()).unwrap();
+    assert!(same_bits(&file.set, &set));
+    let got: Vec<(&str, &AttributeValues)> = file
+        .attributes
+        .iter()
+        .map(|a| (a.name.as_str(), &a.values))
+        .collect();
+    assert_eq!(
+        got,
+        [
+            ("velocity_0", &AttributeValues::Float(v0.clone())),
+            ("velocity_1", &AttributeValues::Float(v1.clone())),
+            ("Pressure_Pa_", &AttributeValues::Float(v0.clone())),
+            ("_2nd", &AttributeValues::Int(ids.clone())),
+        ]
+    );
+    let clash = [("a:0", Column::Float(&v0)), ("a_0", Column::Float(&v0))];
+    let e = write_particles(&dir.path().join("c.ply"), None, &set, &clash).unwrap_err();
+    let text = e.to_string();
+    assert!(text.contains("a:0") && text.contains("a_0"), "{text}");
+    // Other formats keep the names as they are.
+    let path = dir.path().join("v.csv");
+    write_particles(&path, None, &set, &columns[..1]).unwrap();
+    let file = read_particle_file(&path, &ReadOptions::default()).unwrap();
+    assert_eq!(file.attributes[0].name, "velocity:0");
+}

@@ -351,16 +351,20 @@ def test_write_then_read_keeps_points_labels_and_point_data(suffix, tmp_path):
     velocity = np.column_stack([pressure, -pressure, 2 * pressure])
     path = tmp_path / f"frame{suffix}"
     # Names that are keywords of `write` are attributes like any other.
-    point_data = {"pressure": pressure, "ids": ids, "format": ids * 2}
-    # PLY property names cannot hold the `name:k` of a vector's columns (boundary-io's PLY
-    # reader refuses them), so vectors are checked in the other formats.
-    if suffix != ".ply":
-        point_data["velocity"] = velocity
+    point_data = {"pressure": pressure, "ids": ids, "format": ids * 2, "velocity": velocity}
     bp.write(path, points, boundary=labels, point_data=point_data)
     back, data = bp.read(path)
     assert back.shape == points.shape
     assert np.allclose(back, points, rtol=0, atol=1e-6 * np.abs(points).max())
-    assert set(data) == {"boundary"} | set(point_data)
+    if suffix == ".ply":
+        # PLY property names are identifiers: a vector's components are written (and read
+        # back) as the scalar properties velocity_0, velocity_1, velocity_2.
+        components = {f"velocity_{k}" for k in range(3)}
+        assert set(data) == {"boundary", "pressure", "ids", "format"} | components
+        for k in range(3):
+            assert np.allclose(data[f"velocity_{k}"], velocity[:, k], rtol=1e-6, atol=1e-12)
+    else:
+        assert set(data) == {"boundary"} | set(point_data)
     assert np.array_equal(data["boundary"] == 1, labels)
     assert np.allclose(data["pressure"], pressure, rtol=1e-6, atol=1e-12)
     assert np.array_equal(data["ids"], ids) and data["ids"].dtype == np.int64
