@@ -87,13 +87,21 @@ pub use boundary_ia::{IaDetector, IaParams};
 #[cfg(feature = "lnm")]
 pub use boundary_lnm::{LnmDetector, LnmParams};
 #[cfg(feature = "marrone")]
-pub use boundary_marrone::{Kernel, MarroneDetector, MarroneParams};
-#[cfg(all(feature = "muller", not(feature = "marrone")))]
-pub use boundary_muller::Kernel;
+pub use boundary_marrone::{MarroneDetector, MarroneParams};
 #[cfg(feature = "muller")]
 pub use boundary_muller::{MullerDetector, MullerParams};
 #[cfg(feature = "randles")]
 pub use boundary_randles::{RandlesDetector, RandlesParams};
+/// The SPH kernel of the methods built on SPH sums (`marrone`, `muller`, `divr`,
+/// `asymmetry`, `randles`).
+#[cfg(any(
+    feature = "marrone",
+    feature = "muller",
+    feature = "divr",
+    feature = "asymmetry",
+    feature = "randles"
+))]
+pub use boundary_sph::Kernel;
 #[cfg(feature = "svm")]
 pub use boundary_svm::{ModelChoice, Refine, SvmDetector, SvmModel, SvmParams};
 
