@@ -72,12 +72,18 @@ impl StopToken {
 
     /// Runs `f` on the current thread with this token as its own (work that `f` sends to a
     /// rayon pool checks that pool's token instead). The previous token of the thread is back
-    /// when `f` returns.
+    /// when `f` returns, and when it panics.
     pub fn scope<R>(&self, f: impl FnOnce() -> R) -> R {
-        let previous = CURRENT.with(|current| current.replace(Some(self.flag.clone())));
-        let out = f();
-        CURRENT.with(|current| *current.borrow_mut() = previous);
-        out
+        /// Puts the thread's previous token back when dropped, on return or unwinding.
+        struct Restore(Option<Arc<AtomicBool>>);
+        impl Drop for Restore {
+            fn drop(&mut self) {
+                let previous = self.0.take();
+                CURRENT.with(|current| *current.borrow_mut() = previous);
+            }
+        }
+        let _restore = Restore(CURRENT.with(|current| current.replace(Some(self.flag.clone()))));
+        f()
     }
 }
 
@@ -168,6 +174,27 @@ mod tests {
         let token = StopToken::new();
         token.stop();
         assert_eq!(token.scope(check), Err(DetectError::Interrupted));
+        assert_eq!(check(), Ok(()));
+        // Nested scopes restore the outer token; a panic in a scope restores it too.
+        let outer = StopToken::new();
+        outer.scope(|| {
+            assert_eq!(token.scope(check), Err(DetectError::Interrupted));
+            assert_eq!(check(), Ok(()));
+            let panicked =
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| token.scope(|| panic!())));
+            assert!(panicked.is_err());
+            assert_eq!(
+                check(),
+                Ok(()),
+                "the stopped inner token is gone after the panic"
+            );
+            outer.stop();
+            assert_eq!(
+                check(),
+                Err(DetectError::Interrupted),
+                "the outer token is back"
+            );
+        });
         assert_eq!(check(), Ok(()));
     }
 }
