@@ -250,8 +250,8 @@ struct Track<const D: usize> {
     /// for wall `w`): for an interior particle those whose cell proved it interior, for a
     /// boundary particle those near its witness point; empty when the budget is 0.
     cell_of: Vec<Box<[u32]>>,
-    /// Per interior particle: the running sum of the steps' largest movement of a neighbour
-    /// of `cell_of` relative to the particle, rounded up (reset at each evaluation).
+    /// Per particle: the running sum of the steps' largest movement of a neighbour of
+    /// `cell_of` relative to the particle, rounded up (reset at each evaluation).
     relative: Vec<f64>,
     /// Running sum of the steps' largest displacements, rounded up.
     sum: f64,
@@ -573,8 +573,8 @@ impl<const D: usize> Track<D> {
         track.sum = (track.sum + step * (1.0 + ROUNDING)) * (1.0 + 4.0 * U);
         track.prev.clear();
         track.prev.extend_from_slice(set.positions());
-        // Interior particles: the largest movement of a neighbour of their cell relative to
-        // them; `16u·step` covers the rounding of the differences.
+        // Every particle that watches neighbours (its cell's, or its witness's): the largest
+        // movement of one relative to it; `16u·step` covers the rounding of the differences.
         let slack = 16.0 * U * step;
         track
             .relative
@@ -591,7 +591,6 @@ impl<const D: usize> Track<D> {
                     *rel = (*rel + (most * (1.0 + ROUNDING) + slack)) * (1.0 + 4.0 * U);
                 }
             });
-
         let recompute: Option<Vec<usize>> = if track.stale > 0 {
             track.stale -= 1;
             (track.stale == 0).then(|| (0..count).collect())
