@@ -330,8 +330,8 @@ impl Tracker {
     /// particles are matched to the last update's by id, in any order, so inflow (new ids) and
     /// outflow (ids that are gone) keep the saving. A new particle is evaluated; so are the
     /// interior particles whose certificate used a particle that left, and the boundary
-    /// particles within `2r` plus their budget of a new one (module docs, "Inflow and
-    /// outflow"). The labels are those of a full detection of `set`, as always.
+    /// particles within `2.5r` of a new one (module docs, "Inflow and outflow"). The labels
+    /// are those of a full detection of `set`, as always.
     ///
     /// After an update without ids, the tracker starts over. Fails with
     /// [`CoreError::IdsLengthMismatch`] when `ids` has another length than `set`, and

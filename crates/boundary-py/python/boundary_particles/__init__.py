@@ -528,8 +528,8 @@ class Tracker:
     @property
     def recomputed(self) -> int:
         """How many particles the last :meth:`update` recomputed (all of them at the first
-        step, after a change of the particle count, and on a step that fell back to a full
-        detection)."""
+        step, after a change of the particle count without ``ids``, and on a step that fell
+        back to a full detection)."""
         return self._native.recomputed
 
     def update(self, points: ArrayLike, ids: Optional[ArrayLike] = None) -> Labels:
