@@ -211,7 +211,9 @@ fn the_summary_line_counts_the_wall_particles() {
     let err = stderr(&out);
     assert!(out.status.success(), "{err}");
     assert!(
-        err.contains("1088 of 9600 particles boundary (11.3%), 3D, 7846 wall particles"),
+        err.contains(
+            "1088 of 9600 particles boundary (11.3%), 3D from x, y, z, 7846 wall particles"
+        ),
         "{err}"
     );
 }
@@ -661,8 +663,9 @@ fn phases_add_an_interface_column_between_the_phases() {
         "phase",
     ]);
     assert!(
-        stderr(&human)
-            .contains("16 of 24 particles boundary (66.7%), 2D, 4 interface particles, r = 0.8"),
+        stderr(&human).contains(
+            "16 of 24 particles boundary (66.7%), 2D from x, y, 4 interface particles, r = 0.8"
+        ),
         "{}",
         stderr(&human)
     );
@@ -836,7 +839,10 @@ fn bad_domain_options_and_wall_files_give_one_clear_line() {
     std::fs::write(&empty, "x,y\n").unwrap();
     let err = failure(&["detect", input, "-r", "1", "--walls", s(&empty)], 1);
     assert!(
-        err.contains("empty.csv: --walls: the file holds no particle"),
+        err.ends_with(
+            "empty.csv: --walls: the file holds no particle: the header on line 1 (x, y) is \
+             followed by no data row\n"
+        ),
         "{err}"
     );
     let walls3d = write_csv(d, "walls3d.csv", "x,y,z", &[vec![0.0, -1.0, 0.5]]);

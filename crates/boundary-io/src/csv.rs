@@ -2,8 +2,10 @@
 
 use crate::error::{excerpt, IoError, Location};
 use crate::out::{self, Real, AXES};
-use crate::text::{normalise_name, select_position_columns, trim_field, TextLines};
-use crate::{Column, Positions};
+use crate::text::{
+    find_near_miss, normalise_name, position_axis, select_position_columns, trim_field, TextLines,
+};
+use crate::{Column, NearMiss, Positions};
 use boundary_core::AnyParticleSet;
 use std::io::{BufRead, Write};
 
@@ -72,11 +74,11 @@ pub(crate) fn read<R: BufRead>(
 ) -> Result<Positions, IoError> {
     let mut lines = TextLines::new(reader);
     let Some((first_number, first, sep)) = first_line(&mut lines, name)? else {
-        return Err(IoError::parse(
-            name,
-            Location::File,
-            "no header and no particles (empty file)",
-        ));
+        return Err(IoError::NoParticles {
+            file: name.to_owned(),
+            dim: None,
+            detail: "the file holds no header and no data row (empty file)".to_owned(),
+        });
     };
     let first_fields: Vec<&str> = fields(&first, sep).collect();
     let headerless = first_fields.iter().all(|f| number(f, sep).is_some());
@@ -109,6 +111,27 @@ pub(crate) fn read<R: BufRead>(
         (columns, labels)
     };
     let stride = columns.len();
+    // Two position columns and a third that looks like the missing axis misspelt (`x,y,zz`).
+    let near_miss = if headerless || stride != 2 {
+        None
+    } else {
+        let missing = (0..3)
+            .find(|&a| {
+                columns
+                    .iter()
+                    .all(|&c| position_axis(first_fields[c]).map(|p| p.0) != Some(a))
+            })
+            .unwrap_or(2);
+        find_near_miss(first_fields.iter().copied(), missing, &columns).map(|c| NearMiss {
+            at: Location::Cell {
+                line: first_number,
+                column: c + 1,
+            },
+            vertex_property: false,
+            name: excerpt(trim_field(first_fields[c]), 40),
+            axis: missing,
+        })
+    };
     // The other named columns, kept as attributes while all their values are numbers.
     let mut extra: Vec<ExtraColumn> = if with_attributes && !headerless {
         first_fields
@@ -212,11 +235,20 @@ pub(crate) fn read<R: BufRead>(
     for column in extra {
         column.finish(&mut attributes, &mut skipped);
     }
+    let empty = (!headerless).then(|| {
+        format!(
+            "the header on line {first_number} ({}) is followed by no data row",
+            excerpt(&labels.join(", "), 80)
+        )
+    });
     Ok(Positions {
         coords,
         stride,
         attributes,
         skipped,
+        names: if headerless { Vec::new() } else { labels },
+        near_miss,
+        empty,
         ..Default::default()
     })
 }

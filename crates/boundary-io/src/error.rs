@@ -106,6 +106,47 @@ pub enum IoError {
         /// Why, lower-case, one line.
         message: String,
     },
+    /// The file holds no particle: an empty file, a CSV header or an XYZ names line without a
+    /// data row, a count of 0 (PLY `element vertex 0`, VTK `POINTS 0`). Particle sets may be
+    /// empty, particle files may not: an empty file is almost always a failed export or the
+    /// wrong file, and reading it as an empty set would report "0 of 0" as a result. A caller
+    /// that takes empty frames (an emitter not started yet) can match this variant and use an
+    /// empty set of `dim`.
+    #[error("no particles in {file}: {detail}")]
+    NoParticles {
+        /// The file.
+        file: String,
+        /// The dimension its header declares (the columns named, the dimension policy
+        /// applied), when it has a header.
+        dim: Option<usize>,
+        /// What the file holds instead, lower-case, one line.
+        detail: String,
+    },
+    /// A header names two position axes and, beside them, a column that looks like the third
+    /// misspelt (`x,y,zz`; see the crate docs, "Reading"): read as it is the set would silently
+    /// be 2D. Not raised when 2D is asked for (`ReadOptions::dim` = 2): the file is then read
+    /// as 2D from the two axes named.
+    #[error(
+        "{} {name:?} in {file}{at} looks like a misspelt {axis}, and without a {axis} the \
+         file would be read as 2D from {kept}: rename it to {axis}, or pass --dim 2 (Python: \
+         dim=2) to read it as 2D on purpose",
+        if *.vertex_property { "vertex property" } else { "column" }
+    )]
+    NearMissColumn {
+        /// The file.
+        file: String,
+        /// Where the column is named (the header line and the column's number).
+        at: Location,
+        /// Whether it is a PLY vertex property (else a column of a CSV header or of an XYZ
+        /// names line).
+        vertex_property: bool,
+        /// The column's name as the file writes it (trimmed of spaces and quotes).
+        name: String,
+        /// The axis it looks like: `'x'`, `'y'` or `'z'`.
+        axis: char,
+        /// The names of the two position columns found, as `x, y`.
+        kept: String,
+    },
     /// A per-particle output column does not fit the set or the format.
     #[error("column {name:?}: {message} (writing {file})")]
     Column {
@@ -175,7 +216,9 @@ impl IoError {
     /// The location inside the file, where the error has one.
     pub fn location(&self) -> Option<Location> {
         match self {
-            IoError::Parse { at, .. } | IoError::NonFinite { at, .. } => Some(*at),
+            IoError::Parse { at, .. }
+            | IoError::NonFinite { at, .. }
+            | IoError::NearMissColumn { at, .. } => Some(*at),
             _ => None,
         }
     }

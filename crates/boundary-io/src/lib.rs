@@ -33,6 +33,26 @@
 //! than the header has columns (headerless: than the first row has) is an error naming the
 //! line: it is misaligned data, which cutting it to the header would hide.
 //!
+//! **Columns that cannot be misread.** A header with two position axes and, beside them, a
+//! column that looks like the third misspelt (`x,y,zz`, `x,y,z_`, `x,y,z1`, `Pos.x,Pos.y,Pos.zz`,
+//! `x,y,zpos`; the precise rule is a *near miss*: the name, normalised as above and without a
+//! position prefix, is the axis letter repeated, or with only non-letters around it, or
+//! followed by a position word such as `pos` or `coord`) is an error,
+//! [`IoError::NearMissColumn`], naming the file, the header line, the column and the fix:
+//! rename it, or read the file as 2D on purpose with `dim = Some(2)`, which then takes the two
+//! axes named. Case, spaces, quotes and a unit suffix are no near misses: `X,Y,Z` and
+//! `x, y, z [m]` name the axes. The same holds for an XYZ `#` names line and for PLY
+//! properties (where names are exact, so `Z` beside `x` and `y` is a near miss there). Every
+//! read reports the coordinates it used ([`ParticleFile::position_columns`], "2D from x, y").
+//!
+//! **Files of no particle** are an error, [`IoError::NoParticles`], naming the file and what
+//! it holds instead: an empty file, a CSV header or an XYZ names line with no data row after
+//! it, a count of 0 (XYZ count line, PLY `element vertex 0`, VTK `POINTS 0`, VTK XML
+//! `NumberOfPoints="0"`, BGEO). Particle *sets* may be empty (`boundary_core` allows it, and
+//! the writers write them); a particle *file* with none is almost always a failed export or
+//! the wrong file. The error carries the dimension the header declares, for a caller that
+//! takes empty frames.
+//!
 //! **XYZ.** One particle per line, whitespace-separated numbers: 2 columns are x y, 3 or more
 //! are x y z (further columns ignored). A comment line `# x y [z] …` before the data (what the
 //! writer puts first) names the columns, found as in CSV, so a written 2D file with extra
@@ -368,6 +388,8 @@ pub struct ParticleFile {
     /// Attributes the file has but the reader could not keep, each with the reason (a
     /// non-numeric column, a name that would read as a position, a duplicate name).
     pub skipped: Vec<String>,
+    /// The file's coordinates the positions were read from ("2D from x, y").
+    pub position_columns: PositionColumns,
 }
 
 impl ParticleFile {
@@ -395,6 +417,67 @@ pub(crate) struct Positions {
     pub attributes: Vec<Attribute>,
     /// Attributes not kept, with the reason.
     pub skipped: Vec<String>,
+    /// The file's names of the `stride` coordinates read (a column per axis), or empty for a
+    /// format whose positions are one vector array (named in [`read_any`]).
+    pub names: Vec<String>,
+    /// A column that looks like a misspelt third axis beside the two read
+    /// ([`text::near_miss`]); an error unless 2D is asked for.
+    pub near_miss: Option<NearMiss>,
+    /// Why the file holds no particle, in the reader's words, when it holds none (for
+    /// [`IoError::NoParticles`]; a generic reason by format otherwise).
+    pub empty: Option<String>,
+}
+
+/// A column beside two position columns that looks like the misspelt third
+/// ([`text::near_miss`]).
+#[derive(Debug)]
+pub(crate) struct NearMiss {
+    /// Where it is named.
+    pub at: Location,
+    /// A PLY vertex property (else a column).
+    pub vertex_property: bool,
+    /// Its name as the file writes it (trimmed).
+    pub name: String,
+    /// The axis it would be (0, 1, 2).
+    pub axis: usize,
+}
+
+/// Which coordinates of a file became the positions of its particle set
+/// ([`ParticleFile::position_columns`]): what a tool shows ("2D from x, y") so that a misread
+/// file is seen at once.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct PositionColumns {
+    /// The file's names of the coordinates used, in axis order. Formats with a column per
+    /// coordinate give one name per axis: the CSV header's names as written (`x`, `Pos.y [m]`,
+    /// `Points:2`), the names of an XYZ `#` line, the PLY properties (`x`, `y`, `z`), and
+    /// `column 1`, `column 2`, … for a headerless CSV or an XYZ file without names. Formats
+    /// that store a position as one vector give its one name: `POINTS` (legacy VTK), the
+    /// `Name` of the `<Points>` array or else `Points` (VTK XML), `P` (BGEO).
+    pub names: Vec<String>,
+    /// The coordinate the dimension policy dropped (a 3D file read as 2D: the constant one),
+    /// by the file's name for it (`z`, `Pos.y [m]`; for a vector array, `x`, `y` or `z`);
+    /// `None` when every coordinate read is used.
+    pub dropped: Option<String>,
+}
+
+impl fmt::Display for PositionColumns {
+    /// `x, y`; `columns 1, 2, 3`; `Points`; `Pos.x [m], Pos.z [m] (Pos.y [m] dropped:
+    /// constant)`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let numbers: Option<Vec<&str>> = self
+            .names
+            .iter()
+            .map(|n| n.strip_prefix("column "))
+            .collect();
+        match numbers {
+            Some(numbers) if numbers.len() > 1 => write!(f, "columns {}", numbers.join(", "))?,
+            _ => f.write_str(&self.names.join(", "))?,
+        }
+        if let Some(dropped) = &self.dropped {
+            write!(f, " ({dropped} dropped: constant)")?;
+        }
+        Ok(())
+    }
 }
 
 /// A triangle-mesh file format (see [`read_mesh`]).
@@ -534,6 +617,14 @@ pub fn read_particle_file_from(
     read_any(reader, name, format, options, true)
 }
 
+/// [`read_particle_file`] without the attributes: the particle set and the
+/// [`ParticleFile::position_columns`] it was read from, with `attributes` and `skipped` empty
+/// (nothing but the positions is parsed, as in [`read_particles`]).
+pub fn read_positions(path: &Path, options: &ReadOptions) -> Result<ParticleFile, IoError> {
+    let (file, name, format) = open_input(path, options)?;
+    read_any(file, &name, format, options, false)
+}
+
 /// Reads positions, and the other point attributes when `attributes` is set.
 fn read_any(
     reader: impl Read,
@@ -561,14 +652,62 @@ fn read_any(
         Format::Bgeo => bgeo::read(reader, name, attributes)?,
     };
     let n = positions.coords.len() / positions.stride.max(1);
+    if let Some(miss) = positions.near_miss.take() {
+        // Reading 2D on purpose (`dim = 2`) takes the two axes found.
+        if options.dim != Some(2) {
+            return Err(IoError::NearMissColumn {
+                file: name.to_owned(),
+                at: miss.at,
+                vertex_property: miss.vertex_property,
+                name: miss.name,
+                axis: ['x', 'y', 'z'][miss.axis],
+                kept: positions.names.join(", "),
+            });
+        }
+    }
     let attributes = std::mem::take(&mut positions.attributes);
     let skipped = std::mem::take(&mut positions.skipped);
     debug_assert!(attributes.iter().all(|a| a.column().len() == n));
-    let set = apply_dimension(positions, name, options.dim)?;
+    let mut names = std::mem::take(&mut positions.names);
+    if names.is_empty() {
+        names = match format {
+            Format::Vtk => vec!["POINTS".to_owned()],
+            Format::Bgeo => vec!["P".to_owned()],
+            Format::Vtu | Format::Vtp => vec!["Points".to_owned()],
+            Format::Csv | Format::Xyz | Format::Ply => (1..=positions.stride)
+                .map(|k| format!("column {k}"))
+                .collect(),
+        };
+    }
+    let empty = positions.empty.take();
+    let (set, dropped) = apply_dimension(positions, name, options.dim)?;
+    if set.is_empty() {
+        return Err(IoError::NoParticles {
+            file: name.to_owned(),
+            dim: Some(set.dim()),
+            detail: empty.unwrap_or_else(|| {
+                match format {
+                    Format::Csv => "the file has no data row",
+                    Format::Xyz => "the file has no particle line",
+                    Format::Ply => "its element vertex has 0 elements",
+                    Format::Vtk => "its POINTS section holds 0 points",
+                    Format::Vtu | Format::Vtp => "its <Piece> has NumberOfPoints=\"0\"",
+                    Format::Bgeo => "its header declares 0 points",
+                }
+                .to_owned()
+            }),
+        });
+    }
+    // A vector array's dropped component is its axis letter; a column is dropped by name.
+    let dropped = dropped.map(|axis| match names.len() {
+        1 => out::AXES[axis].to_owned(),
+        _ => names.remove(axis),
+    });
     Ok(ParticleFile {
         set,
         attributes,
         skipped,
+        position_columns: PositionColumns { names, dropped },
     })
 }
 
@@ -581,12 +720,13 @@ fn is_constant(coords: &[f64], stride: usize, axis: usize) -> bool {
     }
 }
 
-/// The dimension policy of the crate docs.
+/// The dimension policy of the crate docs: the set, and the axis of the file dropped to make
+/// it 2D (if one was).
 fn apply_dimension(
     p: Positions,
     name: &str,
     dim: Option<usize>,
-) -> Result<AnyParticleSet, IoError> {
+) -> Result<(AnyParticleSet, Option<usize>), IoError> {
     debug_assert!(p.stride == 2 || p.stride == 3);
     if p.stride == 2 {
         if dim == Some(3) {
@@ -595,12 +735,12 @@ fn apply_dimension(
                 "dim = 3 requested but the file holds 2D positions (no z coordinate)",
             ));
         }
-        return build::<2>(&p.coords, 2, [0, 1], name);
+        return Ok((build::<2>(&p.coords, 2, [0, 1], name)?, None));
     }
     match dim {
-        Some(3) => build::<3>(&p.coords, 3, [0, 1, 2], name),
+        Some(3) => Ok((build::<3>(&p.coords, 3, [0, 1, 2], name)?, None)),
         None if !(p.padded_2d && p.coords.iter().skip(2).step_by(3).all(|&z| z == 0.0)) => {
-            build::<3>(&p.coords, 3, [0, 1, 2], name)
+            Ok((build::<3>(&p.coords, 3, [0, 1, 2], name)?, None))
         }
         _ => {
             let dropped = [2, 1, 0]
@@ -618,7 +758,7 @@ fn apply_dimension(
                 1 => [0, 2],
                 _ => [1, 2],
             };
-            build::<2>(&p.coords, 3, kept, name)
+            Ok((build::<2>(&p.coords, 3, kept, name)?, Some(dropped)))
         }
     }
 }
@@ -993,12 +1133,15 @@ mod tests {
     #[test]
     fn dim_2_drops_the_one_constant_axis() {
         let rows = [[0.0, 5.0, 1.0], [1.0, 5.0, 2.0], [2.0, 5.0, 0.5]];
-        let set = apply_dimension(positions(&rows), "f", Some(2)).unwrap();
-        assert_eq!(set.dim(), 2);
+        let (set, dropped) = apply_dimension(positions(&rows), "f", Some(2)).unwrap();
+        assert_eq!((set.dim(), dropped), (2, Some(1)));
         assert_eq!(set.coords(2), &[2.0, 0.5]);
         // Without dim the file is 3D.
         assert_eq!(
-            apply_dimension(positions(&rows), "f", None).unwrap().dim(),
+            apply_dimension(positions(&rows), "f", None)
+                .unwrap()
+                .0
+                .dim(),
             3
         );
     }
@@ -1006,13 +1149,13 @@ mod tests {
     #[test]
     fn several_constant_axes_drop_z_then_y() {
         let rows = [[0.0, 5.0, 1.0], [1.0, 5.0, 1.0]];
-        let set = apply_dimension(positions(&rows), "f", Some(2)).unwrap();
+        let (set, _) = apply_dimension(positions(&rows), "f", Some(2)).unwrap();
         assert_eq!(set.coords(1), &[1.0, 5.0]);
         let rows = [[3.0, 5.0, 1.0], [3.0, 5.0, 2.0]];
-        let set = apply_dimension(positions(&rows), "f", Some(2)).unwrap();
+        let (set, _) = apply_dimension(positions(&rows), "f", Some(2)).unwrap();
         assert_eq!(set.coords(1), &[3.0, 2.0]);
         let rows = [[3.0, 5.0, 1.0], [3.0, 6.0, 2.0]];
-        let set = apply_dimension(positions(&rows), "f", Some(2)).unwrap();
+        let (set, _) = apply_dimension(positions(&rows), "f", Some(2)).unwrap();
         assert_eq!(set.coords(1), &[6.0, 2.0]);
     }
 
@@ -1035,10 +1178,10 @@ mod tests {
     fn padded_2d_marker_only_applies_to_zero_z() {
         let mut p = positions(&[[0.0, 5.0, 0.0], [1.0, 6.0, 0.0]]);
         p.padded_2d = true;
-        assert_eq!(apply_dimension(p, "f", None).unwrap().dim(), 2);
+        assert_eq!(apply_dimension(p, "f", None).unwrap().0.dim(), 2);
         let mut p = positions(&[[0.0, 5.0, 0.0], [1.0, 6.0, 1.0]]);
         p.padded_2d = true;
-        assert_eq!(apply_dimension(p, "f", None).unwrap().dim(), 3);
+        assert_eq!(apply_dimension(p, "f", None).unwrap().0.dim(), 3);
     }
 
     #[test]

@@ -139,6 +139,26 @@ pub(crate) fn read<R: BufRead>(
             ),
         ));
     }
+    // x and y without z, and a property that looks like a misspelt z: in PLY the names are
+    // exact, so `Z` or `pos_z` are misses too.
+    let near_miss = if stride == 2 {
+        vertex
+            .properties
+            .keys()
+            .find(|key| {
+                key.as_str() != "z"
+                    && (crate::text::near_miss(key, 2)
+                        || crate::text::position_axis(key).map(|p| p.0) == Some(2))
+            })
+            .map(|key| crate::NearMiss {
+                at: Location::File,
+                vertex_property: true,
+                name: crate::error::excerpt(key, 40),
+                axis: 2,
+            })
+    } else {
+        None
+    };
     let binary = header.encoding != Encoding::Ascii;
     // Elements before `vertex` are read through and dropped.
     for (key, element) in &header.elements {
@@ -252,6 +272,9 @@ pub(crate) fn read<R: BufRead>(
         stride,
         attributes,
         skipped,
+        names: AXES[..stride].iter().map(|a| (*a).to_owned()).collect(),
+        near_miss,
+        empty: Some("its header declares element vertex 0".to_owned()),
         ..Default::default()
     })
 }

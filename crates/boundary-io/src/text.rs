@@ -132,6 +132,69 @@ pub(crate) fn position_axis(name: &str) -> Option<(usize, u8)> {
     None
 }
 
+/// Names that, after an axis letter, still name a position (`zpos`, `z_coord`): the words of
+/// [`POSITION_PREFIXES`] and their other forms.
+const POSITION_WORDS: [&str; 9] = [
+    "coordinates",
+    "coordinate",
+    "coords",
+    "coord",
+    "positions",
+    "position",
+    "pos",
+    "points",
+    "point",
+];
+
+/// Whether the column `name` is a *near miss* of the position axis `axis` (0, 1, 2 for `x`,
+/// `y`, `z`): a name that is not a position name itself ([`position_axis`] is `None`) but one
+/// a typo or a tool's decoration away from the axis letter, so that a file naming x and y
+/// and, say, `zz` would otherwise be read as 2D without a word.
+///
+/// Precisely: the name is normalised as for matching ([`normalise_name`]: spaces and quotes
+/// trimmed, a unit suffix in brackets or parentheses dropped, lower-cased), optionally loses
+/// one position prefix (`pos`, `position`, `coords`, `points`, `p`, …, see
+/// [`POSITION_PREFIXES`]), and what remains is kept letters only; that is then
+///
+/// - the axis letter more than once, with or without other characters: `zz`, `zzz`, `z z`;
+/// - the axis letter once with other characters that are no letters (digits, `_`, `.`, `:`,
+///   `-`, spaces, brackets inside the name): `z_`, `_z`, `z1`, `z0`, `z.`, `Pos.z_`;
+/// - the axis letter followed by a position word (`pos`, `position`, `coord`, `coordinate`,
+///   `point`, plural forms): `zpos`, `z_coord`, `Z-Position`.
+///
+/// Differences of case, surrounding spaces or quotes and a unit suffix are *not* near misses:
+/// `Z`, `␣z`, `"z"` and `z [m]` name the axis and are read as it.
+pub(crate) fn near_miss(name: &str, axis: usize) -> bool {
+    if position_axis(name).is_some() {
+        return false;
+    }
+    let letter = ['x', 'y', 'z'][axis];
+    let n = normalise_name(name);
+    std::iter::once(n.as_str())
+        .chain(POSITION_PREFIXES.iter().filter_map(|p| n.strip_prefix(p)))
+        .any(|rest| {
+            let letters: String = rest.chars().filter(|c| c.is_alphabetic()).collect();
+            let Some(after) = letters.strip_prefix(letter) else {
+                return false;
+            };
+            after.chars().all(|c| c == letter) || POSITION_WORDS.contains(&after)
+        })
+}
+
+/// The first of `names` that is a near miss of axis `axis` ([`near_miss`]), skipping the
+/// columns in `taken`: its 0-based index.
+pub(crate) fn find_near_miss<'a>(
+    names: impl IntoIterator<Item = &'a str>,
+    axis: usize,
+    taken: &[usize],
+) -> Option<usize> {
+    names
+        .into_iter()
+        .enumerate()
+        .find(|(c, name)| !taken.contains(c) && near_miss(name, axis))
+        .map(|(c, _)| c)
+}
+
 /// Chooses the position columns among named columns: for each axis the column of best
 /// priority (see [`position_axis`]); two columns of the same best priority for one axis are
 /// ambiguous. At least two axes must be present; with exactly two (`x,y`, or `x,z` as in
@@ -175,11 +238,26 @@ pub(crate) fn select_position_columns<'a>(
             .iter()
             .map(|s| format!("{:?}", excerpt(trim_field(s), 40)))
             .collect();
+        // A column that looks like a misspelt missing axis is named, with the fix.
+        let hints: Vec<String> = ["x", "y"]
+            .into_iter()
+            .enumerate()
+            .filter(|(axis, _)| best[*axis].is_none())
+            .filter_map(|(axis, letter)| {
+                let c = find_near_miss(all.iter().copied(), axis, &[])?;
+                Some(format!(
+                    "; column {} ({:?}) looks like a misspelt {letter}: rename it to {letter}",
+                    c + 1,
+                    excerpt(trim_field(all[c]), 40)
+                ))
+            })
+            .collect();
         return Err(format!(
             "missing position column {} (need x and y, optionally z, also spelled like pos.x, \
-             \"Pos.x [m]\", position_x or px); the header has {}",
+             \"Pos.x [m]\", position_x or px); the header has {}{}",
             missing.join(" and "),
-            excerpt(&listed.join(", "), 200)
+            excerpt(&listed.join(", "), 200),
+            hints.concat()
         ));
     }
     Ok(chosen)
@@ -239,6 +317,56 @@ mod tests {
         );
         let e = select_position_columns(["x", "vel"]).unwrap_err();
         assert!(e.starts_with("missing position column y"), "{e}");
+    }
+
+    #[test]
+    fn near_misses_of_an_axis_are_typos_and_decorations_of_its_letter() {
+        for name in [
+            "zz",
+            "zzz",
+            "z z",
+            "z_",
+            "_z",
+            "z1",
+            "z0",
+            "z.",
+            "z-",
+            " zz ",
+            "ZZ",
+            "Z_",
+            "\"z_\"",
+            "zz [m]",
+            "Pos.zz",
+            "position_z_",
+            "pos.z1",
+            "zpos",
+            "z_coord",
+            "Z-Position",
+            "zcoordinates",
+            "pzz",
+        ] {
+            assert!(near_miss(name, 2), "{name}");
+        }
+        // Positions themselves (case, spaces, quotes and units are no misses), and names
+        // that are something else.
+        for name in [
+            "z", "Z", " z", "\"Z\"", "z [m]", "pos.z", "Points:2", "pz", "vz", "nz", "zeta",
+            "size", "rho", "", "_", "12", "xz", "z_vel", "zone",
+        ] {
+            assert!(!near_miss(name, 2), "{name}");
+        }
+        assert!(near_miss("yy", 1) && !near_miss("yy", 2) && near_miss("x_", 0));
+        assert_eq!(find_near_miss(["x", "y", "zz"], 2, &[0, 1]), Some(2));
+        assert_eq!(find_near_miss(["x", "y", "vz"], 2, &[0, 1]), None);
+    }
+
+    #[test]
+    fn a_missing_axis_with_a_near_miss_names_it() {
+        let e = select_position_columns(["x", "yy"]).unwrap_err();
+        assert!(
+            e.contains("column 2 (\"yy\") looks like a misspelt y: rename it to y"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -125,6 +125,8 @@ struct Document {
     piece_line: usize,
     point_arrays: Vec<ArrayHeader>,
     positions: Option<ArrayHeader>,
+    /// The `Name` of the `<Points>` array, when it has one.
+    points_name: Option<String>,
     appended_base64: bool,
     padded_2d: bool,
 }
@@ -253,6 +255,10 @@ pub(crate) fn read<R: BufRead>(
         padded_2d: doc.padded_2d,
         attributes,
         skipped,
+        names: vec![doc
+            .points_name
+            .map_or_else(|| "Points".to_owned(), |n| excerpt(n.trim(), 40))],
+        ..Default::default()
     })
 }
 
@@ -332,6 +338,9 @@ impl Walk<'_> {
                     self.err(line, format!("invalid offset {:?}", excerpt(&o, 40)))
                 })?),
             };
+            if self.stack[3] == "Points" {
+                self.doc.points_name = attr(e, "Name").filter(|n| !n.trim().is_empty());
+            }
             self.current = Some(ArrayHeader {
                 name: if self.stack[3] == "Points" {
                     "Points".to_owned()
@@ -447,6 +456,7 @@ fn parse_xml(xml: &str, name: &str, expected: Kind) -> Result<Document, IoError>
             piece_line: 1,
             point_arrays: Vec::new(),
             positions: None,
+            points_name: None,
             appended_base64: false,
             padded_2d: false,
         },

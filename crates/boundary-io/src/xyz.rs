@@ -2,8 +2,10 @@
 
 use crate::error::{excerpt, IoError, Location};
 use crate::out::{self, Real, AXES};
-use crate::text::{parse_number, position_axis, select_position_columns, TextLines};
-use crate::{Column, Positions, MAX_PREALLOCATE};
+use crate::text::{
+    find_near_miss, parse_number, position_axis, select_position_columns, TextLines,
+};
+use crate::{Column, NearMiss, Positions, MAX_PREALLOCATE};
 use boundary_core::AnyParticleSet;
 use std::io::{BufRead, Write};
 
@@ -25,6 +27,11 @@ pub(crate) fn read<R: BufRead>(reader: R, name: &str) -> Result<Positions, IoErr
     let mut coords = Vec::new();
     let mut index = 0usize;
     let mut first = true;
+    // The names of a `# x y [z] …` line, its line, and a column there that looks like a
+    // misspelt third axis.
+    let mut column_names = Vec::new();
+    let mut names_line = None;
+    let mut near_miss = None;
     while let Some((line_number, line)) = lines.next_line(name)? {
         let t = line.trim();
         if first && !t.is_empty() {
@@ -53,6 +60,29 @@ pub(crate) fn read<R: BufRead>(reader: R, name: &str) -> Result<Positions, IoErr
                 if named(0) && named(1) {
                     let columns = select_position_columns(names.iter().copied())
                         .map_err(|m| IoError::parse(name, Location::Line(line_number), m))?;
+                    if columns.len() == 2 {
+                        let missing = (0..3)
+                            .find(|&a| {
+                                columns
+                                    .iter()
+                                    .all(|&c| position_axis(names[c]).map(|p| p.0) != Some(a))
+                            })
+                            .unwrap_or(2);
+                        near_miss =
+                            find_near_miss(names.iter().copied(), missing, &columns).map(|c| {
+                                NearMiss {
+                                    at: Location::Cell {
+                                        line: line_number,
+                                        column: c + 1,
+                                    },
+                                    vertex_property: false,
+                                    name: excerpt(names[c], 40),
+                                    axis: missing,
+                                }
+                            });
+                    }
+                    column_names = columns.iter().map(|&c| excerpt(names[c], 40)).collect();
+                    names_line = Some(line_number);
                     layout = Layout::Named(columns);
                 }
             }
@@ -142,17 +172,32 @@ pub(crate) fn read<R: BufRead>(reader: R, name: &str) -> Result<Positions, IoErr
         Layout::Leading(s) => s,
         Layout::Unknown if declared.is_some() => 3,
         Layout::Unknown => {
-            return Err(IoError::parse(
-                name,
-                Location::File,
-                "no particles (empty file)",
-            ))
+            return Err(IoError::NoParticles {
+                file: name.to_owned(),
+                dim: None,
+                detail: "the file holds no particle line (empty file)".to_owned(),
+            })
         }
+    };
+    let empty = match (declared, names_line) {
+        (Some((line, count)), _) => {
+            format!("its count line (line {line}) declares {count} particles")
+        }
+        (None, Some(line)) => {
+            format!(
+                "the names line {line} (# {}) is followed by no particle line",
+                column_names.join(" ")
+            )
+        }
+        (None, None) => "the file holds no particle line".to_owned(),
     };
     Ok(Positions {
         coords,
         stride,
         padded_2d: false,
+        names: column_names,
+        near_miss,
+        empty: Some(empty),
         ..Default::default()
     })
 }

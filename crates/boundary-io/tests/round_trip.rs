@@ -7,7 +7,7 @@ mod common;
 
 use boundary_core::AnyParticleSet;
 use boundary_io::{
-    read_csv_column, read_particles, write_particles, write_particles_to, Column, Format,
+    read_csv_column, read_particles, write_particles, write_particles_to, Column, Format, IoError,
     ReadOptions,
 };
 use common::{read_bytes, same_bits, set2, set3};
@@ -262,8 +262,11 @@ fn binary_ply_doubles_read_exactly_in_both_endiannesses() {
     }
 }
 
+/// An empty set is written (a header, a count of 0), but a file of no particle is refused on
+/// reading, with the dimension the header declares, so that a caller that takes empty frames
+/// can still build the empty set.
 #[test]
-fn empty_sets_round_trip() {
+fn empty_sets_are_written_and_refused_on_reading_with_their_dimension() {
     for (d, set) in sets() {
         let empty = match set {
             AnyParticleSet::D2(_) => boundary_core::ParticleSet::<2>::new(vec![])
@@ -273,11 +276,23 @@ fn empty_sets_round_trip() {
                 .unwrap()
                 .to_any(),
         };
-        for format in [Format::Csv, Format::Xyz, Format::Ply, Format::Vtk] {
+        for format in [
+            Format::Csv,
+            Format::Xyz,
+            Format::Ply,
+            Format::Vtk,
+            Format::Vtu,
+            Format::Vtp,
+            Format::Bgeo,
+        ] {
             let mut out = Vec::new();
             write_particles_to(&mut out, format, &empty, &[("b", Column::Int(&[]))]).unwrap();
-            let back = read_bytes(&out, "e", format, Some(d)).unwrap();
-            assert_eq!((back.dim(), back.len()), (d, 0), "{format}");
+            let e = read_bytes(&out, "e", format, Some(d)).unwrap_err();
+            let IoError::NoParticles { file, dim, .. } = &e else {
+                panic!("{format}: {e}");
+            };
+            assert_eq!((file.as_str(), *dim), ("e", Some(d)), "{format}: {e}");
+            assert!(e.to_string().starts_with("no particles in e: "), "{e}");
         }
     }
 }

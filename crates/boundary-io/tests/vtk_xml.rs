@@ -205,18 +205,25 @@ fn attributes_read_from_vtk_are_written_back_next_to_new_columns() {
 }
 
 #[test]
-fn empty_set_round_trips() {
+fn an_empty_set_is_written_and_refused_on_reading() {
     let set = AnyParticleSet::from(ParticleSet::<3>::new(Vec::new()).unwrap());
     let mut out = Vec::new();
     write_particles_to(&mut out, Format::Vtu, &set, &[("b", Column::Int(&[]))]).unwrap();
-    let back = read_particle_file_from(
+    let e = read_particle_file_from(
         out.as_slice(),
         "e.vtu",
         Format::Vtu,
         &ReadOptions::default(),
     )
-    .unwrap();
-    assert_eq!(back.set.len(), 0);
+    .unwrap_err();
+    assert!(
+        matches!(e, IoError::NoParticles { dim: Some(3), .. }),
+        "{e}"
+    );
+    assert_eq!(
+        e.to_string(),
+        "no particles in e.vtu: its <Piece> has NumberOfPoints=\"0\""
+    );
 }
 
 fn read_text(text: &str, format: Format) -> Result<ParticleFile, IoError> {

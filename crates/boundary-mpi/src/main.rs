@@ -32,7 +32,9 @@ use boundary::implement::decompose::{morton_owners, rcb_owners};
 use boundary::{
     detector_with_params, parse_param, AnyParticleSet, BoundaryDetector, ParticleSet, Point, Radius,
 };
-use boundary_io::{read_csv_column, read_particles, write_particles, Column, Format, ReadOptions};
+use boundary_io::{
+    read_csv_column, read_particles, write_particles, Column, Format, IoError, ReadOptions,
+};
 use boundary_mpi::{
     bounding_box, global_indices, keep_ghosts, labels_in_input_order, rank_path, strip_for,
 };
@@ -256,7 +258,22 @@ fn detect(world: &SimpleCommunicator, args: &DetectArgs) -> Result<(), Failure> 
         }
         (None, Some(pattern)) => {
             let local = rank_path(pattern, world.rank()).and_then(|path| {
-                let set = read_particles(Path::new(&path), &options).map_err(|e| e.to_string())?;
+                let set = match read_particles(Path::new(&path), &options) {
+                    Ok(set) => set,
+                    // A rank may own no particle at a step: its file is a header without
+                    // rows, an empty set of the dimension the header names.
+                    Err(IoError::NoParticles { dim: Some(2), .. }) => {
+                        ParticleSet::<2>::new(Vec::new())
+                            .map_err(|e| e.to_string())?
+                            .to_any()
+                    }
+                    Err(IoError::NoParticles { dim: Some(3), .. }) => {
+                        ParticleSet::<3>::new(Vec::new())
+                            .map_err(|e| e.to_string())?
+                            .to_any()
+                    }
+                    Err(e) => return Err(e.to_string()),
+                };
                 let column = read_csv_column(Path::new(&path), "index").map_err(|e| {
                     format!("{e} (per-rank input needs a CSV file with an `index` column)")
                 })?;
