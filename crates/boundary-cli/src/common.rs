@@ -19,19 +19,43 @@ pub(crate) struct InputArgs {
     /// .bgeo[.gz].
     /// `detect` also takes a glob pattern of frames ('frames/fluid_*.vtu', quoted).
     pub(crate) input: PathBuf,
-    /// Particle resolution r (positive, in the file's length unit), or `auto`: the median
-    /// nearest-neighbour spacing of the particles (an estimate; printed, with a warning).
-    /// Required unless --radius-attribute gives a radius per particle.
+    /// Particle resolution r (positive, in the file's length unit), or `auto`: k times the
+    /// particle spacing measured in the bulk (volume per particle), k = 1.45 (an estimate;
+    /// the spacing found and the r chosen are printed). In SPH r is the smoothing length h:
+    /// --smoothing-length says it in those terms. One of --radius, --smoothing-length,
+    /// --spacing and --radius-attribute is required.
     #[arg(
         long,
         short,
         value_parser = parse_radius,
         value_name = "R|auto",
         allow_negative_numbers = true,
-        required_unless_present = "radius_attribute",
-        conflicts_with = "radius_attribute"
+        required_unless_present_any = ["radius_attribute", "smoothing_length", "spacing"],
+        conflicts_with_all = ["radius_attribute", "smoothing_length", "spacing"]
     )]
     pub(crate) radius: Option<RadiusArg>,
+    /// The SPH smoothing length h of the solver that wrote the particles: r = h (the
+    /// definition's resolution), and the SPH-sum methods (marrone, muller, divr, asymmetry,
+    /// randles) use h itself as their smoothing length.
+    #[arg(
+        long,
+        value_name = "H",
+        value_parser = parse_length,
+        allow_negative_numbers = true,
+        conflicts_with_all = ["radius_attribute", "spacing"]
+    )]
+    pub(crate) smoothing_length: Option<f64>,
+    /// The initial particle spacing dp of the solver (its `dp`, `dx`, particle diameter):
+    /// r = k·dp with k = 1.45, between the smoothing lengths solvers use by default
+    /// (1.3 to 1.73 dp; docs/USAGE.md lists them).
+    #[arg(
+        long,
+        value_name = "DP",
+        value_parser = parse_length,
+        allow_negative_numbers = true,
+        conflicts_with = "radius_attribute"
+    )]
+    pub(crate) spacing: Option<f64>,
     /// A radius per particle (adaptive resolution) instead of --radius: particle i gets the
     /// factor s_i from the input's point attribute NAME (a CSV column, PLY property, VTK /
     /// VTU / VTP array or BGEO attribute; one positive value per particle) and the radius
@@ -71,11 +95,53 @@ pub(crate) struct MethodArgs {
     pub(crate) params: Vec<(String, String)>,
 }
 
-/// `--radius`: a value, or `auto` (estimated from the particles).
+/// The uniform resolution asked for: `--radius R`, `--radius auto` (estimated from the
+/// particles), `--smoothing-length H` (r = H) or `--spacing DP` (r = k·DP).
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum RadiusArg {
     Value(f64),
     Auto,
+    SmoothingLength(f64),
+    Spacing(f64),
+}
+
+impl RadiusArg {
+    /// The radius it gives without looking at the particles (`None` for `auto`).
+    pub(crate) fn fixed(self) -> Option<f64> {
+        match self {
+            RadiusArg::Value(v) | RadiusArg::SmoothingLength(v) => Some(v),
+            RadiusArg::Spacing(dp) => Some(boundary::RADIUS_PER_SPACING * dp),
+            RadiusArg::Auto => None,
+        }
+    }
+
+    /// The option that gave it, for the summaries (`"radius"`, `"auto"`, …).
+    pub(crate) fn source(self) -> &'static str {
+        match self {
+            RadiusArg::Value(_) => "radius",
+            RadiusArg::Auto => "auto",
+            RadiusArg::SmoothingLength(_) => "smoothing_length",
+            RadiusArg::Spacing(_) => "spacing",
+        }
+    }
+}
+
+/// The resolution of one input: `r`, how it was given, the particle spacing measured in the
+/// bulk of the set (`None` for fewer than two distinct positions), and what looks wrong about
+/// `r` for that spacing.
+#[derive(Debug, Clone)]
+pub(crate) struct ResolvedRadius {
+    pub(crate) r: f64,
+    pub(crate) arg: RadiusArg,
+    pub(crate) spacing: Option<f64>,
+    pub(crate) concern: Option<boundary::RadiusConcern>,
+}
+
+impl ResolvedRadius {
+    /// Whether `r` was estimated from the particles (`--radius auto`).
+    pub(crate) fn estimated(&self) -> bool {
+        matches!(self.arg, RadiusArg::Auto)
+    }
 }
 
 /// The resolution of a run: one `--radius` for every particle, or a radius per particle from
@@ -90,10 +156,21 @@ impl InputArgs {
     /// The resolution the arguments ask for (clap requires exactly one of `--radius` and
     /// `--radius-attribute`).
     pub(crate) fn radius_mode(&self) -> Result<RadiusMode, CliError> {
-        match (&self.radius, &self.radius_attribute) {
+        let uniform = match (self.radius, self.smoothing_length, self.spacing) {
+            (Some(r), None, None) => Some(r),
+            (None, Some(h), None) => Some(RadiusArg::SmoothingLength(h)),
+            (None, None, Some(dp)) => Some(RadiusArg::Spacing(dp)),
+            (None, None, None) => None,
+            _ => {
+                return Err(CliError::Usage(
+                    "give one of --radius, --smoothing-length and --spacing",
+                ))
+            }
+        };
+        match (&uniform, &self.radius_attribute) {
             (Some(_), None) if self.radius_scale.is_some() => Err(CliError::Usage(
                 "--radius-scale scales the radii of --radius-attribute; with a uniform radius \
-                 give --radius alone",
+                 give --radius, --smoothing-length or --spacing alone",
             )),
             (Some(r), None) => Ok(RadiusMode::Uniform(*r)),
             (None, Some(attribute)) => Ok(RadiusMode::PerParticle {
@@ -288,6 +365,7 @@ pub(crate) fn attach_radii(
         set,
         attributes,
         skipped,
+        position_columns,
     } = file;
     let set = set.with_radii(values).map_err(|e| bad_value(e, false))?;
     let resolved = match &set {
@@ -312,6 +390,7 @@ pub(crate) fn attach_radii(
             set,
             attributes,
             skipped,
+            position_columns,
         },
         used,
     ))
@@ -339,30 +418,88 @@ fn parse_radius(text: &str) -> Result<RadiusArg, String> {
     Ok(RadiusArg::Value(value))
 }
 
-/// The radius to use on `set`, and whether it was estimated.
+/// The detector `method` with `params`, checked against the resolution options: with
+/// `--smoothing-length H` the SPH-sum methods take `h = H` itself, so an `h_over_r` other than
+/// 1 (which would make their `h` a multiple of `H`) is refused.
+pub(crate) fn detector_for(
+    method: &str,
+    params: &[(String, String)],
+    input: &InputArgs,
+) -> Result<Box<dyn BoundaryDetector>, CliError> {
+    if let Some(h) = input.smoothing_length {
+        for (key, value) in params {
+            let one = value.trim().parse::<f64>().is_ok_and(|v| v == 1.0);
+            if key == "h_over_r" && !one {
+                return Err(CliError::SmoothingLengthRatio {
+                    h,
+                    value: value.clone(),
+                });
+            }
+        }
+    }
+    Ok(boundary::detector_with_params(method, params)?)
+}
+
+/// `--smoothing-length`, `--spacing`: a positive, finite length.
+fn parse_length(text: &str) -> Result<f64, String> {
+    let value: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number"))?;
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(format!("'{text}' is not a positive length"))
+    }
+}
+
+/// The radius to use on `set`: the value given, `r = H`, `r = k·DP`, or the estimate of
+/// `auto`; with the spacing measured in the bulk of `set` and what looks wrong about `r`.
 pub(crate) fn resolve_radius(
     arg: RadiusArg,
     set: &AnyParticleSet,
     input: &Path,
-) -> Result<(f64, bool), CliError> {
-    match arg {
-        RadiusArg::Value(v) => Ok((v, false)),
-        RadiusArg::Auto => {
-            let r = boundary::auto_radius(set)?
-                .ok_or_else(|| CliError::AutoRadiusTooFew(input.to_path_buf()))?;
-            Ok((r.get(), true))
+) -> Result<ResolvedRadius, CliError> {
+    let (r, spacing) = match arg {
+        RadiusArg::Value(v) | RadiusArg::SmoothingLength(v) => {
+            (Radius::new(v)?.get(), boundary::bulk_spacing(set)?)
         }
-    }
+        RadiusArg::Spacing(dp) => (
+            boundary::radius_from_spacing(dp)?.get(),
+            boundary::bulk_spacing(set)?,
+        ),
+        RadiusArg::Auto => {
+            let auto = boundary::auto_radius(set)?
+                .ok_or_else(|| CliError::AutoRadiusTooFew(input.to_path_buf()))?;
+            (auto.radius.get(), Some(auto.spacing))
+        }
+    };
+    Ok(ResolvedRadius {
+        r,
+        arg,
+        spacing,
+        concern: spacing.and_then(|dp| boundary::radius_concern(r, dp)),
+    })
 }
 
-/// The warning printed when the radius was estimated.
-pub(crate) fn auto_warning(r: f64, input: &Path) -> String {
-    format!(
-        "warning: --radius auto: using r = {r} ({} x the median \
-         nearest-neighbour spacing of {}); this is an estimate, pass --radius to set r",
-        boundary::AUTO_RADIUS_FACTOR,
-        input.display()
-    )
+/// What is printed about a resolved radius: for `auto`, the spacing found, the r chosen and
+/// how to override it; for an implausible r, why, with the numbers. `None` when there is
+/// nothing to say.
+pub(crate) fn radius_note(resolved: &ResolvedRadius, input: &Path) -> Option<String> {
+    if let (RadiusArg::Auto, Some(dp)) = (resolved.arg, resolved.spacing) {
+        return Some(format!(
+            "note: {}: --radius auto: particle spacing {dp:.6} (volume per particle in the \
+             bulk), r = {} x {dp:.6} = {}; this is an estimate: give the solver's smoothing \
+             length with --smoothing-length H (r = h), its spacing with --spacing DP, or \
+             --radius R",
+            input.display(),
+            boundary::RADIUS_PER_SPACING,
+            resolved.r
+        ));
+    }
+    resolved
+        .concern
+        .map(|concern| format!("warning: {}: {concern}", input.display()))
 }
 
 pub(crate) fn parse_format(text: &str) -> Result<Format, String> {
@@ -387,11 +524,11 @@ pub(crate) fn read_input(
         RadiusMode::Uniform(arg) => {
             let set = boundary_io::read_particles(&args.input, &options)?;
             refuse_flat(&set, &args.input, &options)?;
-            let (r, estimated) = resolve_radius(arg, &set, &args.input)?;
-            if estimated {
-                errln!("{}", auto_warning(r, &args.input));
+            let resolved = resolve_radius(arg, &set, &args.input)?;
+            if let Some(note) = radius_note(&resolved, &args.input) {
+                errln!("{note}");
             }
-            Ok((set, r, None))
+            Ok((set, resolved.r, None))
         }
         RadiusMode::PerParticle { attribute, scale } => {
             let file = boundary_io::read_particle_file(&args.input, &options)?;

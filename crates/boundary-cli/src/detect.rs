@@ -1,19 +1,19 @@
 //! `boundary detect`: label the particles of one file, or of every frame a pattern matches.
 
 use crate::common::{
-    attach_radii, auto_warning, method_label, output_format, parse_format, percent,
-    point_attribute, pool, radius, read_options, refuse_flat, resolve_radius, run_timed,
-    run_timed_in, InputArgs, MethodArgs, RadiiUsed, RadiusArg, RadiusMode,
+    attach_radii, detector_for, method_label, output_format, parse_format, percent,
+    point_attribute, pool, radius, radius_note, read_options, refuse_flat, resolve_radius,
+    run_timed, run_timed_in, InputArgs, MethodArgs, RadiiUsed, RadiusArg, RadiusMode,
+    ResolvedRadius,
 };
 use crate::domain::{DomainArgs, DomainSetup};
 use crate::error::CliError;
 use crate::interrupt::Interrupt;
 use crate::output::{errln, outln};
-use boundary::{
-    detector_with_params, AnyParticleSet, BoundaryDetector, Detection, Domain, Tracker,
-};
+use boundary::{AnyParticleSet, BoundaryDetector, Detection, Domain, Tracker};
 use boundary_io::{
-    read_particle_file, write_particles, AttributeValues, Column, Format, ParticleFile, ReadOptions,
+    read_particle_file, write_particles, AttributeValues, Column, Format, ParticleFile,
+    PositionColumns, ReadOptions,
 };
 use clap::Args;
 use serde_json::json;
@@ -27,16 +27,20 @@ pub(crate) struct DetectArgs {
     method: MethodArgs,
     #[command(flatten)]
     domain: DomainArgs,
-    /// Write the particles with a `boundary` column (0/1), format by extension
-    /// (.csv, .xyz, .ply, .vtk).
+    /// Write the particles with a `boundary` column (0/1) and the input's point attributes,
+    /// format by extension: .csv, .xyz (.txt, .dat), .ply, .vtk (legacy), .vtu, .vtp, .bgeo,
+    /// .bgeo.gz. A vector attribute is written as the columns `name:0`, `name:1`, … in CSV,
+    /// XYZ and legacy VTK, as one array `name` in .vtu, .vtp and .bgeo, and as the properties
+    /// `name_0`, `name_1`, … in PLY (whose property names are identifiers: `velocity_0`).
     #[arg(long, short)]
     output: Option<PathBuf>,
     /// Also write the method's per-particle margin (if it has one) as a `margin` column.
     #[arg(long)]
     margin: bool,
     /// Also write outward unit normals of the boundary particles as `normal:0`, `normal:1`
-    /// [, `normal:2`] (one vector array `normal` in .vtu/.vtp): the colour-field gradient with
-    /// the Wendland C2 kernel at h = r; zero for interior particles.
+    /// [, `normal:2`] (one vector array `normal` in .vtu/.vtp/.bgeo, `normal_0`, `normal_1`
+    /// [, `normal_2`] in .ply): the colour-field gradient with the Wendland C2 kernel at
+    /// h = r; zero for interior particles.
     #[arg(long)]
     normals: bool,
     /// Widen the boundary to a narrow band: every particle within K·r of a boundary particle
@@ -101,8 +105,11 @@ enum FrameResult {
 struct FrameOutcome {
     n: usize,
     dim: usize,
+    /// The input's coordinates the positions were read from ("2D from x, y").
+    columns: PositionColumns,
     radius: f64,
-    estimated: bool,
+    /// The uniform radius as resolved (`None` with `--radius-attribute`).
+    resolved: Option<ResolvedRadius>,
     /// The per-particle radii used (`--radius-attribute`); `radius` is then their scale.
     radii: Option<RadiiUsed>,
     boundary: usize,
@@ -173,21 +180,17 @@ impl FrameJob<'_> {
         let file = if with_attributes {
             read_particle_file(input, &self.options)?
         } else {
-            boundary_io::ParticleFile {
-                set: boundary_io::read_particles(input, &self.options)?,
-                attributes: Vec::new(),
-                skipped: Vec::new(),
-            }
+            boundary_io::read_positions(input, &self.options)?
         };
         refuse_flat(&file.set, input, &self.options)?;
-        let (file, r_value, estimated, radii) = match radius_mode {
+        let (file, r_value, resolved, radii) = match radius_mode {
             RadiusMode::Uniform(arg) => {
-                let (r, estimated) = resolve_radius(*arg, &file.set, input)?;
-                (file, r, estimated, None)
+                let resolved = resolve_radius(*arg, &file.set, input)?;
+                (file, resolved.r, Some(resolved), None)
             }
             RadiusMode::PerParticle { attribute, scale } => {
                 let (file, used) = attach_radii(file, attribute, *scale, input, &self.options)?;
-                (file, *scale, false, Some(used))
+                (file, *scale, None, Some(used))
             }
         };
         let r = radius(r_value)?;
@@ -195,8 +198,9 @@ impl FrameJob<'_> {
             let outcome = FrameOutcome {
                 n: 0,
                 dim: file.set.dim(),
+                columns: file.position_columns.clone(),
                 radius: r_value,
-                estimated,
+                resolved,
                 radii,
                 boundary: 0,
                 walls: None,
@@ -268,8 +272,9 @@ impl FrameJob<'_> {
         Ok(FrameOutcome {
             n: set.len(),
             dim: set.dim(),
+            columns: file.position_columns,
             radius: r_value,
-            estimated,
+            resolved,
             radii,
             boundary: detection.labels.boundary_count(),
             walls: None,
@@ -442,6 +447,11 @@ fn normal_components(
     .map_err(CliError::from)
 }
 
+/// `, band: K` for the human summaries (empty without `--band`).
+fn band_text(band: Option<f64>) -> String {
+    band.map(|k| format!(", band: {k}")).unwrap_or_default()
+}
+
 /// `--band K`: a number, finite and `> 0`.
 fn parse_band(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
@@ -532,7 +542,7 @@ fn is_pattern(text: &str) -> bool {
 }
 
 pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
-    let detector = detector_with_params(&args.method.method, &args.method.params)?;
+    let detector = detector_for(&args.method.method, &args.method.params, &args.input)?;
     let pattern = args.input.input.to_string_lossy().into_owned();
     // A single file with --output-dir or --summary is a sequence of one frame.
     if args.output_dir.is_some() || args.summary.is_some() || is_pattern(&pattern) {
@@ -561,8 +571,12 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
     };
     let output = args.output.as_deref().zip(output_format);
     let outcome = job.run(&args.input.input, &radius_mode, output)?;
-    if outcome.estimated {
-        errln!("{}", auto_warning(outcome.radius, &args.input.input));
+    if let Some(note) = outcome
+        .resolved
+        .as_ref()
+        .and_then(|resolved| radius_note(resolved, &args.input.input))
+    {
+        errln!("{note}");
     }
     if let (Some(0), Some(selector)) = (outcome.wall_rows, setup.as_ref()) {
         errln!(
@@ -578,6 +592,7 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
         );
     }
     if args.input.json {
+        let resolved = outcome.resolved.as_ref();
         let object = json!({
             "method": detector.name(),
             "params": detector.params().to_string(),
@@ -585,7 +600,10 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
             "n": outcome.n,
             "dim": outcome.dim,
             "radius": outcome.radius,
-            "radius_estimated": outcome.estimated,
+            "radius_from": resolved.map_or("radius_attribute", |r| r.arg.source()),
+            "spacing": resolved.and_then(|r| r.spacing),
+            "radius_estimated": resolved.is_some_and(ResolvedRadius::estimated),
+            "radius_warning": resolved.and_then(|r| r.concern).map(|c| c.to_string()),
             "radii": RadiiUsed::json(outcome.radii.as_ref()),
             "boundary": outcome.boundary,
             "seconds": outcome.seconds,
@@ -593,21 +611,27 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
             "domain": domain_json(setup.as_ref()),
             "walls": outcome.walls,
             "interface": outcome.interface,
+            "position_columns": outcome.columns.names,
+            "dropped_column": outcome.columns.dropped,
+            "band": args.band,
         });
         outln!("{object}")?;
     } else {
         errln!(
-            "{}: {} of {} particles boundary ({:.1}%), {}D{}, {}, {} in {:.3} s on {} thread{}{}",
+            "{}: {} of {} particles boundary ({:.1}%), {}D from {}{}, {}{}, {} in {:.3} s on {} \
+             thread{}{}",
             args.input.input.display(),
             outcome.boundary,
             outcome.n,
             percent(outcome.boundary, outcome.n),
             outcome.dim,
+            outcome.columns,
             outcome.domain_facts(),
             match &outcome.radii {
                 Some(radii) => radii.describe(),
                 None => format!("r = {}", outcome.radius),
             },
+            band_text(args.band),
             method_label(detector.as_ref()),
             outcome.seconds,
             pool.current_num_threads(),
@@ -753,6 +777,8 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
     } else {
         outputs.resize_with(paths.len(), || Ok(None));
     }
+    // The spacing `auto` measured, for the JSON summary.
+    let mut auto_spacing = None;
     // `--radius auto`: estimated once, on the first frame that reads, and used for all, so that
     // the counts of the frames are comparable.
     let radius_mode = match radius_mode {
@@ -760,9 +786,12 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
             let mut estimate = None;
             for path in &paths {
                 if let Ok(set) = boundary_io::read_particles(path, &options) {
-                    if let Ok((r, _)) = resolve_radius(RadiusArg::Auto, &set, path) {
-                        errln!("{} (used for every frame)", auto_warning(r, path));
-                        estimate = Some(r);
+                    if let Ok(resolved) = resolve_radius(RadiusArg::Auto, &set, path) {
+                        if let Some(note) = radius_note(&resolved, path) {
+                            errln!("{note} (used for every frame)");
+                        }
+                        estimate = Some(resolved.r);
+                        auto_spacing = resolved.spacing;
                         break;
                     }
                 }
@@ -869,14 +898,21 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
         if !args.input.json {
             let line = match &result {
                 Ok(o) => format!(
-                    "frame {}/{total} {}: {} of {} particles boundary ({:.1}%){}, {:.3} s",
+                    "frame {}/{total} {}: {} of {} particles boundary ({:.1}%), {}D from {}{}, \
+                     {:.3} s{}",
                     k + 1,
                     path.display(),
                     o.boundary,
                     o.n,
                     percent(o.boundary, o.n),
+                    o.dim,
+                    o.columns,
                     o.domain_facts(),
-                    o.seconds
+                    o.seconds,
+                    match o.resolved.as_ref().and_then(|r| r.concern) {
+                        Some(concern) => format!("; warning: {concern}"),
+                        None => String::new(),
+                    }
                 ),
                 Err(e) => format!("frame {}/{total}: skipped: {e}", k + 1),
             };
@@ -953,8 +989,16 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
                     FrameResult::Done(o) => json!({
                         "input": path.display().to_string(), "output": output, "n": o.n,
                         "dim": o.dim, "radius": o.radius,
+                        "spacing": o.resolved.as_ref().and_then(|r| r.spacing),
+                        "radius_warning": o
+                            .resolved
+                            .as_ref()
+                            .and_then(|r| r.concern)
+                            .map(|c| c.to_string()),
                         "radii": RadiiUsed::json(o.radii.as_ref()), "boundary": o.boundary,
                         "seconds": o.seconds, "walls": o.walls, "interface": o.interface,
+                        "position_columns": o.columns.names,
+                        "dropped_column": o.columns.dropped,
                     }),
                     FrameResult::Kept => json!({
                         "input": path.display().to_string(), "output": output, "kept": true,
@@ -975,16 +1019,21 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
             "params": detector.params().to_string(),
             "input": pattern,
             "radius": match &radius_mode {
-                RadiusMode::Uniform(RadiusArg::Value(v)) => *v,
+                RadiusMode::Uniform(arg) => arg.fixed().unwrap_or(f64::NAN),
                 RadiusMode::PerParticle { scale, .. } => *scale,
-                RadiusMode::Uniform(RadiusArg::Auto) => f64::NAN,
             },
+            "radius_from": match (&args.input.radius_mode()?, &radius_mode) {
+                (RadiusMode::Uniform(arg), _) => arg.source(),
+                (RadiusMode::PerParticle { .. }, _) => "radius_attribute",
+            },
+            "spacing": auto_spacing,
             "radius_estimated": matches!(args.input.radius, Some(RadiusArg::Auto)),
             "radius_attribute": match &radius_mode {
                 RadiusMode::PerParticle { attribute, .. } => Some(attribute.as_str()),
                 RadiusMode::Uniform(_) => None,
             },
             "domain": domain_json(setup.as_ref()),
+            "band": args.band,
             "frames": frames,
             "failed": failed,
             "kept": kept_count,
@@ -993,8 +1042,9 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
         outln!("{object}")?;
     } else {
         errln!(
-            "{done} of {total} frames done with {}{}{}",
+            "{done} of {total} frames done with {}{}{}{}",
             method_label(detector),
+            band_text(args.band),
             match &args.output_dir {
                 Some(dir) => format!(", written to {}", dir.display()),
                 None => String::new(),

@@ -377,16 +377,26 @@ fn read_wall_file(
         dim: input.dim.map(usize::from),
         format: Format::from_path(path).or(input.format),
     };
+    // A file of no particle is named as the wall file it was meant to be.
+    let no_particle = |error: boundary_io::IoError| match error {
+        boundary_io::IoError::NoParticles { detail, .. } => CliError::WallFile {
+            path: path.to_path_buf(),
+            problem: format!("the file holds no particle: {detail}"),
+        },
+        other => other.into(),
+    };
     let set = match mode {
         RadiusMode::PerParticle { attribute, scale } => {
-            let file = boundary_io::read_particle_file(path, &options)?;
+            let file = boundary_io::read_particle_file(path, &options).map_err(no_particle)?;
             if find_attribute(&file, attribute).is_some() {
                 attach_radii(file, attribute, *scale, path, &options)?.0.set
             } else {
                 file.set
             }
         }
-        RadiusMode::Uniform(_) => boundary_io::read_particles(path, &options)?,
+        RadiusMode::Uniform(_) => {
+            boundary_io::read_particles(path, &options).map_err(no_particle)?
+        }
     };
     if set.is_empty() {
         return Err(CliError::WallFile {

@@ -37,6 +37,17 @@ pub enum CliError {
         /// How it is flat.
         flatness: boundary::Flatness,
     },
+    /// `--smoothing-length` with a method parameter `h_over_r` other than 1.
+    #[error(
+        "--smoothing-length {h} gives the SPH sums h = {h} itself; --set h_over_r={value} would \
+         make it {value} x {h}: drop h_over_r, or give --radius with it"
+    )]
+    SmoothingLengthRatio {
+        /// The smoothing length given.
+        h: f64,
+        /// The `h_over_r` given.
+        value: String,
+    },
     /// `--radius auto` on a set with fewer than two distinct positions.
     #[error("{}: --radius auto needs at least two distinct particle positions", .0.display())]
     AutoRadiusTooFew(PathBuf),

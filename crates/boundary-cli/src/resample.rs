@@ -1,11 +1,12 @@
 //! `boundary resample`: classify the boundary particles by feature and resample thin ones.
 
 use crate::common::{
-    method_label, output_format, pool, radius, read_input, run_timed, InputArgs, MethodArgs,
+    detector_for, method_label, output_format, pool, radius, read_input, run_timed, InputArgs,
+    MethodArgs,
 };
 use crate::error::CliError;
 use crate::output::{errln, outln};
-use boundary::{detector_with_params, AnyParticleSet};
+use boundary::AnyParticleSet;
 use boundary_io::{write_particles, Column, Format};
 use clap::Args;
 use serde_json::json;
@@ -17,10 +18,11 @@ pub(crate) struct ResampleArgs {
     input: InputArgs,
     #[command(flatten)]
     method: MethodArgs,
-    /// Output file (.csv, .xyz, .ply, .vtk): every particle of the resampled set with a
-    /// `feature` column (-1 interior, 0 droplet, 1 ligament, 2 sheet, 3 regular boundary) and a
-    /// `source` column (the input index it comes from); PLY and VTK also get `red`, `green`,
-    /// `blue` in the colours of thesis Fig. 15.
+    /// Output file (.csv, .xyz, .ply, .vtk, .vtu, .vtp, .bgeo, .bgeo.gz, by extension): every
+    /// particle of the resampled set with a `feature` column (-1 interior, 0 droplet,
+    /// 1 ligament, 2 sheet, 3 regular boundary) and a `source` column (the input index it
+    /// comes from); PLY and VTK also get `red`, `green`, `blue` in the colours of thesis
+    /// Fig. 15.
     #[arg(long, short)]
     output: PathBuf,
     /// K of Eq. 2.5: fewer neighbours (the particle included) make a droplet.
@@ -48,7 +50,7 @@ fn feature_colour(code: i8) -> [u8; 3] {
 
 pub(crate) fn resample(args: ResampleArgs) -> Result<(), CliError> {
     use boundary_resample::{ResampleConfig, Resampled};
-    let detector = detector_with_params(&args.method.method, &args.method.params)?;
+    let detector = detector_for(&args.method.method, &args.method.params, &args.input)?;
     let format = output_format(&args.output)?;
     let config = ResampleConfig {
         k: args.k,

@@ -1,11 +1,11 @@
 //! `boundary score`: compare a method with the truth (a labels file, or `exact`).
 
 use crate::common::{
-    method_label, pool, radius, read_input, run_timed, InputArgs, MethodArgs, RadiiUsed,
+    detector_for, method_label, pool, radius, read_input, run_timed, InputArgs, RadiiUsed,
 };
 use crate::error::CliError;
 use crate::output::outln;
-use boundary::{detector_with_params, Confusion};
+use boundary::{detector_with_params, parse_param, Confusion};
 use clap::Args;
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -15,15 +15,28 @@ pub(crate) struct ScoreArgs {
     #[command(flatten)]
     input: InputArgs,
     #[command(flatten)]
-    method: MethodArgs,
-    /// Truth labels: a CSV with a `boundary` column (0/1) in input order. Default: the exact
-    /// method.
+    method: ScoreMethodArgs,
+    /// Truth labels: a CSV with a `boundary` column (0/1) in input order. Default: the labels
+    /// of the exact method (`--method exact` then scores exact against itself).
     #[arg(long)]
     truth: Option<PathBuf>,
 }
 
+/// The method of `score`: required, unlike `detect`'s (whose default is `exact`), because a
+/// default would score `exact` against `exact` (M = 1) without a word.
+#[derive(Debug, Args)]
+pub(crate) struct ScoreMethodArgs {
+    /// The method to score (see `boundary methods`), against --truth or the labels of
+    /// `exact`. Required.
+    #[arg(long, short, value_name = "NAME", required = true)]
+    pub(crate) method: String,
+    /// Method parameter, repeatable: `--set depth=4`.
+    #[arg(long = "set", value_parser = parse_param, value_name = "KEY=VALUE")]
+    pub(crate) params: Vec<(String, String)>,
+}
+
 pub(crate) fn score(args: ScoreArgs) -> Result<(), CliError> {
-    let detector = detector_with_params(&args.method.method, &args.method.params)?;
+    let detector = detector_for(&args.method.method, &args.method.params, &args.input)?;
     let (set, r_value, radii) = read_input(&args.input)?;
     let r = radius(r_value)?;
     let pool = pool(args.input.threads)?;

@@ -398,18 +398,19 @@ fn a_csv_row_longer_than_its_header_is_an_error_naming_the_line() {
     assert_one_line_error(&["detect", &wide, "-r", "1"], "too many values: 3");
 }
 
+/// A header-only file is refused, not read as an empty set that would report "0 of 0" (the
+/// library's empty sets are tested in `boundary/tests/every_detector.rs`); more in
+/// `misread.rs`.
 #[test]
-fn a_header_only_csv_is_an_empty_set_not_an_error() {
+fn a_header_only_csv_is_an_error_naming_the_file_not_an_empty_set() {
     let dir = tempfile::tempdir().unwrap();
-    for (name, header, dim) in [("e2.csv", "x,y\n", 2), ("e3.csv", "x,y,z\n", 3)] {
+    for (name, header) in [("e2.csv", "x,y\n"), ("e3.csv", "x,y,z\n")] {
         let input = write_input(dir.path(), name, header.as_bytes());
         for method in boundary::methods() {
-            let out = boundary(&["detect", &input, "-r", "1", "--method", method, "--json"]);
-            assert!(out.status.success(), "{name} {method}: {}", stderr(&out));
-            let v: Value = serde_json::from_str(stdout(&out).trim()).unwrap();
-            assert_eq!(v["n"], 0, "{name} {method}");
-            assert_eq!(v["boundary"], 0, "{name} {method}");
-            assert_eq!(v["dim"], dim, "{name} {method}");
+            assert_one_line_error(
+                &["detect", &input, "-r", "1", "--method", method, "--json"],
+                &format!("no particles in {input}: the header on line 1"),
+            );
         }
     }
 }
@@ -616,7 +617,7 @@ fn all_frames_failing_is_an_error_and_no_match_too() {
 }
 
 #[test]
-fn radius_auto_is_the_median_spacing_reported_with_a_warning() {
+fn radius_auto_is_k_times_the_bulk_spacing_reported_with_a_note() {
     let dir = tempfile::tempdir().unwrap();
     let input = lattice_csv(dir.path());
     let out = boundary(&[
@@ -628,9 +629,23 @@ fn radius_auto_is_the_median_spacing_reported_with_a_warning() {
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
     let v: Value = serde_json::from_str(&stdout(&out)).unwrap();
-    assert_eq!(v["radius"], 1.0);
+    let spacing = v["spacing"].as_f64().unwrap();
+    // The lattice's spacing is 1; the probe ball of the surface particles is partly empty.
+    assert!((spacing - 1.0).abs() < 0.1, "{v}");
+    assert!(
+        (v["radius"].as_f64().unwrap() / (1.45 * spacing) - 1.0).abs() < 1e-12,
+        "{v}"
+    );
     assert_eq!(v["radius_estimated"], true);
-    assert!(stderr(&out).contains("estimate"), "{}", stderr(&out));
+    assert_eq!(v["radius_from"], "auto");
+    assert_eq!(v["radius_warning"], Value::Null);
+    let err = stderr(&out);
+    assert!(
+        err.contains("--radius auto: particle spacing")
+            && err.contains("--smoothing-length H")
+            && err.contains("estimate"),
+        "{err}"
+    );
     // The score and resample commands take it too.
     let out = boundary(&[
         "score",
@@ -642,8 +657,8 @@ fn radius_auto_is_the_median_spacing_reported_with_a_warning() {
         "dilts",
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
-    let v: Value = serde_json::from_str(&stdout(&out)).unwrap();
-    assert_eq!(v["radius"], 1.0);
+    let w: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    assert_eq!(w["radius"], v["radius"]);
     // One particle has no spacing.
     let one = dir.path().join("one.csv");
     std::fs::write(&one, "x,y\n0,0\n").unwrap();
@@ -653,18 +668,152 @@ fn radius_auto_is_the_median_spacing_reported_with_a_warning() {
 }
 
 #[test]
-fn radius_auto_on_shared_data_is_the_listed_spacing() {
-    // The data README lists the median nearest-neighbour spacing of each file: 0.005293 here.
-    let Some(input) = shared(VORTEX) else {
+fn radius_auto_on_a_solver_lattice_finds_its_spacing() {
+    // DualSPHysics' 2D dam break: dp = 0.02, h = 0.0283 (the data README).
+    let Some(input) = shared("particles2d/dualsphysics_dambreak2d_dp0.02_fluid_4416.csv") else {
         return;
     };
     let out = boundary(&["detect", input.to_str().unwrap(), "-r", "auto", "--json"]);
     assert!(out.status.success(), "{}", stderr(&out));
     let v: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let spacing = v["spacing"].as_f64().unwrap();
+    assert!((spacing / 0.02 - 1.0).abs() < 0.1, "{v}");
+    let ratio = v["radius"].as_f64().unwrap() / 0.0283;
+    assert!((0.6..=1.67).contains(&ratio), "{v}");
+}
+
+/// The `boundary` column of a CSV written by `detect --output`.
+fn labels_of(path: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = header.iter().position(|h| *h == "boundary").unwrap();
+    lines
+        .map(|l| l.split(',').nth(col).unwrap().to_owned())
+        .collect()
+}
+
+#[test]
+fn smoothing_length_is_the_radius_and_the_sph_sums_h() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = "../../fixtures/vortex2d_t4.csv";
+    for method in ["exact", "marrone", "divr"] {
+        let mut labels = Vec::new();
+        for (flag, value) in [("--smoothing-length", "0.0075"), ("--radius", "0.0075")] {
+            let output = dir.path().join(format!("{method}{flag}.csv"));
+            let out = boundary(&[
+                "detect",
+                input,
+                flag,
+                value,
+                "-m",
+                method,
+                "-o",
+                output.to_str().unwrap(),
+                "--json",
+            ]);
+            assert!(out.status.success(), "{}", stderr(&out));
+            let v: Value = serde_json::from_str(&stdout(&out)).unwrap();
+            assert_eq!(v["radius"], 0.0075);
+            assert_eq!(v["radius_from"], flag[2..].replace('-', "_"));
+            labels.push(labels_of(&output));
+        }
+        assert_eq!(labels[0], labels[1], "{method}");
+        assert!(labels[0].iter().any(|l| l == "1") && labels[0].iter().any(|l| l == "0"));
+    }
+    // h_over_r would make the sums' h a multiple of the smoothing length given.
+    let out = boundary(&[
+        "detect",
+        input,
+        "--smoothing-length",
+        "0.0075",
+        "-m",
+        "muller",
+        "--set",
+        "h_over_r=2",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
     assert!(
-        (v["radius"].as_f64().unwrap() - 0.005293).abs() < 5e-7,
+        err.contains("h_over_r=2") && err.contains("--smoothing-length"),
+        "{err}"
+    );
+    // With h_over_r=1 (the default, said aloud) it runs.
+    let out = boundary(&[
+        "detect",
+        input,
+        "--smoothing-length",
+        "0.0075",
+        "-m",
+        "muller",
+        "--set",
+        "h_over_r=1",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    // One resolution option at a time, and a positive length.
+    let out = boundary(&[
+        "detect",
+        input,
+        "--smoothing-length",
+        "0.0075",
+        "--spacing",
+        "0.005",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("cannot be used with"),
+        "{}",
+        stderr(&out)
+    );
+    let out = boundary(&["detect", input, "--smoothing-length", "-1"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("not a positive length"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
+fn spacing_gives_k_times_dp() {
+    let input = "../../fixtures/vortex2d_t4.csv";
+    let out = boundary(&["detect", input, "--spacing", "0.005", "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    // (JSON's decimal text read back: equal to a few ulps.)
+    assert!(
+        (v["radius"].as_f64().unwrap() / (1.45 * 0.005) - 1.0).abs() < 1e-12,
         "{v}"
     );
+    assert_eq!(v["radius_from"], "spacing");
+    assert_eq!(v["radius_estimated"], false);
+}
+
+#[test]
+fn implausible_radius_is_flagged_with_the_numbers_and_the_run_goes_on() {
+    let input = "../../fixtures/vortex2d_t4.csv";
+    // 1000 x the spacing: one blob.
+    let out = boundary(&["detect", input, "--radius", "7.5", "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let warning = v["radius_warning"].as_str().unwrap();
+    assert!(
+        warning.contains("r = 7.5") && warning.contains("one blob"),
+        "{v}"
+    );
+    assert!(stderr(&out).contains("warning:") && stderr(&out).contains("one blob"));
+    // Below the spacing: almost every particle boundary.
+    let out = boundary(&["detect", input, "--radius", "0.002"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("almost every particle will be boundary"),
+        "{}",
+        stderr(&out)
+    );
+    // A documented r says nothing.
+    let out = boundary(&["detect", input, "--smoothing-length", "0.0075"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(!stderr(&out).contains("warning"), "{}", stderr(&out));
 }
 
 #[test]

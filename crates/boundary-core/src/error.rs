@@ -17,6 +17,9 @@ pub enum CoreError {
     /// The resolution is not a positive finite number.
     #[error("radius must be positive and finite, got {0}")]
     InvalidRadius(f64),
+    /// A particle spacing is not a positive finite number.
+    #[error("particle spacing must be positive and finite, got {0}")]
+    InvalidSpacing(f64),
     /// The resolution lies outside [`crate::Radius::MIN`]`..=`[`crate::Radius::MAX`].
     #[error(
         "radius {0:e} is outside the supported range 1e-100..=1e100 (squared distances of \

@@ -14,7 +14,8 @@
 //! - [`NeighbourGrid`]: a uniform grid for fixed-radius neighbour queries; [`RadiusGrid`] for
 //!   sets with a radius per particle ([`ParticleSet::with_radii`]).
 //! - [`BoundaryDetector`]: the trait every method implements, returning a [`Detection`].
-//! - [`median_nearest_neighbour_distance`]: the particle spacing, to estimate `r`.
+//! - [`bulk_spacing`]: the particle spacing `dp` (volume per particle in the bulk), and
+//!   [`auto_radius`], [`radius_from_spacing`] (`r = k·dp`) and [`radius_concern`] from it.
 //! - [`Confusion`]: accuracy metrics (Rec, FPR, M = Rec·(1−FPR), precision, F1).
 //! - [`Domain`]: walls, solid regions ([`Solids`]: half-spaces, and in 3D closed triangle
 //!   meshes), periodic axes and phases around a set (see [`domain`]).
@@ -69,7 +70,11 @@ pub use metrics::Confusion;
 pub use particles::{AnyParticleSet, Dim, Flatness, ParticleSet, Point, Radius, SupportedDim};
 pub use radius_grid::RadiusGrid;
 pub use solid_mesh::{MeshError, SolidMesh};
-pub use spacing::{auto_radius, median_nearest_neighbour_distance, AUTO_RADIUS_FACTOR};
+pub use spacing::{
+    auto_radius, bulk_spacing, bulk_spacing_of, median_nearest_neighbour_distance, radius_concern,
+    radius_from_spacing, AutoRadius, RadiusConcern, BULK_COUNT_QUANTILE, BULK_PROBE_RADIUS,
+    BULK_SAMPLE, PLAUSIBLE_RADIUS_PER_SPACING, RADIUS_PER_SPACING,
+};
 
 /// Re-export of the linear-algebra crate used in public signatures.
 pub use nalgebra;

@@ -7,6 +7,7 @@
 //! turn rows into files. Scenes come from `fixtures/scenes.toml` (our generated scenes and
 //! references into `../shared/data`).
 
+pub mod auto_radius;
 pub mod benchmarks;
 pub mod failures;
 pub mod plots;
@@ -103,7 +104,7 @@ pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
                 out.push(MethodConfig::with(m, "cavity", "off"));
                 // A second viewpoint grid shifted by r (boundary when seen under both).
                 out.push(MethodConfig::with(m, "grids", "2"));
-                // 3D with the 2D default's protrusion tolerance (hpr's crate docs).
+                // 3D with the 2D default's protrusion tolerance (docs/METHODS.md, `hpr`).
                 out.push(MethodConfig::with(m, "protrusion", "1e-3"));
             }
             "muller" => {
@@ -271,6 +272,8 @@ pub struct Outcome {
     pub domains: Vec<(String, String)>,
     /// The exact labels of each scene with a domain, for its picture.
     pub domain_pictures: Vec<DomainPicture>,
+    /// How well `auto` chooses r on each physical scene ([`auto_radius`]).
+    pub auto: Vec<auto_radius::AutoRow>,
 }
 
 /// The mean number of other particles within `2r` of a particle of `set` (the scene's uniform
@@ -411,6 +414,9 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
         let t_one = opts
             .single_thread
             .then(|| timed(exact.as_ref(), &set, domain, r, &one).1);
+        if let Some(row) = all.install(|| auto_radius::auto_row(scene, &set, domain, &truth))? {
+            out.auto.push(row);
+        }
         if let Some(expected) = scene.expected_boundary {
             if truth.boundary_count() != expected {
                 out.count_mismatches

@@ -59,12 +59,15 @@ pub use registry::{
     summary, RegistryError,
 };
 
-pub use boundary_core::{auto_radius, stop};
+pub use boundary_core::{
+    auto_radius, bulk_spacing, bulk_spacing_of, radius_concern, radius_from_spacing, stop,
+    AutoRadius, RadiusConcern, PLAUSIBLE_RADIUS_PER_SPACING, RADIUS_PER_SPACING,
+};
 pub use boundary_core::{
     median_nearest_neighbour_distance, AnyParticleSet, BoundaryDetector, Confusion, CoreError,
     DetectError, Detection, Dim, Domain, DomainDetection, DomainError, Flatness, HalfSpace, Labels,
     MeshError, ParamError, ParamInfo, Params, ParticleSet, Periodic, Point, Radius, SolidMesh,
-    Solids, SupportedDim, AUTO_RADIUS_FACTOR,
+    Solids, SupportedDim,
 };
 
 /// Re-export of the linear-algebra crate used in public signatures ([`Point`]).
