@@ -75,6 +75,13 @@
 #define BOUNDARY_ERR_DOMAIN 11
 
 /**
+ * The factor `k` of `r = k * dp` for a particle spacing `dp` (`boundary_radius_from_spacing`,
+ * the command line's `--spacing`): between the smoothing lengths SPH solvers use by default
+ * (1.2 to 1.73 spacings); `boundary_auto_radius` applies it to the spacing it measures.
+ */
+#define BOUNDARY_RADIUS_PER_SPACING 1.45
+
+/**
  * A detector created once (method and parameters parsed once) and used every time step.
  * Opaque: create with `boundary_detector_new`, release with `boundary_detector_free`.
  */
@@ -184,6 +191,28 @@ int boundary_detect_radii(const double *xyz,
                           size_t err_len);
 
 /**
+ * `boundary_detect` with the smoothing length `h` of an SPH solver instead of `r`: `r = h`
+ * (the definition's resolution is the smoothing length; the command line's
+ * `--smoothing-length`), and the SPH-sum methods (`marrone`, `muller`, `divr`, `asymmetry`,
+ * `randles`) use `h` itself as their smoothing length. The labels are those of
+ * `boundary_detect` with `r = h`. `params` setting `h_over_r` other than 1 (which would make
+ * the sums' smoothing length a multiple of `h`) is `BOUNDARY_ERR_PARAM`; `h` not positive and
+ * finite is `BOUNDARY_ERR_INPUT`.
+ *
+ * # Safety
+ * As `boundary_detect`.
+ */
+int boundary_detect_h(const double *xyz,
+                      size_t n,
+                      int dim,
+                      double h,
+                      const char *method,
+                      const char *params,
+                      uint8_t *out_labels,
+                      char *err,
+                      size_t err_len);
+
+/**
  * Creates a detector for repeated use: `method` with `params` as in `boundary_detect`,
  * parsed once. Returns NULL on error, with the message in `err`. Release it with
  * `boundary_detector_free`.
@@ -218,6 +247,27 @@ int boundary_detector_detect(const struct boundary_detector *handle,
                              double *out_margin,
                              char *err,
                              size_t err_len);
+
+/**
+ * `boundary_detector_detect` with the smoothing length `h` instead of `r` (`r = h`, as
+ * `boundary_detect_h`): the labels are those of `boundary_detector_detect` with `r = h`. A
+ * handle whose method has `h_over_r` other than 1 is `BOUNDARY_ERR_PARAM` (the SPH sums would
+ * not use `h`); `h` not positive and finite is `BOUNDARY_ERR_INPUT`. With per-particle radii
+ * or phases, pass `r = h` to `boundary_detector_detect_radii` / `_phases` (a handle created
+ * without `h_over_r` uses `h` itself).
+ *
+ * # Safety
+ * As `boundary_detector_detect`.
+ */
+int boundary_detector_detect_h(const struct boundary_detector *handle,
+                               const double *xyz,
+                               size_t n,
+                               int dim,
+                               double h,
+                               uint8_t *out_labels,
+                               double *out_margin,
+                               char *err,
+                               size_t err_len);
 
 /**
  * `boundary_detector_detect` with a radius per particle: `radii` (`n` doubles or NULL) as in
@@ -358,6 +408,56 @@ void boundary_detector_free(struct boundary_detector *handle);
  * `err` is NULL or valid for writes of `err_len` bytes.
  */
 int boundary_set_threads(size_t threads, char *err, size_t err_len);
+
+/**
+ * The resolution for a particle spacing `dp` (the solver's initial spacing, `dp`, `dx`,
+ * particle diameter): `*out_r = BOUNDARY_RADIUS_PER_SPACING * dp`, as the command line's
+ * `--spacing`. `dp` not positive and finite, or an `r` outside 1e-100..=1e100, is
+ * `BOUNDARY_ERR_INPUT`; `*out_r` is written only on success.
+ *
+ * # Safety
+ * `out_r` is NULL or valid for a write of one double; `err` NULL or valid for writes of
+ * `err_len` bytes.
+ */
+int boundary_radius_from_spacing(double spacing, double *out_r, char *err, size_t err_len);
+
+/**
+ * The particle spacing `dp` of the `n` particles at `xyz` (`n * dim` doubles) as a solver
+ * defines it: the side of the volume (area in 2D) per particle in the bulk of the set,
+ * `dp = (V / N)^(1/dim)`, which jitter, disorder and compression at constant volume do not
+ * shrink (the library's `boundary::bulk_spacing`). Written to `*out_spacing` on success.
+ * Fewer than two distinct positions, a non-finite coordinate or a flat 3D set is
+ * `BOUNDARY_ERR_INPUT`.
+ *
+ * # Safety
+ * `xyz` is valid for reads of `n * dim` doubles (may be NULL when `n == 0`); `out_spacing`
+ * NULL or valid for a write of one double; `err` NULL or valid for writes of `err_len` bytes.
+ */
+int boundary_bulk_spacing(const double *xyz,
+                          size_t n,
+                          int dim,
+                          double *out_spacing,
+                          char *err,
+                          size_t err_len);
+
+/**
+ * The resolution estimated from the particles, as `boundary detect --radius auto`:
+ * `*out_r = BOUNDARY_RADIUS_PER_SPACING * dp` for the spacing `dp` of
+ * `boundary_bulk_spacing`, also written to `*out_spacing` unless it is NULL. An estimate, the
+ * fallback when the solver's smoothing length or spacing is not known. Errors as
+ * `boundary_bulk_spacing`; nothing is written on error.
+ *
+ * # Safety
+ * As `boundary_bulk_spacing`; `out_r` NULL or valid for a write of one double,
+ * `out_spacing` NULL or valid for a write of one double, not the same as `out_r`.
+ */
+int boundary_auto_radius(const double *xyz,
+                         size_t n,
+                         int dim,
+                         double *out_r,
+                         double *out_spacing,
+                         char *err,
+                         size_t err_len);
 
 /**
  * Scores `n` predicted labels against `n` truth labels (1 boundary, 0 interior, as

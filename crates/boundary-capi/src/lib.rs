@@ -24,6 +24,13 @@
 //! scaled) is `BOUNDARY_ERR_INPUT` naming the particle; a method without per-particle support
 //! returns `BOUNDARY_ERR_DETECT` saying so.
 //!
+//! The resolution `r` in a solver's terms: in SPH, `r` is the smoothing length `h`
+//! (`boundary_detect_h` and `boundary_detector_detect_h` take `h`, and refuse a method whose
+//! `h_over_r` would make the SPH sums use another one); from the particle spacing `dp`,
+//! `boundary_radius_from_spacing` gives `r = BOUNDARY_RADIUS_PER_SPACING * dp`;
+//! `boundary_bulk_spacing` measures `dp` in the bulk of a set and `boundary_auto_radius` the
+//! `r` of `boundary detect --radius auto`.
+//!
 //! A simulation's domain (see the library's `boundary::domain`) belongs to the handle, set
 //! once since it usually does not move: `boundary_detector_set_walls` (covering-only wall
 //! particles), `boundary_detector_add_solid` (a closed solid half-space, `"y<0"`),
@@ -58,8 +65,9 @@
 #![allow(unsafe_code)]
 
 use boundary::{
-    detector_with_params, parse_param_list, AnyParticleSet, BoundaryDetector, DetectError,
-    Detection, Domain, Flatness, HalfSpace, Labels, ParticleSet, Periodic, Point, Radius,
+    auto_radius, bulk_spacing, detector_with_params, parse_param_list, radius_from_spacing,
+    AnyParticleSet, BoundaryDetector, DetectError, Detection, Domain, Flatness, HalfSpace, Labels,
+    ParticleSet, Periodic, Point, Radius,
 };
 use boundary::{Dim, SupportedDim};
 use std::ffi::{c_char, c_int, CStr};
@@ -102,6 +110,14 @@ pub const BOUNDARY_ERR_INTERNAL: c_int = 10;
 /// the particles, a particle outside a periodic range, a period shorter than the method's
 /// reach, a solid on a periodic axis (the message names the option or the particle).
 pub const BOUNDARY_ERR_DOMAIN: c_int = 11;
+
+/// The factor `k` of `r = k * dp` for a particle spacing `dp` (`boundary_radius_from_spacing`,
+/// the command line's `--spacing`): between the smoothing lengths SPH solvers use by default
+/// (1.2 to 1.73 spacings); `boundary_auto_radius` applies it to the spacing it measures.
+pub const BOUNDARY_RADIUS_PER_SPACING: f64 = 1.45;
+
+// The header's value is the library's.
+const _: () = assert!(BOUNDARY_RADIUS_PER_SPACING == boundary::RADIUS_PER_SPACING);
 
 /// A detector created once (method and parameters parsed once) and used every time step.
 /// Opaque: create with `boundary_detector_new`, release with `boundary_detector_free`.
@@ -348,6 +364,45 @@ fn refuse_flat(set: &AnyParticleSet) -> Result<(), Failure> {
         }
     };
     Err(Failure::new(BOUNDARY_ERR_INPUT, message))
+}
+
+/// With the smoothing length `h` as `r`, the SPH-sum methods (`marrone`, `muller`, `divr`,
+/// `asymmetry`, `randles`) use `h` itself: a parameter `h_over_r` other than 1 (which would
+/// make their smoothing length a multiple of `h`) is `BOUNDARY_ERR_PARAM`, as the command
+/// line refuses it with `--smoothing-length`.
+fn refuse_h_over_r(detector: &dyn BoundaryDetector, h: f64) -> Result<(), Failure> {
+    for p in detector.params().0 {
+        let one = p.value.trim().parse::<f64>().is_ok_and(|v| v == 1.0);
+        if p.name == "h_over_r" && !one {
+            return Err(Failure::new(
+                BOUNDARY_ERR_PARAM,
+                format!(
+                    "the smoothing length h = {h} is the SPH sums' h itself; h_over_r={v} would \
+                     make it {v} x {h}: drop h_over_r, or pass r with it to boundary_detect",
+                    v = p.value
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// One double written to `out` (checked non-NULL and aligned) after every other check.
+///
+/// # Safety
+/// `out` is NULL or valid for a write of one double.
+unsafe fn out_double<'a>(out: *mut f64, what: &str) -> Result<&'a mut f64, Failure> {
+    if out.is_null() {
+        return Err(Failure::new(BOUNDARY_ERR_NULL, format!("{what} is NULL")));
+    }
+    if out.align_offset(align_of::<f64>()) != 0 {
+        return Err(Failure::new(
+            BOUNDARY_ERR_SIZE,
+            format!("{what} is not aligned for double"),
+        ));
+    }
+    // SAFETY: non-NULL, aligned, valid for one write by the caller's contract.
+    Ok(unsafe { &mut *out })
 }
 
 /// A mutable output buffer of `n` elements; NULL is allowed only when `n == 0`.
@@ -623,6 +678,68 @@ pub unsafe extern "C" fn boundary_detect_radii(
     unsafe { guarded(err, err_len, body) }
 }
 
+/// The smoothing length `h` as the resolution, checked: positive and finite
+/// (`BOUNDARY_ERR_INPUT`).
+fn smoothing_length(h: f64) -> Result<f64, Failure> {
+    Radius::new(h)
+        .map(Radius::get)
+        .map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, format!("smoothing length h: {e}")))
+}
+
+/// `boundary_detect` with the smoothing length `h` of an SPH solver instead of `r`: `r = h`
+/// (the definition's resolution is the smoothing length; the command line's
+/// `--smoothing-length`), and the SPH-sum methods (`marrone`, `muller`, `divr`, `asymmetry`,
+/// `randles`) use `h` itself as their smoothing length. The labels are those of
+/// `boundary_detect` with `r = h`. `params` setting `h_over_r` other than 1 (which would make
+/// the sums' smoothing length a multiple of `h`) is `BOUNDARY_ERR_PARAM`; `h` not positive and
+/// finite is `BOUNDARY_ERR_INPUT`.
+///
+/// # Safety
+/// As `boundary_detect`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)] // the C signature
+pub unsafe extern "C" fn boundary_detect_h(
+    xyz: *const f64,
+    n: usize,
+    dim: c_int,
+    h: f64,
+    method: *const c_char,
+    params: *const c_char,
+    out_labels: *mut u8,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    let body = || {
+        let r = smoothing_length(h)?;
+        // SAFETY: forwarded from this function's contract.
+        let detector = unsafe { make_detector(method, params) }?;
+        refuse_h_over_r(detector.as_ref(), h)?;
+        let pool = default_pool();
+        let request = Request {
+            domain: &Domain::new(),
+            phases: std::ptr::null(),
+            out_labels,
+            out_interface: std::ptr::null_mut(),
+            out_margin: std::ptr::null_mut(),
+        };
+        // SAFETY: forwarded from this function's contract, with no radii.
+        unsafe {
+            detect_into(
+                detector.as_ref(),
+                pool.as_deref(),
+                xyz,
+                n,
+                dim,
+                std::ptr::null(),
+                r,
+                &request,
+            )
+        }
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { guarded(err, err_len, body) }
+}
+
 /// Creates a detector for repeated use: `method` with `params` as in `boundary_detect`,
 /// parsed once. Returns NULL on error, with the message in `err`. Release it with
 /// `boundary_detector_free`.
@@ -691,6 +808,60 @@ pub unsafe extern "C" fn boundary_detector_detect(
             err_len,
         )
     }
+}
+
+/// `boundary_detector_detect` with the smoothing length `h` instead of `r` (`r = h`, as
+/// `boundary_detect_h`): the labels are those of `boundary_detector_detect` with `r = h`. A
+/// handle whose method has `h_over_r` other than 1 is `BOUNDARY_ERR_PARAM` (the SPH sums would
+/// not use `h`); `h` not positive and finite is `BOUNDARY_ERR_INPUT`. With per-particle radii
+/// or phases, pass `r = h` to `boundary_detector_detect_radii` / `_phases` (a handle created
+/// without `h_over_r` uses `h` itself).
+///
+/// # Safety
+/// As `boundary_detector_detect`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)] // the C signature
+pub unsafe extern "C" fn boundary_detector_detect_h(
+    handle: *const boundary_detector,
+    xyz: *const f64,
+    n: usize,
+    dim: c_int,
+    h: f64,
+    out_labels: *mut u8,
+    out_margin: *mut f64,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    let body = || {
+        // SAFETY: NULL or a live handle from `boundary_detector_new` (this function's contract).
+        let handle = unsafe { handle.as_ref() }
+            .ok_or_else(|| Failure::new(BOUNDARY_ERR_NULL, "handle is NULL"))?;
+        let r = smoothing_length(h)?;
+        refuse_h_over_r(handle.detector.as_ref(), h)?;
+        let pool = handle.pool.clone().or_else(default_pool);
+        let request = Request {
+            domain: &handle.domain,
+            phases: std::ptr::null(),
+            out_labels,
+            out_interface: std::ptr::null_mut(),
+            out_margin,
+        };
+        // SAFETY: forwarded from this function's contract, with no radii.
+        unsafe {
+            detect_into(
+                handle.detector.as_ref(),
+                pool.as_deref(),
+                xyz,
+                n,
+                dim,
+                std::ptr::null(),
+                r,
+                &request,
+            )
+        }
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { guarded(err, err_len, body) }
 }
 
 /// `boundary_detector_detect` with a radius per particle: `radii` (`n` doubles or NULL) as in
@@ -990,6 +1161,139 @@ pub unsafe extern "C" fn boundary_set_threads(
         match DEFAULT_POOL.lock() {
             Ok(mut guard) => *guard = pool,
             Err(poisoned) => *poisoned.into_inner() = pool,
+        }
+        Ok(())
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { guarded(err, err_len, body) }
+}
+
+/// The resolution for a particle spacing `dp` (the solver's initial spacing, `dp`, `dx`,
+/// particle diameter): `*out_r = BOUNDARY_RADIUS_PER_SPACING * dp`, as the command line's
+/// `--spacing`. `dp` not positive and finite, or an `r` outside 1e-100..=1e100, is
+/// `BOUNDARY_ERR_INPUT`; `*out_r` is written only on success.
+///
+/// # Safety
+/// `out_r` is NULL or valid for a write of one double; `err` NULL or valid for writes of
+/// `err_len` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn boundary_radius_from_spacing(
+    spacing: f64,
+    out_r: *mut f64,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    let body = || {
+        // SAFETY: forwarded from this function's contract.
+        let out = unsafe { out_double(out_r, "out_r") }?;
+        let r = radius_from_spacing(spacing)
+            .map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, format!("spacing: {e}")))?;
+        *out = r.get();
+        Ok(())
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { guarded(err, err_len, body) }
+}
+
+/// The particle set of `xyz` for the spacing functions, refusing a flat 3D set.
+///
+/// # Safety
+/// As [`particle_set`] without radii.
+unsafe fn spacing_set(xyz: *const f64, n: usize, dim: c_int) -> Result<AnyParticleSet, Failure> {
+    // SAFETY: forwarded from the caller's contract, with no radii.
+    let set = unsafe { particle_set(xyz, n, dim, std::ptr::null()) }?;
+    refuse_flat(&set)?;
+    Ok(set)
+}
+
+/// Runs `job` on the pool of `boundary_set_threads` (rayon's global pool by default).
+fn in_default_pool<T: Send>(job: impl FnOnce() -> T + Send) -> T {
+    match default_pool() {
+        Some(pool) => pool.install(job),
+        None => job(),
+    }
+}
+
+/// The particle spacing `dp` of the `n` particles at `xyz` (`n * dim` doubles) as a solver
+/// defines it: the side of the volume (area in 2D) per particle in the bulk of the set,
+/// `dp = (V / N)^(1/dim)`, which jitter, disorder and compression at constant volume do not
+/// shrink (the library's `boundary::bulk_spacing`). Written to `*out_spacing` on success.
+/// Fewer than two distinct positions, a non-finite coordinate or a flat 3D set is
+/// `BOUNDARY_ERR_INPUT`.
+///
+/// # Safety
+/// `xyz` is valid for reads of `n * dim` doubles (may be NULL when `n == 0`); `out_spacing`
+/// NULL or valid for a write of one double; `err` NULL or valid for writes of `err_len` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn boundary_bulk_spacing(
+    xyz: *const f64,
+    n: usize,
+    dim: c_int,
+    out_spacing: *mut f64,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    let body = || {
+        // SAFETY: forwarded from this function's contract.
+        let set = unsafe { spacing_set(xyz, n, dim) }?;
+        // SAFETY: forwarded from this function's contract.
+        let out = unsafe { out_double(out_spacing, "out_spacing") }?;
+        let spacing = in_default_pool(|| bulk_spacing(&set))
+            .map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, e.to_string()))?
+            .ok_or_else(|| {
+                Failure::new(
+                    BOUNDARY_ERR_INPUT,
+                    "the particle spacing needs at least two distinct particle positions",
+                )
+            })?;
+        *out = spacing;
+        Ok(())
+    };
+    // SAFETY: forwarded from this function's contract.
+    unsafe { guarded(err, err_len, body) }
+}
+
+/// The resolution estimated from the particles, as `boundary detect --radius auto`:
+/// `*out_r = BOUNDARY_RADIUS_PER_SPACING * dp` for the spacing `dp` of
+/// `boundary_bulk_spacing`, also written to `*out_spacing` unless it is NULL. An estimate, the
+/// fallback when the solver's smoothing length or spacing is not known. Errors as
+/// `boundary_bulk_spacing`; nothing is written on error.
+///
+/// # Safety
+/// As `boundary_bulk_spacing`; `out_r` NULL or valid for a write of one double,
+/// `out_spacing` NULL or valid for a write of one double, not the same as `out_r`.
+#[no_mangle]
+pub unsafe extern "C" fn boundary_auto_radius(
+    xyz: *const f64,
+    n: usize,
+    dim: c_int,
+    out_r: *mut f64,
+    out_spacing: *mut f64,
+    err: *mut c_char,
+    err_len: usize,
+) -> c_int {
+    let body = || {
+        // SAFETY: forwarded from this function's contract.
+        let set = unsafe { spacing_set(xyz, n, dim) }?;
+        // SAFETY: forwarded from this function's contract.
+        let out = unsafe { out_double(out_r, "out_r") }?;
+        let spacing = if out_spacing.is_null() {
+            None
+        } else {
+            // SAFETY: non-NULL, forwarded from this function's contract.
+            Some(unsafe { out_double(out_spacing, "out_spacing") }?)
+        };
+        let auto = in_default_pool(|| auto_radius(&set))
+            .map_err(|e| Failure::new(BOUNDARY_ERR_INPUT, e.to_string()))?
+            .ok_or_else(|| {
+                Failure::new(
+                    BOUNDARY_ERR_INPUT,
+                    "the estimated radius needs at least two distinct particle positions",
+                )
+            })?;
+        *out = auto.radius.get();
+        if let Some(spacing) = spacing {
+            *spacing = auto.spacing;
         }
         Ok(())
     };

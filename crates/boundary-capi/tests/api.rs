@@ -616,3 +616,440 @@ fn confusion_scores_given_labels_with_the_keys_of_the_cli() {
         (BOUNDARY_ERR_NULL, "out is NULL")
     );
 }
+
+// ---- the resolution in a solver's terms: h, the spacing, auto --------------------------------
+
+/// A `side`^2 lattice of spacing `dp` clipped to a disc, jittered by up to 10% of `dp` (a
+/// deterministic LCG): an interior and a free surface.
+fn jittered_disc(side: usize, dp: f64) -> Vec<f64> {
+    let mut state = 11u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let centre = (side - 1) as f64 / 2.0;
+    let mut xyz = Vec::new();
+    for i in 0..side {
+        for j in 0..side {
+            let (x, y) = (i as f64 - centre, j as f64 - centre);
+            if x.hypot(y) <= centre {
+                xyz.push(dp * (x + 0.1 * (2.0 * next() - 1.0)));
+                xyz.push(dp * (y + 0.1 * (2.0 * next() - 1.0)));
+            }
+        }
+    }
+    xyz
+}
+
+/// `boundary_detect_h` with Rust strings; returns (code, labels, message).
+fn detect_h(xyz: &[f64], h: f64, method: &str, params: &str) -> (i32, Vec<u8>, String) {
+    let n = xyz.len() / 2;
+    let mut labels = vec![7u8; n];
+    let mut err = [0 as c_char; 512];
+    let method = CString::new(method).expect("no NUL");
+    let params = CString::new(params).expect("no NUL");
+    let code = unsafe {
+        boundary_detect_h(
+            xyz.as_ptr(),
+            n,
+            2,
+            h,
+            method.as_ptr(),
+            params.as_ptr(),
+            labels.as_mut_ptr(),
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    (code, labels, message(&err))
+}
+
+#[test]
+fn the_smoothing_length_gives_the_labels_of_r_equal_h_and_refuses_another_h_over_r() {
+    let dp = 0.02;
+    let xyz = jittered_disc(30, dp);
+    let h = 1.5 * dp;
+    for method in [
+        "exact",
+        "marrone",
+        "muller",
+        "divr",
+        "asymmetry",
+        "randles",
+        "ge",
+    ] {
+        let (code, labels, text) = detect_h(&xyz, h, method, "");
+        assert_eq!(code, BOUNDARY_OK, "{method}: {text}");
+        let (code, expected, text) = detect(&xyz, 2, h, method, "");
+        assert_eq!(code, BOUNDARY_OK, "{method}: {text}");
+        assert_eq!(labels, expected, "{method}");
+        assert!(labels.contains(&0) && labels.contains(&1), "{method}");
+        // h_over_r = 1 is h itself; anything else would make the SPH sums' h another one.
+        if method != "exact" && method != "ge" {
+            let (code, labels, _) = detect_h(&xyz, h, method, "h_over_r=1.0");
+            assert_eq!((code, &labels), (BOUNDARY_OK, &expected), "{method}");
+            let (code, labels, text) = detect_h(&xyz, h, method, "h_over_r=2");
+            assert_eq!(code, BOUNDARY_ERR_PARAM, "{method}: {text}");
+            assert!(
+                text.contains("h_over_r=2 would make it 2 x 0.03"),
+                "{method}: {text}"
+            );
+            assert!(labels.iter().all(|&b| b == 7), "{method}: labels written");
+        }
+    }
+    // The handle: the same labels as boundary_detector_detect with r = h, in its domain.
+    let mut err = [0 as c_char; 512];
+    let n = xyz.len() / 2;
+    for (params, code_expected) in [("", BOUNDARY_OK), ("h_over_r=1.5", BOUNDARY_ERR_PARAM)] {
+        let params = CString::new(params).expect("no NUL");
+        let handle = unsafe {
+            boundary_detector_new(
+                c"muller".as_ptr(),
+                params.as_ptr(),
+                err.as_mut_ptr(),
+                err.len(),
+            )
+        };
+        assert!(!handle.is_null(), "{}", message(&err));
+        let mut labels = vec![7u8; n];
+        let code = unsafe {
+            boundary_detector_detect_h(
+                handle,
+                xyz.as_ptr(),
+                n,
+                2,
+                h,
+                labels.as_mut_ptr(),
+                std::ptr::null_mut(),
+                err.as_mut_ptr(),
+                err.len(),
+            )
+        };
+        assert_eq!(code, code_expected, "{}", message(&err));
+        if code == BOUNDARY_OK {
+            let mut expected = vec![7u8; n];
+            let code = unsafe {
+                boundary_detector_detect(
+                    handle,
+                    xyz.as_ptr(),
+                    n,
+                    2,
+                    h,
+                    expected.as_mut_ptr(),
+                    std::ptr::null_mut(),
+                    err.as_mut_ptr(),
+                    err.len(),
+                )
+            };
+            assert_eq!(code, BOUNDARY_OK, "{}", message(&err));
+            assert_eq!(labels, expected);
+        } else {
+            assert!(message(&err).contains("h_over_r=1.5"), "{}", message(&err));
+            assert!(labels.iter().all(|&b| b == 7));
+        }
+        // A bad h is an input error, never a crash; nothing is written.
+        for bad in [f64::NAN, -h, 0.0, f64::INFINITY] {
+            let code = unsafe {
+                boundary_detector_detect_h(
+                    handle,
+                    xyz.as_ptr(),
+                    n,
+                    2,
+                    bad,
+                    labels.as_mut_ptr(),
+                    std::ptr::null_mut(),
+                    err.as_mut_ptr(),
+                    err.len(),
+                )
+            };
+            assert_eq!(code, BOUNDARY_ERR_INPUT, "h = {bad}");
+            assert!(
+                message(&err).starts_with("smoothing length h: "),
+                "{}",
+                message(&err)
+            );
+        }
+        unsafe { boundary_detector_free(handle) };
+    }
+    let code = unsafe {
+        boundary_detector_detect_h(
+            std::ptr::null(),
+            xyz.as_ptr(),
+            n,
+            2,
+            h,
+            std::ptr::null_mut(),
+            std::ptr::null_mut(),
+            std::ptr::null_mut(),
+            0,
+        )
+    };
+    assert_eq!(code, BOUNDARY_ERR_NULL);
+    for bad in [f64::NAN, -1.0, 0.0, f64::INFINITY, 1e300] {
+        let (code, labels, text) = detect_h(&xyz, bad, "exact", "");
+        assert_eq!(code, BOUNDARY_ERR_INPUT, "h = {bad}: {text}");
+        assert!(labels.iter().all(|&b| b == 7));
+    }
+    let (code, _, text) = detect_h(&[0.0, f64::NAN], h, "exact", "");
+    assert_eq!(code, BOUNDARY_ERR_INPUT, "{text}");
+    let mut labels = [7u8; 3];
+    let code = unsafe {
+        boundary_detect_h(
+            std::ptr::null(),
+            3,
+            2,
+            h,
+            c"exact".as_ptr(),
+            std::ptr::null(),
+            labels.as_mut_ptr(),
+            std::ptr::null_mut(),
+            0,
+        )
+    };
+    assert_eq!(code, BOUNDARY_ERR_NULL);
+}
+
+#[test]
+fn the_spacing_gives_r_k_dp_and_the_bulk_spacing_reads_a_jittered_lattice() {
+    assert_eq!(BOUNDARY_RADIUS_PER_SPACING, boundary::RADIUS_PER_SPACING);
+    let mut err = [0 as c_char; 512];
+    let mut r = -7.0;
+    let code = unsafe { boundary_radius_from_spacing(0.02, &mut r, err.as_mut_ptr(), err.len()) };
+    assert_eq!(code, BOUNDARY_OK, "{}", message(&err));
+    assert_eq!(r, BOUNDARY_RADIUS_PER_SPACING * 0.02);
+    assert_eq!(r, boundary::radius_from_spacing(0.02).expect("valid").get());
+
+    // The labels of r = k dp.
+    let dp = 0.02;
+    let xyz = jittered_disc(30, dp);
+    let n = xyz.len() / 2;
+    let (code, labels, text) = detect(&xyz, 2, r, "exact", "");
+    assert_eq!(code, BOUNDARY_OK, "{text}");
+    let set = boundary::AnyParticleSet::from(
+        boundary::ParticleSet::from_rows(
+            &xyz.chunks_exact(2)
+                .map(|p| [p[0], p[1]])
+                .collect::<Vec<_>>(),
+        )
+        .expect("finite"),
+    );
+    let expected = detector_by_name("exact")
+        .expect("exact")
+        .detect(&set, Radius::new(1.45 * dp).expect("valid"))
+        .expect("detects");
+    let expected: Vec<u8> = expected
+        .labels
+        .as_slice()
+        .iter()
+        .map(|&b| u8::from(b))
+        .collect();
+    assert_eq!(labels, expected);
+
+    // The spacing measured in the bulk, and auto's r from it: the library's numbers.
+    let mut spacing = -7.0;
+    let code = unsafe {
+        boundary_bulk_spacing(
+            xyz.as_ptr(),
+            n,
+            2,
+            &mut spacing,
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert_eq!(code, BOUNDARY_OK, "{}", message(&err));
+    assert_eq!(
+        Some(spacing),
+        boundary::bulk_spacing(&set).expect("measures")
+    );
+    assert!((spacing / dp - 1.0).abs() < 0.1, "{spacing}");
+    let (mut auto_r, mut auto_dp) = (-7.0, -7.0);
+    let code = unsafe {
+        boundary_auto_radius(
+            xyz.as_ptr(),
+            n,
+            2,
+            &mut auto_r,
+            &mut auto_dp,
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert_eq!(code, BOUNDARY_OK, "{}", message(&err));
+    assert_eq!(
+        (auto_dp, auto_r),
+        (spacing, BOUNDARY_RADIUS_PER_SPACING * spacing)
+    );
+    let mut only_r = -7.0;
+    let code = unsafe {
+        boundary_auto_radius(
+            xyz.as_ptr(),
+            n,
+            2,
+            &mut only_r,
+            std::ptr::null_mut(),
+            std::ptr::null_mut(),
+            0,
+        )
+    };
+    assert_eq!((code, only_r), (BOUNDARY_OK, auto_r));
+}
+
+#[test]
+fn bad_spacings_and_sets_are_errors_and_write_nothing() {
+    let mut err = [0 as c_char; 512];
+    for bad in [
+        f64::NAN,
+        -0.02,
+        0.0,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        1e300,
+    ] {
+        let mut r = -7.0;
+        let code =
+            unsafe { boundary_radius_from_spacing(bad, &mut r, err.as_mut_ptr(), err.len()) };
+        assert_eq!(code, BOUNDARY_ERR_INPUT, "dp = {bad}");
+        assert!(message(&err).starts_with("spacing: "), "{}", message(&err));
+        assert_eq!(r, -7.0);
+    }
+    let code = unsafe {
+        boundary_radius_from_spacing(0.02, std::ptr::null_mut(), err.as_mut_ptr(), err.len())
+    };
+    assert_eq!(
+        (code, message(&err).as_str()),
+        (BOUNDARY_ERR_NULL, "out_r is NULL")
+    );
+    let code = unsafe {
+        boundary_radius_from_spacing(f64::NAN, std::ptr::null_mut(), std::ptr::null_mut(), 0)
+    };
+    assert_ne!(code, BOUNDARY_OK);
+
+    // (what, xyz, n, dim, code, part of the message) for both bulk_spacing and auto_radius.
+    let one = [0.5, 0.5];
+    let twins = [0.5, 0.5, 0.5, 0.5];
+    let nan = [0.0, 0.0, f64::NAN, 1.0];
+    let flat = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    let square = [0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 1.0];
+    let cases: Vec<(&str, *const f64, usize, i32, i32, &str)> = vec![
+        (
+            "empty",
+            std::ptr::null(),
+            0,
+            2,
+            BOUNDARY_ERR_INPUT,
+            "two distinct",
+        ),
+        (
+            "one",
+            one.as_ptr(),
+            1,
+            2,
+            BOUNDARY_ERR_INPUT,
+            "two distinct",
+        ),
+        (
+            "duplicates",
+            twins.as_ptr(),
+            2,
+            2,
+            BOUNDARY_ERR_INPUT,
+            "two distinct",
+        ),
+        (
+            "nan",
+            nan.as_ptr(),
+            2,
+            2,
+            BOUNDARY_ERR_INPUT,
+            "particle 1: coordinate 0",
+        ),
+        (
+            "flat",
+            flat.as_ptr(),
+            3,
+            3,
+            BOUNDARY_ERR_INPUT,
+            "a flat set is 2D",
+        ),
+        (
+            "null",
+            std::ptr::null(),
+            4,
+            2,
+            BOUNDARY_ERR_NULL,
+            "xyz is NULL",
+        ),
+        (
+            "dim",
+            square.as_ptr(),
+            2,
+            4,
+            BOUNDARY_ERR_SIZE,
+            "dim must be 2 or 3",
+        ),
+        (
+            "overflow",
+            square.as_ptr(),
+            usize::MAX,
+            3,
+            BOUNDARY_ERR_SIZE,
+            "too many",
+        ),
+    ];
+    for (what, xyz, n, dim, expected, text) in cases {
+        let mut out = -7.0;
+        let code =
+            unsafe { boundary_bulk_spacing(xyz, n, dim, &mut out, err.as_mut_ptr(), err.len()) };
+        assert_eq!(code, expected, "bulk_spacing {what}: {}", message(&err));
+        assert!(
+            message(&err).contains(text),
+            "bulk_spacing {what}: {}",
+            message(&err)
+        );
+        assert_eq!(out, -7.0, "{what}");
+        let (mut r, mut dp) = (-7.0, -7.0);
+        let code = unsafe {
+            boundary_auto_radius(xyz, n, dim, &mut r, &mut dp, err.as_mut_ptr(), err.len())
+        };
+        assert_eq!(code, expected, "auto_radius {what}: {}", message(&err));
+        assert!(
+            message(&err).contains(text),
+            "auto_radius {what}: {}",
+            message(&err)
+        );
+        assert_eq!((r, dp), (-7.0, -7.0), "{what}");
+    }
+    // A NULL output is refused, not written through.
+    let code = unsafe {
+        boundary_bulk_spacing(
+            square.as_ptr(),
+            4,
+            2,
+            std::ptr::null_mut(),
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert_eq!(
+        (code, message(&err).as_str()),
+        (BOUNDARY_ERR_NULL, "out_spacing is NULL")
+    );
+    let code = unsafe {
+        boundary_auto_radius(
+            square.as_ptr(),
+            4,
+            2,
+            std::ptr::null_mut(),
+            std::ptr::null_mut(),
+            err.as_mut_ptr(),
+            err.len(),
+        )
+    };
+    assert_eq!(
+        (code, message(&err).as_str()),
+        (BOUNDARY_ERR_NULL, "out_r is NULL")
+    );
+}

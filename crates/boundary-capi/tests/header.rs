@@ -66,6 +66,12 @@ fn committed_header_is_what_cbindgen_generates() {
         "int boundary_detector_detect_phases(",
         "const uint32_t *phases",
         "#define BOUNDARY_ERR_DOMAIN 11",
+        "#define BOUNDARY_RADIUS_PER_SPACING 1.45",
+        "int boundary_detect_h(",
+        "int boundary_detector_detect_h(",
+        "int boundary_radius_from_spacing(double spacing, double *out_r,",
+        "int boundary_bulk_spacing(",
+        "int boundary_auto_radius(",
         "#define BOUNDARY_OK 0",
         "size_t n",
     ] {

@@ -19,8 +19,14 @@
 //!   them. On Ctrl-C it stops the pool's workers through a `boundary::stop::StopToken` (each
 //!   worker ends the particle it is classifying), waits for them, and raises
 //!   `KeyboardInterrupt`: no detection keeps running in the background.
-//! - `r`: a positive real, or `"auto"` (the core's `auto_radius`, the CLI's `--radius auto`).
-//!   With `radii` (a radius factor `s_i` per particle, `r_i = r * s_i`), `r` defaults to 1.
+//! - The resolution, given once (the CLI's `--radius`, `--smoothing-length`, `--spacing`):
+//!   `r`, a positive real or `"auto"` (the core's `auto_radius`, the CLI's `--radius auto`);
+//!   `h`, the smoothing length (`r = h`; the SPH-sum methods then use `h` itself, so an
+//!   `h_over_r` other than 1 is refused as the CLI refuses it); or `spacing`, the particle
+//!   spacing (`r = RADIUS_PER_SPACING * spacing`, the core's `radius_from_spacing`). With
+//!   `radii` (a radius factor `s_i` per particle, `r_i = r * s_i`), `r` defaults to 1. An `r`
+//!   the core's `radius_concern` finds implausible for the spacing measured in the bulk
+//!   (`bulk_spacing`) is a `UserWarning` with its text; the detection runs all the same.
 //! - A domain (`walls`, `wall_radii`, `solids`, `periodic`, `phases`) becomes the library's
 //!   `Domain`, solids and periodic axes as the texts `HalfSpace::parse` and `Periodic::parse`
 //!   read (`"y<0"`, `"x:0:1"`).
@@ -34,9 +40,10 @@
 
 use boundary::stop::StopToken;
 use boundary::{
-    auto_radius, detector_with_params, methods as method_names, summary, AnyParticleSet,
-    BoundaryDetector, Confusion, DetectError, Domain, DomainDetection, Flatness, HalfSpace, Labels,
-    ParticleSet, Periodic, Point, Radius,
+    auto_radius, bulk_spacing, detector_with_params, methods as method_names, radius_concern,
+    radius_from_spacing, summary, AnyParticleSet, BoundaryDetector, Confusion, DetectError, Domain,
+    DomainDetection, Flatness, HalfSpace, Labels, ParticleSet, Periodic, Point, Radius,
+    RadiusConcern, RADIUS_PER_SPACING,
 };
 use boundary::{Dim, SupportedDim};
 use boundary_io::{AttributeValues, Column, Format, IoError, ReadOptions};
@@ -226,10 +233,14 @@ fn read_points(points: &Bound<'_, PyAny>, dim: Option<usize>) -> PyResult<AnyPar
     }
 }
 
-/// The `r` argument: a positive real or the text `"auto"`.
+/// The resolution asked for: `r` (a positive real or the text `"auto"`), `h` (the smoothing
+/// length, `r = h`) or `spacing` (the particle spacing, `r = k·spacing`).
+#[derive(Debug, Clone, Copy)]
 enum RadiusArg {
     Value(f64),
     Auto,
+    SmoothingLength(f64),
+    Spacing(f64),
 }
 
 fn radius_arg(r: Option<&Bound<'_, PyAny>>) -> PyResult<Option<RadiusArg>> {
@@ -254,33 +265,168 @@ fn radius_arg(r: Option<&Bound<'_, PyAny>>) -> PyResult<Option<RadiusArg>> {
         .map_err(|_| {
             PyTypeError::new_err(format!(
                 "r must be a positive real or \"auto\", got {}",
-                r.get_type()
-                    .name()
-                    .map_or_else(|_| "an object".to_owned(), |n| n.to_string())
+                type_name(r)
             ))
         })
+}
+
+fn type_name(value: &Bound<'_, PyAny>) -> String {
+    value
+        .get_type()
+        .name()
+        .map_or_else(|_| "an object".to_owned(), |n| n.to_string())
+}
+
+/// A length argument (`h`, `spacing`): a real, not a bool nor a text (checked positive and
+/// finite when it is turned into `r`).
+fn length_arg(value: &Bound<'_, PyAny>, name: &str, what: &str) -> PyResult<f64> {
+    if value.is_instance_of::<PyBool>() || value.cast::<PyString>().is_ok() {
+        return Err(PyTypeError::new_err(format!(
+            "{name} must be a positive real ({what}), got {}",
+            type_name(value)
+        )));
+    }
+    value.extract::<f64>().map_err(|_| {
+        PyTypeError::new_err(format!(
+            "{name} must be a positive real ({what}), got {}",
+            type_name(value)
+        ))
+    })
+}
+
+/// The resolution of the keywords `r`, `h` and `spacing` of `function`: at most one of them
+/// (`None` when none is given), as the command line's `--radius`, `--smoothing-length` and
+/// `--spacing`.
+fn radius_input(
+    function: &str,
+    r: Option<&Bound<'_, PyAny>>,
+    h: Option<&Bound<'_, PyAny>>,
+    spacing: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<RadiusArg>> {
+    let given: Vec<&str> = [
+        ("r", r.is_some()),
+        ("h", h.is_some()),
+        ("spacing", spacing.is_some()),
+    ]
+    .into_iter()
+    .filter_map(|(name, given)| given.then_some(name))
+    .collect();
+    if given.len() > 1 {
+        return Err(value_error(format!(
+            "{function}(): give the resolution once, as one of r, h and spacing (got {}): h is \
+             the smoothing length (r = h), spacing the particle spacing (r = \
+             {RADIUS_PER_SPACING} x spacing)",
+            given.join(" and ")
+        )));
+    }
+    if let Some(h) = h {
+        return Ok(Some(RadiusArg::SmoothingLength(length_arg(
+            h,
+            "h",
+            "the smoothing length, r = h",
+        )?)));
+    }
+    if let Some(dp) = spacing {
+        return Ok(Some(RadiusArg::Spacing(length_arg(
+            dp,
+            "spacing",
+            "the particle spacing",
+        )?)));
+    }
+    radius_arg(r)
 }
 
 fn radius(r: f64) -> PyResult<Radius> {
     Radius::new(r).map_err(|e| value_error(format!("r: {e}")))
 }
 
-/// The resolution of `set` for an `r` argument without radii: the value, or the estimate of
-/// `"auto"`.
+/// The resolution an argument gives without looking at the particles: `r`, `r = h` or
+/// `r = k·spacing`; `None` for `"auto"`.
+fn fixed_radius(arg: RadiusArg) -> PyResult<Option<Radius>> {
+    match arg {
+        RadiusArg::Value(v) => radius(v).map(Some),
+        RadiusArg::SmoothingLength(h) => Radius::new(h)
+            .map(Some)
+            .map_err(|e| value_error(format!("h: {e}"))),
+        RadiusArg::Spacing(dp) => radius_from_spacing(dp)
+            .map(Some)
+            .map_err(|e| value_error(format!("spacing: {e}"))),
+        RadiusArg::Auto => Ok(None),
+    }
+}
+
+/// The error of a missing resolution in `function`.
+fn missing_radius(function: &str) -> PyErr {
+    PyTypeError::new_err(format!(
+        "{function}() missing required argument 'r' (the resolution: give r, h (the smoothing \
+         length, r = h) or spacing (the particle spacing), or r=\"auto\"; optional only with \
+         radii=)"
+    ))
+}
+
+/// The resolution of `set` for a resolution argument without radii: the value, `r = h`,
+/// `r = k·spacing`, or the estimate of `"auto"`.
 fn resolve_radius(function: &str, set: &AnyParticleSet, r: Option<RadiusArg>) -> PyResult<Radius> {
-    match r {
-        None => Err(PyTypeError::new_err(format!(
-            "{function}() missing required argument 'r' (the resolution, or \"auto\"; optional \
-             only with radii=)"
-        ))),
-        Some(RadiusArg::Value(v)) => radius(v),
-        Some(RadiusArg::Auto) => auto_radius(set).map_err(value_error)?.ok_or_else(|| {
+    let Some(arg) = r else {
+        return Err(missing_radius(function));
+    };
+    if let Some(r) = fixed_radius(arg)? {
+        return Ok(r);
+    }
+    auto_radius(set)
+        .map_err(value_error)?
+        .map(|auto| auto.radius)
+        .ok_or_else(|| {
             value_error(
                 "r=\"auto\" needs at least two distinct particle positions to estimate the \
                  spacing",
             )
-        }),
+        })
+}
+
+/// With `h` (the smoothing length), the SPH-sum methods take `h` itself as their smoothing
+/// length: a parameter `h_over_r` other than 1 (which would make it a multiple of `h`) is
+/// refused, as the command line refuses it with `--smoothing-length`.
+fn refuse_h_over_r(detector: &dyn BoundaryDetector, arg: Option<RadiusArg>) -> PyResult<()> {
+    let Some(RadiusArg::SmoothingLength(h)) = arg else {
+        return Ok(());
+    };
+    for p in detector.params().0 {
+        let one = p.value.trim().parse::<f64>().is_ok_and(|v| v == 1.0);
+        if p.name == "h_over_r" && !one {
+            return Err(value_error(format!(
+                "h={h} gives the SPH sums h = {h} itself; h_over_r={} would make it {} x {h}: \
+                 drop h_over_r, or give r= with it",
+                p.value, p.value
+            )));
+        }
     }
+    Ok(())
+}
+
+/// Whether `r` is implausible for `set` (the core's `radius_concern` against the spacing
+/// measured in its bulk). Advisory only: a set whose spacing cannot be measured gives none.
+fn concern_of(set: &AnyParticleSet, r: Radius) -> Option<RadiusConcern> {
+    bulk_spacing(set)
+        .ok()
+        .flatten()
+        .and_then(|dp| radius_concern(r.get(), dp))
+}
+
+/// Whether a resolution given as `arg` (and no radii) is checked against the particles' spacing:
+/// every uniform resolution but `"auto"`, which is `k` times that spacing by construction.
+fn checks_plausibility(arg: Option<RadiusArg>, radii: bool) -> bool {
+    !radii && !matches!(arg, None | Some(RadiusArg::Auto))
+}
+
+/// Warns (`UserWarning`, attributed to the caller of the package's function) that `r` looks
+/// wrong for the particles, with the numbers.
+fn warn_concern(py: Python<'_>, concern: Option<RadiusConcern>) -> PyResult<()> {
+    let Some(concern) = concern else {
+        return Ok(());
+    };
+    let text = CString::new(concern.to_string().replace('\0', " ")).unwrap_or_default();
+    PyErr::warn(py, &py.get_type::<PyUserWarning>(), &text, 2)
 }
 
 /// One radius factor per particle from an `(n,)` array-like `values` (`what` in messages).
@@ -318,8 +464,9 @@ fn attach_radii(
     Ok(set)
 }
 
-/// `set` with the radii of a Python `radii` argument, and the resolution: `r`, which defaults
-/// to 1 with radii (the scale of the factors) and is required without (a value or `"auto"`).
+/// `set` with the radii of a Python `radii` argument, and the resolution: `r` (or `h`,
+/// `spacing`), which defaults to 1 with radii (the scale of the factors) and is required
+/// without (a value, `"auto"`, `h` or `spacing`).
 fn with_radii(
     function: &str,
     set: AnyParticleSet,
@@ -332,13 +479,12 @@ fn with_radii(
     };
     let r = match r {
         None => radius(1.0)?,
-        Some(RadiusArg::Value(v)) => radius(v)?,
-        Some(RadiusArg::Auto) => {
-            return Err(value_error(
+        Some(arg) => fixed_radius(arg)?.ok_or_else(|| {
+            value_error(
                 "r=\"auto\" estimates one uniform resolution; with radii= give r as the scale \
                  of the radius factors (default 1)",
-            ))
-        }
+            )
+        })?,
     };
     let values = radius_factors(radii, "radii", "particle")?;
     Ok((attach_radii(set, values, r, "radii")?, r))
@@ -581,8 +727,13 @@ where
     })
 }
 
+/// What [`detect_set`] returns: the detection, its wall time in seconds (the Rust call
+/// alone), and what looks wrong about `r` when it was checked.
+type Detected = (DomainDetection, f64, Option<RadiusConcern>);
+
 /// Detection of `set` by `detector` in `domain` (the bare cloud: `Domain::new()`) on
-/// `threads` workers, interruptible; also its wall time in seconds (the Rust call alone).
+/// `threads` workers, interruptible; also its wall time in seconds (the Rust call alone) and,
+/// when `check`, whether `r` is implausible for the set's spacing ([`concern_of`]).
 fn detect_set(
     py: Python<'_>,
     detector: Arc<dyn BoundaryDetector>,
@@ -590,8 +741,10 @@ fn detect_set(
     domain: Domain,
     r: Radius,
     threads: Option<usize>,
-) -> PyResult<(DomainDetection, f64)> {
+    check: bool,
+) -> PyResult<Detected> {
     let outcome = run_interruptible(py, threads, move || {
+        let concern = if check { concern_of(&set, r) } else { None };
         let start = Instant::now();
         let detection = if domain.is_bare() {
             detector.detect(&set, r).map(|detection| DomainDetection {
@@ -601,7 +754,7 @@ fn detect_set(
         } else {
             detector.detect_in(&set, &domain, r)
         };
-        detection.map(|d| (d, start.elapsed().as_secs_f64()))
+        detection.map(|d| (d, start.elapsed().as_secs_f64(), concern))
     })?;
     outcome.map_err(detect_error)
 }
@@ -687,7 +840,7 @@ impl Detector {
 
     #[pyo3(signature = (
         points, r = None, margin = false, radii = None, walls = None, wall_radii = None,
-        solids = None, periodic = None, phases = None, dim = None
+        solids = None, periodic = None, phases = None, dim = None, *, h = None, spacing = None
     ))]
     #[allow(clippy::too_many_arguments)] // the Python signature: keyword arguments with defaults
     fn detect<'py>(
@@ -703,10 +856,14 @@ impl Detector {
         periodic: Option<&Bound<'py, PyAny>>,
         phases: Option<&Bound<'py, PyAny>>,
         dim: Option<usize>,
+        h: Option<&Bound<'py, PyAny>>,
+        spacing: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let r = radius_arg(r)?;
+        let arg = radius_input("detect", r, h, spacing)?;
+        refuse_h_over_r(self.detector.as_ref(), arg)?;
+        let check = checks_plausibility(arg, radii.is_some());
         let set = read_points(points, dim)?;
-        let (set, r) = with_radii("detect", set, r, radii)?;
+        let (set, r) = with_radii("detect", set, arg, radii)?;
         let args = DomainArgs {
             walls,
             wall_radii,
@@ -716,7 +873,16 @@ impl Detector {
         };
         let domain = domain(set.dim(), r, &args)?;
         let with_phases = domain.phases().is_some();
-        let (found, _) = detect_set(py, self.detector.clone(), set, domain, r, self.threads)?;
+        let (found, _, concern) = detect_set(
+            py,
+            self.detector.clone(),
+            set,
+            domain,
+            r,
+            self.threads,
+            check,
+        )?;
+        warn_concern(py, concern)?;
         let labels = bool_array(py, found.detection.labels.into_vec()).into_any();
         let mut out = vec![labels];
         if margin {
@@ -750,24 +916,42 @@ impl Detector {
     ) -> PyResult<(Bound<'py, PyArray1<bool>>, f64)> {
         let r = radius(r)?;
         let set = read_points(points, None)?;
-        let (found, seconds) = detect_set(
+        let (found, seconds, _) = detect_set(
             py,
             self.detector.clone(),
             set,
             Domain::new(),
             r,
             self.threads,
+            false,
         )?;
         Ok((bool_array(py, found.detection.labels.into_vec()), seconds))
     }
 }
 
-/// The resolution `auto` would use on `points`: the core's `auto_radius`.
+/// The resolution `auto` would use on `points`: the core's `auto_radius` (`k` times the
+/// spacing measured in the bulk).
 #[pyfunction]
 #[pyo3(signature = (points, dim = None))]
-fn auto_radius_of(points: &Bound<'_, PyAny>, dim: Option<usize>) -> PyResult<f64> {
+fn auto_radius_of(py: Python<'_>, points: &Bound<'_, PyAny>, dim: Option<usize>) -> PyResult<f64> {
     let set = read_points(points, dim)?;
-    resolve_radius("auto_radius", &set, Some(RadiusArg::Auto)).map(|r| r.get())
+    py.detach(|| resolve_radius("auto_radius", &set, Some(RadiusArg::Auto)))
+        .map(|r| r.get())
+}
+
+/// The particle spacing of `points` as a solver defines it: the core's `bulk_spacing` (the
+/// side of the volume per particle in the bulk).
+#[pyfunction]
+#[pyo3(signature = (points, dim = None))]
+fn bulk_spacing_of(py: Python<'_>, points: &Bound<'_, PyAny>, dim: Option<usize>) -> PyResult<f64> {
+    let set = read_points(points, dim)?;
+    py.detach(|| bulk_spacing(&set))
+        .map_err(value_error)?
+        .ok_or_else(|| {
+            value_error(
+                "bulk_spacing needs at least two distinct particle positions to measure the                  spacing",
+            )
+        })
 }
 
 /// The address of the buffer `detect` reads `points` from (the no-conversion test compares it
@@ -1016,7 +1200,8 @@ impl OwnedColumn {
 }
 
 /// The columns of one `point_data` entry: a `(n,)` array is the column `name`, a `(n, k)`
-/// array the columns `name:0 .. name:k-1` (which VTK XML writes as one vector array).
+/// array the columns `name:0 .. name:k-1` (which VTK XML and BGEO write as one vector
+/// attribute, and PLY as the properties `name_0 .. name_k-1`).
 fn owned_columns(name: &str, values: &Bound<'_, PyAny>) -> PyResult<Vec<(String, OwnedColumn)>> {
     let py = values.py();
     let numpy = py.import("numpy")?;
@@ -1115,20 +1300,30 @@ type ResampledArrays<'py> = (
 
 /// Classifies boundary particles by feature and resamples thin features (`boundary-resample`).
 #[pyfunction]
-#[pyo3(signature = (points, r, detector, k = 4, alpha = 0.2, shift = 0.5, labels = None))]
+#[pyo3(signature = (
+    points, r, detector, k = 4, alpha = 0.2, shift = 0.5, labels = None, *, h = None,
+    spacing = None
+))]
 #[allow(clippy::too_many_arguments)] // the Python signature: keyword arguments with defaults
 fn resample<'py>(
     py: Python<'py>,
     points: &Bound<'py, PyAny>,
-    r: &Bound<'py, PyAny>,
+    r: Option<&Bound<'py, PyAny>>,
     detector: &Detector,
     k: usize,
     alpha: f64,
     shift: f64,
     labels: Option<&Bound<'py, PyAny>>,
+    h: Option<&Bound<'py, PyAny>>,
+    spacing: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<ResampledArrays<'py>> {
+    let arg = radius_input("resample", r, h, spacing)?;
+    if labels.is_none() {
+        refuse_h_over_r(detector.detector.as_ref(), arg)?;
+    }
+    let check = checks_plausibility(arg, false);
     let set = read_points(points, None)?;
-    let r = resolve_radius("resample", &set, radius_arg(Some(r))?)?;
+    let r = resolve_radius("resample", &set, arg)?;
     let config = boundary_resample::ResampleConfig {
         k,
         alpha,
@@ -1140,12 +1335,13 @@ fn resample<'py>(
         None => None,
     };
     let method = detector.detector.clone();
-    let outcome = run_interruptible(py, detector.threads, move || {
+    let outcome = run_interruptible(py, detector.threads, move || -> Result<_, DetectError> {
+        let concern = if check { concern_of(&set, r) } else { None };
         let labels = match given {
             Some(l) => l,
             None => method.detect(&set, r)?.labels,
         };
-        match &set {
+        let resampled = match &set {
             AnyParticleSet::D2(s) => boundary_resample::resample(s, r, &labels, &config)
                 .map(|o| (o.set.into(), o.feature, o.source)),
             AnyParticleSet::D3(s) => boundary_resample::resample(s, r, &labels, &config)
@@ -1154,10 +1350,12 @@ fn resample<'py>(
         .map_err(|e| DetectError::Method {
             method: "resample",
             message: e.to_string(),
-        })
+        })?;
+        Ok((resampled, concern))
     })?;
-    let (out, feature, source): (AnyParticleSet, Vec<i8>, Vec<usize>) =
+    let ((out, feature, source), concern): ((AnyParticleSet, Vec<i8>, Vec<usize>), _) =
         outcome.map_err(detect_error)?;
+    warn_concern(py, concern)?;
     let source: Vec<i64> = source
         .into_iter()
         .map(|i| i64::try_from(i).unwrap_or(i64::MAX))
@@ -1183,6 +1381,8 @@ fn boundary_py(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(write, m)?)?;
     m.add_function(wrap_pyfunction!(resample, m)?)?;
     m.add_function(wrap_pyfunction!(auto_radius_of, m)?)?;
+    m.add_function(wrap_pyfunction!(bulk_spacing_of, m)?)?;
+    m.add("RADIUS_PER_SPACING", RADIUS_PER_SPACING)?;
     m.add_function(wrap_pyfunction!(_points_address, m)?)?;
     let features = PyDict::new(py);
     features.set_item(boundary_resample::INTERIOR_CODE, "interior")?;

@@ -3,20 +3,25 @@
 //! worker thread with the GIL released and Ctrl-C honoured.
 
 use super::{
-    bool_array, detector, param_pairs, radius, read_points, run_interruptible, value_error,
-    whole_numbers,
+    bool_array, checks_plausibility, concern_of, detector, fixed_radius, param_pairs, radius_input,
+    read_points, refuse_h_over_r, run_interruptible, value_error, warn_concern, whole_numbers,
+    RadiusArg,
 };
 use boundary::{Domain, Radius, Tracker};
 use numpy::PyArray1;
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 /// Labels the particles of successive time steps, each as `detect(points, r)` would, while
 /// recomputing only the particles whose label may have changed since the previous step.
 ///
-/// Tracker(r, method="exact", threads=None, **params): r, the particle resolution (> 0);
-/// method: "exact" (the only method with a tracker); threads: worker threads (default: all
-/// cores); **params: the method's parameters (exact: tie must stay 0, the exact labels).
+/// Tracker(r=None, method="exact", threads=None, *, h=None, spacing=None, **params): the
+/// resolution as one of r (> 0), h (the smoothing length, r = h) and spacing (the particle
+/// spacing, r = k * spacing); method: "exact" (the only method with a tracker); threads: worker
+/// threads (default: all cores); **params: the method's parameters (exact: tie must stay 0, the
+/// exact labels). An r implausible for the spacing of the first update's particles warns
+/// (`UserWarning`), once.
 ///
 /// update(points, ids=None) -> bool array of length n (True = boundary): the labels of this
 /// step's positions, the same particles in the same order as before (another count starts
@@ -31,6 +36,8 @@ pub struct PyTracker {
     /// `None` after an interrupted update (the abandoned one keeps it): the next update starts
     /// over with a new tracker.
     tracker: Option<Tracker>,
+    /// Whether `r` is still to be checked against the particles' spacing (at the first update).
+    check: bool,
     /// How many particles the last update recomputed.
     #[pyo3(get)]
     recomputed: usize,
@@ -39,16 +46,32 @@ pub struct PyTracker {
 #[pymethods]
 impl PyTracker {
     #[new]
-    #[pyo3(signature = (r, method = "exact", threads = None, **params))]
+    #[pyo3(signature = (r = None, method = "exact", threads = None, *, h = None, spacing = None, **params))]
     fn new(
-        r: f64,
+        r: Option<&Bound<'_, PyAny>>,
         method: &str,
         threads: Option<usize>,
+        h: Option<&Bound<'_, PyAny>>,
+        spacing: Option<&Bound<'_, PyAny>>,
         params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
-        let r = radius(r)?;
+        let missing = || {
+            PyTypeError::new_err(
+                "Tracker() missing required argument 'r' (the resolution: give r, h (the \
+                 smoothing length, r = h) or spacing (the particle spacing))",
+            )
+        };
+        let arg = radius_input("Tracker", r, h, spacing)?.ok_or_else(missing)?;
+        if matches!(arg, RadiusArg::Auto) {
+            return Err(value_error(
+                "Tracker: r=\"auto\" is not supported (the resolution must be the same at \
+                 every step): give r, h or spacing, e.g. r=bp.auto_radius(first_points)",
+            ));
+        }
+        let r = fixed_radius(arg)?.ok_or_else(missing)?;
         // Unknown methods and parameters fail with the registry's messages.
         let configured = detector(method, &param_pairs(params)?)?;
+        refuse_h_over_r(configured.as_ref(), Some(arg))?;
         if method != "exact" {
             return Err(value_error(format!(
                 "Tracker: method '{method}' has no tracker; use method=\"exact\""
@@ -67,6 +90,7 @@ impl PyTracker {
             r,
             threads,
             tracker: None,
+            check: checks_plausibility(Some(arg), false),
             recomputed: 0,
         })
     }
@@ -89,17 +113,21 @@ impl PyTracker {
             // The update runs on the interruptible pool of `threads` workers.
             None => Tracker::new(self.r, None, Domain::new()).map_err(value_error)?,
         };
-        let (tracker, outcome) = run_interruptible(py, self.threads, move || {
+        let (check, r) = (self.check, self.r);
+        let (tracker, outcome, concern) = run_interruptible(py, self.threads, move || {
+            let concern = if check { concern_of(&set, r) } else { None };
             let outcome = match &ids {
                 Some(ids) => tracker.update_with_ids(&set, ids),
                 None => tracker.update(&set),
             }
             .map(|labels| labels.as_slice().to_vec());
-            (tracker, outcome)
+            (tracker, outcome, concern)
         })?;
         let labels = outcome.map_err(value_error)?;
         self.recomputed = tracker.recomputed();
         self.tracker = Some(tracker);
+        self.check = false;
+        warn_concern(py, concern)?;
         Ok(bool_array(py, labels))
     }
 

@@ -124,11 +124,13 @@ def test_methods_list_their_parameters_as_their_detectors_have_them():
         assert all(p["description"] for p in info["params"])
 
 
-def test_r_auto_is_the_median_nearest_neighbour_spacing():
-    points = lattice(6, 2, spacing=0.5)
-    assert bp.auto_radius(points) == 0.5
-    np.testing.assert_array_equal(bp.detect(points, "auto"), bp.detect(points, 0.5))
-    np.testing.assert_array_equal(bp.detect(points, r="AUTO"), outer_layer(points, 6, 0.5))
+def test_r_auto_is_k_times_the_spacing_measured_in_the_bulk():
+    points = lattice(30, 2, spacing=0.5)
+    assert abs(bp.bulk_spacing(points) / 0.5 - 1) < 0.05
+    r = bp.auto_radius(points)
+    assert r == bp.RADIUS_PER_SPACING * bp.bulk_spacing(points)
+    np.testing.assert_array_equal(bp.detect(points, "auto"), bp.detect(points, r))
+    np.testing.assert_array_equal(bp.detect(points, r="AUTO"), bp.detect(points, r))
     ball = jittered_ball(12, 3)
     np.testing.assert_array_equal(
         bp.detect(ball, "auto", "ge"), bp.detect(ball, bp.auto_radius(ball), "ge")
@@ -401,6 +403,37 @@ def test_write_is_atomic_a_failed_write_leaves_no_file(tmp_path):
     bp.write(path, back, boundary=np.ones(len(back), dtype=bool))
     assert sorted(p.name for p in tmp_path.iterdir()) == ["frame.csv", "taken.csv"]
     assert np.all(bp.read(path)[1]["boundary"] == 1)
+
+
+def test_read_refuses_a_misspelt_z_and_a_file_of_no_particle(tmp_path):
+    # `x,y,zz` would silently be 2D: a ValueError naming the file, the column and the fix,
+    # the text of `boundary detect`'s error.
+    typo = tmp_path / "typo.csv"
+    typo.write_text("x,y,zz\n0,0,0\n1,0,1\n0,1,2\n")
+    with pytest.raises(ValueError) as error:
+        bp.read(typo)
+    assert str(error.value) == (
+        f'column "zz" in {typo} line 1 column 3 looks like a misspelt z, and without a z the '
+        "file would be read as 2D from x, y: rename it to z, or pass --dim 2 (Python: dim=2) "
+        "to read it as 2D on purpose"
+    )
+    # 2D on purpose: x and y; the other column is point data.
+    points, point_data = bp.read(typo, dim=2)
+    assert points.shape == (3, 2)
+    assert np.array_equal(point_data["zz"], [0, 1, 2])
+    # A header without rows is no empty set.
+    header_only = tmp_path / "header.csv"
+    header_only.write_text("x,y,z\n")
+    with pytest.raises(ValueError) as error:
+        bp.read(header_only)
+    assert str(error.value) == (
+        f"no particles in {header_only}: the header on line 1 (x, y, z) is followed by no "
+        "data row"
+    )
+    empty = tmp_path / "empty.xyz"
+    empty.write_text("")
+    with pytest.raises(ValueError, match=r"no particles in .*empty\.xyz: .*\(empty file\)"):
+        bp.read(empty)
 
 
 def test_bad_files_and_point_data_raise_clear_errors(tmp_path):

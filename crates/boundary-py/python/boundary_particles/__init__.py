@@ -6,14 +6,26 @@ is **boundary** (Sandim, Paiva & Figueiredo, J. Comput. Phys. 2020). Coincident 
 not cover each other.
 
 Every method of the Rust library is available by name (see :func:`methods`); ``exact`` (the
-default) gives the reference labels and is among the fastest. The others reproduce a paper
-or serve a comparison: ``dilts`` (exact as well), ``ia`` and ``ge`` (certified: never a
-false negative), ``marrone``, ``muller``, ``divr``, ``hpr`` and ``svm``.
+default) gives the reference labels and is the fastest of the methods that never miss a
+boundary particle. The others reproduce a paper or serve a comparison:
+
+- ``dilts``: exact as well, by an independent proof (arc and cap covering);
+- ``ia`` and ``ge``: the JCP 2020 interval-arithmetic and geometric-enclosure tests,
+  certified (never a false negative);
+- ``marrone``, ``muller``, ``divr``, ``asymmetry`` and ``randles``: the free-surface tests of
+  SPH codes (renormalisation matrix, colour field, divergence of position, asymmetry of the
+  neighbourhood, Randles-Doring eigenvalue);
+- ``lnm``: the layered neighbourhood cells, a fast band a few ``r`` thick;
+- ``hpr`` and ``svm``: the thesis' visibility method and learned classifier.
+
+The resolution is the solver's smoothing length ``h`` (``r = h``, the paper's definition),
+or ``spacing`` (the particle spacing, times one documented factor), or ``r`` itself:
 
 >>> import numpy as np, boundary_particles as bp
->>> points = np.random.default_rng(1).random((2000, 2))
->>> labels = bp.detect(points, r="auto")                 # bool array, True = boundary
->>> scores = bp.confusion(bp.detect(points, r="auto", method="muller"), labels)
+>>> rng = np.random.default_rng(1)
+>>> points = 0.005 * np.argwhere(np.ones((40, 40))) + rng.uniform(-5e-4, 5e-4, (1600, 2))
+>>> labels = bp.detect(points, h=0.0075)    # h = 1.5 spacings; bool array, True = boundary
+>>> scores = bp.confusion(bp.detect(points, h=0.0075, method="muller"), labels)
 >>> sorted(scores)
 ['f1', 'fn', 'fp', 'fpr', 'm', 'precision', 'recall', 'tn', 'tp']
 
@@ -26,9 +38,11 @@ Conventions shared by every function:
 - A flat ``(n, 3)`` set (every particle with the same z, or y, or x) raises ``ValueError``
   naming ``dim=2``: read as 3D, every particle of it would be boundary. ``dim=2`` drops the
   constant axis; ``dim=3`` keeps the set 3D.
-- ``r`` is the resolution (positive, finite, in the positions' unit), or ``"auto"``: the
-  median distance from a particle to its nearest other particle (:func:`auto_radius`), the
-  command line's ``--radius auto``.
+- The resolution is given once: ``h`` (the smoothing length, ``r = h``; the SPH-sum
+  methods then use this ``h``), ``spacing`` (``r`` is the spacing times one factor), or ``r``
+  (positive, finite, in the positions' unit), or ``r="auto"``, the fallback, which estimates
+  it from the set (:func:`auto_radius`), as the command line's ``--smoothing-length``,
+  ``--spacing``, ``--radius`` and ``--radius auto``.
 - Detection releases the GIL and runs on all cores, or on ``threads`` worker threads. Ctrl-C
   stops the workers (each finishes the particle it is on) and raises ``KeyboardInterrupt``.
 - Method parameters are keyword arguments, as ``--set KEY=VALUE`` on the command line
@@ -62,12 +76,14 @@ from . import _native
 
 __all__ = [
     "FEATURES",
+    "RADIUS_PER_SPACING",
     "Confusion",
     "Detector",
     "MethodInfo",
     "ParamInfo",
     "Tracker",
     "auto_radius",
+    "bulk_spacing",
     "confusion",
     "detect",
     "methods",
@@ -79,9 +95,20 @@ __all__ = [
 
 __version__: str = _native.__version__
 
+
+def __dir__() -> List[str]:
+    """The public API (``__all__`` and ``__version__``), not the names the module imports for
+    its annotations (``typing``, NumPy)."""
+    return sorted([*__all__, "__version__"])
+
 #: Feature codes of :func:`resample` (thesis Eq. 2.5): -1 interior, 0 droplet, 1 ligament,
 #: 2 sheet, 3 regular boundary particle.
 FEATURES: Dict[int, str] = dict(_native.FEATURES)
+
+#: The factor ``k`` of ``spacing=dp``: ``r = k * dp`` (1.45, between the smoothing lengths
+#: SPH solvers use by default, 1.2 to 1.73 spacings); also what ``r="auto"`` applies to the
+#: spacing it measures (:func:`bulk_spacing`).
+RADIUS_PER_SPACING: float = _native.RADIUS_PER_SPACING
 
 Path = Union[str, "PathLike[str]"]
 Param = Union[str, int, float, bool]
@@ -200,6 +227,8 @@ class Detector:
         points: ArrayLike,
         r: Optional[Radius] = None,
         *,
+        h: Optional[float] = None,
+        spacing: Optional[float] = None,
         margin: Literal[False] = False,
         radii: Optional[ArrayLike] = None,
         walls: Optional[ArrayLike] = None,
@@ -215,6 +244,8 @@ class Detector:
         points: ArrayLike,
         r: Optional[Radius] = None,
         *,
+        h: Optional[float] = None,
+        spacing: Optional[float] = None,
         margin: Literal[True],
         radii: Optional[ArrayLike] = None,
         walls: Optional[ArrayLike] = None,
@@ -230,6 +261,8 @@ class Detector:
         points: ArrayLike,
         r: Optional[Radius] = None,
         *,
+        h: Optional[float] = None,
+        spacing: Optional[float] = None,
         margin: Literal[False] = False,
         radii: Optional[ArrayLike] = None,
         walls: Optional[ArrayLike] = None,
@@ -245,6 +278,8 @@ class Detector:
         points: ArrayLike,
         r: Optional[Radius] = None,
         *,
+        h: Optional[float] = None,
+        spacing: Optional[float] = None,
         margin: Literal[True],
         radii: Optional[ArrayLike] = None,
         walls: Optional[ArrayLike] = None,
@@ -259,6 +294,8 @@ class Detector:
         points: ArrayLike,
         r: Optional[Radius] = None,
         *,
+        h: Optional[float] = None,
+        spacing: Optional[float] = None,
         margin: bool = False,
         radii: Optional[ArrayLike] = None,
         walls: Optional[ArrayLike] = None,
@@ -281,8 +318,17 @@ class Detector:
             The positions.
         r : float or "auto"
             The particle resolution (positive, finite), or ``"auto"`` to estimate it
-            (:func:`auto_radius`). Required without ``radii``; with ``radii`` it is the scale
-            of every radius (``r_i = r * radii[i]``), default 1.
+            (:func:`auto_radius`). Give the resolution once, as ``r``, ``h`` or ``spacing``;
+            one of them is required without ``radii``; with ``radii`` it is the scale of
+            every radius (``r_i = r * radii[i]``), default 1.
+        h : float, optional
+            The solver's smoothing length (positive, finite): ``r = h``, the paper's
+            definition (``--smoothing-length``). The SPH-sum methods (``marrone``,
+            ``muller``, ``divr``, ``asymmetry``, ``randles``) then use this ``h`` as their
+            smoothing length, so their ``h_over_r`` must stay 1.
+        spacing : float, optional
+            The solver's particle spacing ``dp`` (positive, finite):
+            ``r = RADIUS_PER_SPACING * dp`` (:data:`RADIUS_PER_SPACING`, ``--spacing``).
         margin : bool, default False
             Also return the method's per-particle margin (positive leans boundary, negative
             interior, near zero a near-tie; for ``exact`` the distance by which the particle's
@@ -322,14 +368,24 @@ class Detector:
             Only with ``phases``: ``True`` for a particle on an interface between phases (not
             on the free surface, but uncovered once only its own phase may cover).
 
+        Warns
+        -----
+        UserWarning
+            When ``r`` (given as ``r``, ``h`` or ``spacing``) is outside ``[0.75, 4]`` times
+            the particle spacing measured in the bulk (:func:`bulk_spacing`): almost every
+            particle would be boundary, or gaps and thin features would close. The message
+            gives the numbers; the detection runs all the same.
+
         Raises
         ------
         ValueError
             Bad shape, a non-finite coordinate (naming the particle), a flat ``(n, 3)`` set
-            (naming ``dim=2``), ``r <= 0``, a bad radius, a bad domain, a method that cannot
-            honour the input.
+            (naming ``dim=2``), ``r <= 0``, more than one of ``r``, ``h`` and ``spacing``,
+            ``h`` with an ``h_over_r`` other than 1, a bad radius, a bad domain, a method that
+            cannot honour the input.
         TypeError
-            ``r`` missing without ``radii``; ``solids`` or ``periodic`` not strings.
+            None of ``r``, ``h`` and ``spacing`` without ``radii``; ``solids`` or
+            ``periodic`` not strings.
         KeyboardInterrupt
             Ctrl-C during the detection; the workers have stopped when it is raised.
         """
@@ -344,6 +400,8 @@ class Detector:
             periodic,
             phases,
             dim,
+            h=h,
+            spacing=spacing,
         )
         return out  # type: ignore[no-any-return]
 
@@ -354,6 +412,8 @@ def detect(
     r: Optional[Radius] = None,
     method: str = "exact",
     *,
+    h: Optional[float] = None,
+    spacing: Optional[float] = None,
     threads: Optional[int] = None,
     margin: Literal[False] = False,
     radii: Optional[ArrayLike] = None,
@@ -371,6 +431,8 @@ def detect(
     r: Optional[Radius] = None,
     method: str = "exact",
     *,
+    h: Optional[float] = None,
+    spacing: Optional[float] = None,
     threads: Optional[int] = None,
     margin: Literal[True],
     radii: Optional[ArrayLike] = None,
@@ -388,6 +450,8 @@ def detect(
     r: Optional[Radius] = None,
     method: str = "exact",
     *,
+    h: Optional[float] = None,
+    spacing: Optional[float] = None,
     threads: Optional[int] = None,
     margin: Literal[False] = False,
     radii: Optional[ArrayLike] = None,
@@ -405,6 +469,8 @@ def detect(
     r: Optional[Radius] = None,
     method: str = "exact",
     *,
+    h: Optional[float] = None,
+    spacing: Optional[float] = None,
     threads: Optional[int] = None,
     margin: Literal[True],
     radii: Optional[ArrayLike] = None,
@@ -421,6 +487,8 @@ def detect(
     r: Optional[Radius] = None,
     method: str = "exact",
     *,
+    h: Optional[float] = None,
+    spacing: Optional[float] = None,
     threads: Optional[int] = None,
     margin: bool = False,
     radii: Optional[ArrayLike] = None,
@@ -450,6 +518,10 @@ def detect(
         The particle resolution, or ``"auto"``; see :meth:`Detector.detect`.
     method : str, default "exact"
         A name from :func:`methods`; ``exact`` gives the reference labels.
+    h : float, optional
+        The smoothing length, ``r = h`` (instead of ``r``); see :meth:`Detector.detect`.
+    spacing : float, optional
+        The particle spacing, ``r = RADIUS_PER_SPACING * spacing`` (instead of ``r``).
     threads : int, optional
         Worker threads (default: all cores).
     margin, radii, walls, wall_radii, solids, periodic, phases, dim
@@ -463,6 +535,11 @@ def detect(
         ``True`` for a boundary particle; with ``margin=True`` and/or ``phases``, a tuple
         ``(labels[, margin][, interface])`` as :meth:`Detector.detect`.
 
+    Warns
+    -----
+    UserWarning
+        An ``r`` implausible for the particles' spacing; see :meth:`Detector.detect`.
+
     Raises
     ------
     ValueError
@@ -472,7 +549,18 @@ def detect(
     """
     detector = Detector(method, threads=threads, **params)
     out: Any = detector._native.detect(
-        points, r, margin, radii, walls, wall_radii, solids, periodic, phases, dim
+        points,
+        r,
+        margin,
+        radii,
+        walls,
+        wall_radii,
+        solids,
+        periodic,
+        phases,
+        dim,
+        h=h,
+        spacing=spacing,
     )
     return out  # type: ignore[no-any-return]
 
@@ -489,18 +577,33 @@ class Tracker:
     Parameters
     ----------
     r : float
-        The resolution (positive, finite), the same at every step.
+        The resolution (positive, finite), the same at every step. Give it once, as ``r``,
+        ``h`` or ``spacing``.
     method : str, default "exact"
         Only ``exact`` has a tracker.
+    h : float, optional
+        The smoothing length: ``r = h``.
+    spacing : float, optional
+        The particle spacing: ``r = RADIUS_PER_SPACING * spacing``.
     threads : int, optional
         Worker threads of each update (default: all cores).
     **params : str, int, float or bool
         The method's parameters; ``exact``'s ``tie`` must stay 0 (the exact labels).
 
+    Warns
+    -----
+    UserWarning
+        At the first :meth:`update`, when ``r`` is implausible for the particles' spacing
+        (as :meth:`Detector.detect`).
+
     Raises
     ------
     ValueError
-        Another method, ``tie`` other than 0, ``r`` not positive and finite, ``threads=0``.
+        Another method, ``tie`` other than 0, ``r`` not positive and finite, more than one of
+        ``r``, ``h`` and ``spacing``, ``r="auto"`` (pass ``r=auto_radius(points)``),
+        ``threads=0``.
+    TypeError
+        None of ``r``, ``h`` and ``spacing``.
 
     Examples
     --------
@@ -517,13 +620,15 @@ class Tracker:
 
     def __init__(
         self,
-        r: float,
+        r: Optional[float] = None,
         method: str = "exact",
         *,
+        h: Optional[float] = None,
+        spacing: Optional[float] = None,
         threads: Optional[int] = None,
         **params: Param,
     ) -> None:
-        self._native = _native.Tracker(r, method, threads, **params)
+        self._native = _native.Tracker(r, method, threads, h=h, spacing=spacing, **params)
 
     @property
     def recomputed(self) -> int:
@@ -578,12 +683,12 @@ class Tracker:
 
 
 def auto_radius(points: ArrayLike, dim: Optional[int] = None) -> float:
-    """The resolution ``r="auto"`` uses: the median over the particles of the distance to
-    the nearest other particle (exact duplicates ignored).
+    """The resolution ``r="auto"`` uses: :data:`RADIUS_PER_SPACING` times the particle spacing
+    measured in the bulk of the set (:func:`bulk_spacing`), as ``boundary detect --radius
+    auto``.
 
-    On a square or cubic lattice of spacing *s* it is *s*, for which every interior
-    particle is covered. It is an estimate: pass ``r`` when the simulation's resolution is
-    known.
+    It is an estimate, the fallback: give the solver's smoothing length (``h=``) or spacing
+    (``spacing=``) when they are known.
 
     Parameters
     ----------
@@ -595,14 +700,60 @@ def auto_radius(points: ArrayLike, dim: Optional[int] = None) -> float:
     Returns
     -------
     float
-        The estimated resolution.
+        The estimated resolution, ``RADIUS_PER_SPACING * bulk_spacing(points)``.
 
     Raises
     ------
     ValueError
         Fewer than two distinct positions, or bad points.
+
+    Examples
+    --------
+    >>> import numpy as np, boundary_particles as bp
+    >>> points = 0.02 * np.argwhere(np.ones((30, 30)))     # a lattice of spacing 0.02
+    >>> r = bp.auto_radius(points)
+    >>> r == bp.RADIUS_PER_SPACING * bp.bulk_spacing(points)
+    True
     """
     return _native.auto_radius_of(points, dim)
+
+
+def bulk_spacing(points: ArrayLike, dim: Optional[int] = None) -> float:
+    """The particle spacing ``dp`` as a solver defines it: the side of the volume (area in 2D)
+    per particle in the bulk of the set, ``dp = (V / N) ** (1 / d)``.
+
+    It counts particles per volume, so jitter, disorder or a compression along one direction
+    at constant volume do not shrink it (the nearest-neighbour distance does); particles near
+    a free surface or in spray do not count as the bulk. It is a statistic, within a few per
+    cent of the lattice spacing on jittered, sheared or compressed lattices; a set with no
+    bulk (a sheet or a filament one or two particles thick) reads larger. ``spacing=dp``
+    gives ``r = RADIUS_PER_SPACING * dp``.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 2) or (n, 3)
+        The positions.
+    dim : {2, 3}, optional
+        As :meth:`Detector.detect`.
+
+    Returns
+    -------
+    float
+        The measured spacing.
+
+    Raises
+    ------
+    ValueError
+        Fewer than two distinct positions, or bad points.
+
+    Examples
+    --------
+    >>> import numpy as np, boundary_particles as bp
+    >>> points = 0.02 * np.argwhere(np.ones((30, 30)))
+    >>> abs(bp.bulk_spacing(points) / 0.02 - 1) < 0.05
+    True
+    """
+    return _native.bulk_spacing_of(points, dim)
 
 
 def confusion(predicted: ArrayLike, truth: ArrayLike) -> Confusion:
@@ -634,6 +785,8 @@ def score(
     r: Radius,
     method: str,
     *,
+    h: None = None,
+    spacing: None = None,
     truth: Optional[ArrayLike] = None,
     threads: Optional[int] = None,
     radii: Optional[ArrayLike] = None,
@@ -646,9 +799,39 @@ def score(
     r: Optional[Radius] = None,
     *,
     method: str,
+    h: Optional[float] = None,
+    spacing: Optional[float] = None,
     truth: Optional[ArrayLike] = None,
     threads: Optional[int] = None,
     radii: ArrayLike,
+    dim: Optional[int] = None,
+    **params: Param,
+) -> Confusion: ...
+@overload
+def score(
+    points: ArrayLike,
+    r: None = None,
+    *,
+    method: str,
+    h: float,
+    spacing: None = None,
+    truth: Optional[ArrayLike] = None,
+    threads: Optional[int] = None,
+    radii: Optional[ArrayLike] = None,
+    dim: Optional[int] = None,
+    **params: Param,
+) -> Confusion: ...
+@overload
+def score(
+    points: ArrayLike,
+    r: None = None,
+    *,
+    method: str,
+    h: None = None,
+    spacing: float,
+    truth: Optional[ArrayLike] = None,
+    threads: Optional[int] = None,
+    radii: Optional[ArrayLike] = None,
     dim: Optional[int] = None,
     **params: Param,
 ) -> Confusion: ...
@@ -657,6 +840,8 @@ def score(
     r: Optional[Radius] = None,
     method: Optional[str] = None,
     *,
+    h: Optional[float] = None,
+    spacing: Optional[float] = None,
     truth: Optional[ArrayLike] = None,
     threads: Optional[int] = None,
     radii: Optional[ArrayLike] = None,
@@ -670,10 +855,10 @@ def score(
 
     Parameters
     ----------
-    points, r, radii, dim
-        As :meth:`Detector.detect`.
+    points, r, h, spacing, radii, dim
+        As :meth:`Detector.detect` (the resolution once, as ``r``, ``h`` or ``spacing``).
     method : str
-        Required (by keyword when ``r`` is left to its default with ``radii``).
+        Required (by keyword when ``r`` is not given).
     truth : array_like of bool or 0/1, shape (n,), optional
         The reference labels; default: those of ``exact``.
     threads : int, optional
@@ -689,10 +874,12 @@ def score(
     if method is None:
         raise TypeError("score() missing required argument 'method'")
     predicted = Detector(method, threads=threads, **params).detect(
-        points, r, radii=radii, dim=dim
+        points, r, h=h, spacing=spacing, radii=radii, dim=dim
     )
     if truth is None:
-        truth = Detector("exact", threads=threads).detect(points, r, radii=radii, dim=dim)
+        truth = Detector("exact", threads=threads).detect(
+            points, r, h=h, spacing=spacing, radii=radii, dim=dim
+        )
     return confusion(predicted, truth)
 
 
@@ -742,7 +929,10 @@ def read(
     FileNotFoundError, OSError
         The file cannot be opened.
     ValueError
-        Malformed content (naming the line or element).
+        Malformed content (naming the line or element); a file of no particle (an empty
+        file, a CSV header without rows); a header with ``x``, ``y`` and a column that looks
+        like a misspelt ``z`` (``x,y,zz``): rename the column, or pass ``dim=2`` to read the
+        file as 2D from ``x``, ``y`` on purpose.
     """
     return _native.read(path, dim, format)
 
@@ -769,10 +959,13 @@ def write(
         Written as the integer column ``boundary``.
     point_data : mapping of str to array_like, optional
         Per-particle attributes, as meshio takes them: an ``(n,)`` array is one column, an
-        ``(n, k)`` array a vector attribute (VTK XML writes one array of ``k`` components,
-        the other formats the columns ``name:0 .. name:k-1``). Integer arrays stay integers,
-        anything else is written as reals. Any name is allowed that is a valid column name
-        and not a position (``x``, ...).
+        ``(n, k)`` array a vector attribute. VTK XML and BGEO write a vector as one attribute
+        of ``k`` components; CSV, XYZ and legacy VTK as the columns ``name:0`` ..
+        ``name:k-1``; PLY, whose property names are identifiers, as the properties
+        ``name_0`` .. ``name_k-1`` (``velocity`` becomes ``velocity_0``, ``velocity_1``,
+        ..., and any other character not allowed there becomes ``_``). Integer arrays stay
+        integers, anything else is written as reals. Any name is allowed that is a valid
+        column name and not a position (``x``, ...).
     format : str, optional
         As :func:`read`.
     dim : {2, 3}, optional
@@ -790,9 +983,11 @@ def write(
 
 def resample(
     points: ArrayLike,
-    r: Radius,
+    r: Optional[Radius] = None,
     method: str = "exact",
     *,
+    h: Optional[float] = None,
+    spacing: Optional[float] = None,
     k: int = 4,
     alpha: float = 0.2,
     shift: float = 0.5,
@@ -812,9 +1007,14 @@ def resample(
     points : array_like, shape (n, 2) or (n, 3)
         The positions.
     r : float or "auto"
-        The particle resolution.
+        The particle resolution; or give ``h`` or ``spacing`` instead, as
+        :meth:`Detector.detect`.
     method : str, default "exact"
         The method giving the boundary particles (with ``**params``), unless ``labels``.
+    h : float, optional
+        The smoothing length, ``r = h``.
+    spacing : float, optional
+        The particle spacing, ``r = RADIUS_PER_SPACING * spacing``.
     k : int, default 4
         *K* of Eq. 2.5.
     alpha : float, default 0.2
@@ -839,5 +1039,5 @@ def resample(
     """
     detector = Detector(method, threads=threads, **params)
     return _native.resample(
-        points, r, detector._native, k, alpha, shift, labels
+        points, r, detector._native, k, alpha, shift, labels, h=h, spacing=spacing
     )

@@ -11,10 +11,12 @@ from numpy.typing import NDArray
 __all__ = [
     "Detector",
     "FEATURES",
+    "RADIUS_PER_SPACING",
     "Tracker",
     "__version__",
     "_points_address",
     "auto_radius_of",
+    "bulk_spacing_of",
     "confusion",
     "methods",
     "read",
@@ -23,6 +25,7 @@ __all__ = [
 ]
 __version__: str
 FEATURES: Dict[int, str]
+RADIUS_PER_SPACING: float
 
 @final
 class Detector:
@@ -52,6 +55,9 @@ class Detector:
         periodic: Any = None,
         phases: Any = None,
         dim: Optional[int] = None,
+        *,
+        h: Any = None,
+        spacing: Any = None,
     ) -> Any: ...
     def _detect_timed(self, points: Any, r: float) -> Tuple[NDArray[np.bool_], float]: ...
 
@@ -59,9 +65,12 @@ class Detector:
 class Tracker:
     def __new__(
         cls,
-        r: float,
+        r: Optional[float] = None,
         method: str = "exact",
         threads: Optional[int] = None,
+        *,
+        h: Any = None,
+        spacing: Any = None,
         **params: Any,
     ) -> Tracker: ...
     @property
@@ -69,6 +78,7 @@ class Tracker:
     def update(self, points: Any, ids: Any = None) -> NDArray[np.bool_]: ...
 
 def auto_radius_of(points: Any, dim: Optional[int] = None) -> float: ...
+def bulk_spacing_of(points: Any, dim: Optional[int] = None) -> float: ...
 def _points_address(points: Any) -> int: ...
 def confusion(predicted: Any, truth: Any) -> Dict[str, Union[int, float]]: ...
 def methods() -> List[Dict[str, Any]]: ...
@@ -85,10 +95,13 @@ def write(
 ) -> None: ...
 def resample(
     points: Any,
-    r: Union[float, str],
+    r: Optional[Union[float, str]],
     detector: Detector,
     k: int = 4,
     alpha: float = 0.2,
     shift: float = 0.5,
     labels: Any = None,
+    *,
+    h: Any = None,
+    spacing: Any = None,
 ) -> Tuple[NDArray[np.float64], NDArray[np.int8], NDArray[np.int64]]: ...
