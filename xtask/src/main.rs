@@ -98,7 +98,7 @@ fn usage() -> &'static str {
      test-mpi   only the MPI driver's part of `test`\n  \
      test-bindings  only the C examples and the Python package's part of `test`\n  \
      sweep      every detector on every scene: target/sweep/report.md; a full run also\n             \
-BENCHMARKS.md and docs/img/vortex2d_t4.png (--scale adds the scale tier)\n  \
+BENCHMARKS.md and its pictures in docs/img (--scale adds the scale tier)\n  \
      fixtures   regenerate the generated scenes in fixtures/\n  \
      train-svm  retrain the shipped svm models (seeded) and score them on held-out scenes:\n             \
 crates/boundary-svm/models/, target/svm/training.md\n  \
@@ -238,16 +238,26 @@ fn mpi_prereqs() -> Result<(), String> {
 }
 
 /// The sweep in release mode. A full run (no argument that narrows it or moves its inputs)
-/// also rewrites `BENCHMARKS.md` and the README's picture `docs/img/vortex2d_t4.png`, so that
-/// both are always the output of the documented command; a narrowed run leaves them alone.
+/// also rewrites `BENCHMARKS.md` with its speed-against-error pictures
+/// (`docs/img/speed_vs_error_{2d,3d}.png`) and the README's picture
+/// `docs/img/vortex2d_t4.png`, so that they are always the output of the documented command;
+/// a narrowed run leaves them alone.
 fn sweep(rest: &[String]) -> Result<(), String> {
     let root = root();
     let benchmarks = root.join("BENCHMARKS.md").display().to_string();
+    let pictures = root.join("docs/img").display().to_string();
     let picture = root.join("docs/img/vortex2d_t4.png").display().to_string();
     let mut args = vec!["run", "--release", "--quiet", "-p", "boundary-sweep", "--"];
     args.extend(rest.iter().map(String::as_str));
     if writes_pages(rest) {
-        args.extend(["--benchmarks", &benchmarks, "--frame-picture", &picture]);
+        args.extend([
+            "--benchmarks",
+            &benchmarks,
+            "--benchmark-pictures",
+            &pictures,
+            "--frame-picture",
+            &picture,
+        ]);
     } else {
         eprintln!("xtask: a narrowed sweep: BENCHMARKS.md and docs/img are left as they are");
     }
@@ -258,7 +268,7 @@ fn sweep(rest: &[String]) -> Result<(), String> {
 /// committed `BENCHMARKS.md`: none of the arguments selects scenes or methods, shortens the
 /// run, reads other inputs, or already names the pages.
 fn writes_pages(rest: &[String]) -> bool {
-    const NARROWING: [&str; 9] = [
+    const NARROWING: [&str; 10] = [
         "--scenes",
         "--methods",
         "--quick",
@@ -266,6 +276,7 @@ fn writes_pages(rest: &[String]) -> bool {
         "--manifest",
         "--data-dir",
         "--benchmarks",
+        "--benchmark-pictures",
         "--frame-picture",
         "--help",
     ];

@@ -5,8 +5,8 @@
 //!
 //! # When to use it
 //! When you need the criterion He et al. use (to compare with a solver or renderer that flags
-//! its surface this way), or the cheapest kernel-sum flag: one sum per particle, no matrix,
-//! no eigenvalue. It is not certified and, like `muller`'s colour field, blind to symmetric
+//! its surface this way), or a kernel-sum flag of one sum per particle, no matrix and no
+//! eigenvalue. It is not certified and, like `muller`'s colour field, blind to symmetric
 //! neighbourhoods (the middle of a line or of a sheet one particle thick); unlike it, isolated
 //! particles are boundary. For labels that follow the geometric definition use `exact`,
 //! `dilts`, `ia` or `ge`; among the SPH criteria `marrone` scores higher on the sweep's scenes

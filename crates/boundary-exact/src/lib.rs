@@ -3,8 +3,9 @@
 //!
 //! **When to use it:** by default. Its labels are exact for the given `f64` input (a float
 //! filter with a proven bound, an exact integer fallback), every other method is scored
-//! against them, and it is among the fastest methods (accuracy and speed on the same scenes:
-//! `BENCHMARKS.md`, written by `cargo xtask sweep`).
+//! against them, and it is the fastest of the methods that never miss a boundary particle
+//! (accuracy and speed of every method on the same scenes: `BENCHMARKS.md`, written by
+//! `cargo xtask sweep`).
 //!
 //! # Definition
 //! Particle `i` at `p_i` with resolution `r` is *interior* iff its sphere `S_i` (radius `r`)

@@ -40,84 +40,52 @@
 //! - Exact duplicates share one label (they flip onto the same point).
 //! - With no more distinct candidates than the dimension, all of them are visible.
 //!
-//! # Departures from the author's code, measured
+//! # Departures from the author's code
 //! The author's reference code (`boundary.py`, marcos-sandim/boundary-detection; see
-//! `../shared/data/README.md`) anchors its grid at the bounding box's minimum less one cell.
-//! With that anchoring and exact hull vertices our implementation reproduces its scores on
-//! its vortex frames exactly (frame 50: 61 FP, M 0.9582; frame 100: 98 FP, M 0.9223, both
-//! Rec 1), so the rest of Alg. 1 is as the author runs it. We keep the origin anchoring
-//! (domain decomposition) and differ in two ways, both measured on the sweep
-//! (`cargo xtask sweep --methods hpr,exact`):
+//! `../shared/data/README.md`) anchors its grid at the bounding box's minimum less one cell;
+//! with that anchoring and exact hull vertices this implementation reproduces that code's
+//! scores on the author's vortex frames, so the rest of Alg. 1 is as the author runs it. We
+//! keep the origin anchoring (domain decomposition) and differ in two ways:
 //! - **Tolerances against round-off** (section "Noise"), so that ties of a lattice do not
 //!   decide labels.
 //! - **Protrusion** (parameter `protrusion`, default `auto`): a hull vertex that protrudes
 //!   from the hull of the other flipped points by at most a tolerance (a near-tie: within
 //!   round-off or a hair of being hidden) is not visible. `auto` is
 //!   [`PROTRUSION_TOLERANCE_2D`]` = 1e-3` in 2D and [`PROTRUSION_TOLERANCE_3D`]` = 1e-5`
-//!   (round-off only) in 3D, the one rule we found that meets both goals: the author's
-//!   frames at least as well as the author's code scores them, and no scene of the sweep
-//!   below Alg. 1 without the tolerance.
+//!   (round-off only) in 3D: with them every scene of the sweep scores at least as Alg. 1
+//!   without the tolerance (but the tie lattice `cubic_lattice_tie3d`, whose particles are
+//!   all boundary by a hair, at every tolerance), and the author's 2D frames at least as
+//!   well as the author's code scores them. Nothing in Alg. 1 separates 2D from 3D: the
+//!   split is a measured choice, and `protrusion=1e-3` in 3D hides more false positives at
+//!   the price of a few boundary particles on some scenes.
 //!
-//!   In 2D, `1e-3` on the author's frames: frame 50 FP 52 → 45 (M 0.9692), frame 100
-//!   FP 105 → 90 (M 0.9286), Rec 1 on all three (the author's code: 61 and 98 FP).
-//!   Frame 100 needs at least about `8e-4` (FP 105 at `1e-6`…`1e-4`, 104 at `3e-4`, 101 at
-//!   `5e-4`, 99 at `7e-4`, 90 at `1e-3`); no 2D scene of the sweep loses M from it.
-//!
-//!   In 3D the same `1e-3` hides false positives on most scenes (mean M of the 23 3D scenes
-//!   0.8747 → 0.8816; fluid50 r = 0.1 0.7106 → 0.7496, double_dambreak26 r = 0.1
-//!   0.7428 → 0.7757) but costs three scenes a few boundary particles (dambreak9 r = 0.1
-//!   M −0.0021, pysph_case5 −0.0003, double_dambreak26 r = 0.05 −0.0003): they lose from
-//!   `1e-4` and `3e-4` on. The particles it hides there are seen only from empty-cell
-//!   viewpoints and protrude by `1e-6 … 1e-3` from every one of them: on dambreak9 r = 0.1,
-//!   7 boundary particles (protrusions 5e-5 … 9.8e-4) and 6 interior ones (5e-4 … 8.5e-4),
-//!   interleaved in protrusion, in distance from the viewpoint and in candidate count, each
-//!   boundary one seen from a single viewpoint. Re-admitting particles seen marginally from
-//!   two or more viewpoints, measuring the full distance to the hull of the others
-//!   (Frank–Wolfe) instead of the vertex-normal bound, or scaling the tolerance by the
-//!   corner's longest hull edge, its square or the flip's amplification of input noise
-//!   (`(γ−1)|p|^{−γ}`) each lose dambreak9 or frame 100 (measured with the constant as a
-//!   variable on the 36 uniform-radius scenes, against Alg. 1 without the tolerance).
-//!   With `auto`, every scene of the sweep scores at least as Alg. 1 without the tolerance,
-//!   except the tie lattice `cubic_lattice_tie3d`, whose particles are all boundary by a
-//!   hair (`r` is `√3/2` rounded down): M 0.488 at every tolerance, because the margins of
-//!   section "Noise" keep round-off from making its particles visible.
-//!   Nothing in Alg. 1 separates 2D from 3D: the split is a measured choice, and
-//!   `protrusion=1e-3` (a row of the sweep) gives 3D the higher mean M at the price of
-//!   those three scenes.
+//! The measurements behind these choices, with the command that repeats them, are in
+//! `docs/METHODS.md` (section "`hpr`").
 //!
 //! # Two grids (`grids=2`, not the default)
-//! Where Alg. 1 puts its viewpoints depends on where the grid falls: translating a scene by
-//! a quarter, a half or three quarters of a cell moves M on dambreak9 r = 0.1 between 0.9607
-//! and 0.9740 and on double_dambreak26 r = 0.05 between 0.60 and 0.73, far more than the
-//! tolerance above. Most false positives are such accidents: an empty-cell viewpoint that
-//! happens to face a gap sees the interior behind it. With `grids=2` a second pass places
-//! the viewpoints of the grid shifted by `r` (half a cell) on every axis, and a particle is
-//! boundary when some viewpoint sees it in **each** pass (so the boundary is a subset of
-//! the default's; halo and decomposition are unchanged: each pass has the same reach).
-//! Measured on every scene of the sweep (`cargo xtask sweep --methods exact,hpr`, row
-//! `grids=2`, default protrusion): mean M 0.9599 → 0.9686 (13 2D scenes) and
-//! 0.8747 → 0.9235 (23 3D scenes); the author's frames 50 and 100 M 0.9822 and 0.9596
-//! (FP 45 → 26, 90 → 51), Rec 1; dambreak9 r = 0.1 0.9655 → 0.9718, double_dambreak26
-//! r = 0.05 0.7117 → 0.8814, pysph_case5 0.9405 → 1.0 (FP 648 → 0). It loses on one scene, vortex2d_t1 (M 0.7610 → 0.7572: FN 61 → 93,
-//! FP 350 → 262), raises FN on several 3D scenes while cutting more FP, and costs twice the
-//! time. Not the default: it departs from Alg. 1, and the goal "no loss on any scene" does
-//! not hold for it.
+//! Where Alg. 1 puts its viewpoints depends on where the grid falls: translating a scene by a
+//! fraction of a cell changes its labels, and most false positives are such accidents: an
+//! empty-cell viewpoint that happens to face a gap sees the interior behind it. With
+//! `grids=2` a second pass places the viewpoints of the grid shifted by `r` (half a cell) on
+//! every axis, and a particle is boundary when some viewpoint sees it in **each** pass (so
+//! the boundary is a subset of the default's; halo and decomposition are unchanged: each pass
+//! has the same reach). It removes false positives on most scenes, adds misses on some, and
+//! costs twice the time (its scores: `docs/METHODS.md`). Not the default: it departs from
+//! Alg. 1.
 //!
 //! # Cost
 //! Each viewpoint builds one hull of its `k` candidates within `4r`, so the work per
 //! particle grows with `(r / spacing)^D` and with the share of the particles near a surface.
-//! On a dense jittered block (`r = 2.2` spacings: about 360 neighbours within `2r`, 2,000
-//! candidates per viewpoint; example `profile_dense`, made for profilers) the time goes to
-//! the hull (about half of the instructions: Quickhull with exact predicates, 3–5
-//! orientation tests per candidate), the cavity directions `δ_i` (one `2r` neighbour pass per
-//! particle of a cavity cell) and the sorting and gathering of candidates. The hull's test of
-//! a point against a facet first goes through a floating-point filter on the facet's stored
-//! plane, which settles "strictly inside" without the full predicate, and its working memory
-//! is reused between hulls. The scans after the hull (every point against every facet and
-//! corner, a norm per pair for the near-twin test) exit early and visit only the cells of a
-//! box grid over the flips that can reach the level in question
-//! ([`visibility::visible_from_origin`]). Its speed beside the other methods:
-//! `BENCHMARKS.md` and `cargo bench -p boundary --bench methods`.
+//! The work is the hull (Quickhull with exact predicates), the cavity directions `δ_i` (one
+//! `2r` neighbour pass per particle of a cavity cell) and the sorting and gathering of
+//! candidates. The hull's test of a point against a facet first goes through a
+//! floating-point filter on the facet's stored plane, which settles "strictly inside" without
+//! the full predicate, and its working memory is reused between hulls. The scans after the
+//! hull (every point against every facet and corner, a norm per pair for the near-twin test)
+//! exit early and visit only the cells of a box grid over the flips that can reach the level
+//! in question ([`visibility::visible_from_origin`]). Its speed beside the other methods:
+//! `BENCHMARKS.md` and `cargo bench -p boundary --bench methods`; a dense scene for
+//! profilers: the example `profile_dense`.
 //!
 //! # Noise
 //! A perfect lattice puts particles exactly on cell faces, exactly `2r` and `4r` from
@@ -151,7 +119,7 @@
 //! | `gamma` | 1.3 | exponent of the exponential flipping (Eq. 2.2), `> 1`; the thesis' value |
 //! | `cavity` | `on` | place the cavity viewpoints of Eq. 2.3 (`off`: empty cells only) |
 //! | `grids` | 1 | viewpoint grids: 1 (Alg. 1), or 2 (see "Two grids") |
-//! | `protrusion` | `auto` | hull vertices protruding by at most this are hidden: `auto` is `1e-3` in 2D, `1e-5` in 3D, or a value in `[1e-6, 0.1]` (see "Protrusion") |
+//! | `protrusion` | `auto` | hull vertices protruding by at most this are hidden: `auto` is `1e-3` in 2D, `1e-5` in 3D, or a value in `[1e-6, 0.1]` (see "Departures from the author's code") |
 //!
 //! No margin is returned. Not certified: a boundary particle in a concave region of high
 //! curvature can be hidden from every viewpoint (thesis Sec. 2.4).
@@ -235,7 +203,8 @@ pub const REACH_TOLERANCE: f64 = 1e-4;
 /// [`visibility::visible_from_origin`]). The default of `protrusion=auto` in 2D.
 pub const PROTRUSION_TOLERANCE_2D: f64 = 1e-3;
 /// The same in 3D: round-off only (the lattice test fails at `1e-6`), so that no 3D scene of
-/// the sweep loses M against Alg. 1 without the tolerance (crate docs, "Protrusion").
+/// the sweep loses M against Alg. 1 without the tolerance (crate docs, "Departures from the
+/// author's code").
 pub const PROTRUSION_TOLERANCE_3D: f64 = 1e-5;
 /// The range accepted by `protrusion=<value>`.
 pub const PROTRUSION_RANGE: (f64, f64) = (1e-6, 0.1);
@@ -265,7 +234,8 @@ impl Grids {
     }
 }
 
-/// The protrusion tolerance of `hpr`'s visibility test (crate docs, "Protrusion").
+/// The protrusion tolerance of `hpr`'s visibility test (crate docs, "Departures from the
+/// author's code").
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Protrusion {
     /// Per dimension: [`PROTRUSION_TOLERANCE_2D`] in 2D, [`PROTRUSION_TOLERANCE_3D`] in 3D.

@@ -4,9 +4,8 @@
 //! on Computer Animation (SCA) 2003, 154–159, Sec. 4.4 (surface tension): an SPH baseline of
 //! the thesis' comparison (Sandim 2020, Table 2, "Müller"), method name `muller`.
 //!
-//! **When to use it:** to compare with the colour-field surface test of SPH codes, the
-//! cheapest test of all (one kernel sum per particle, no certificate), or to reproduce the
-//! thesis' comparison. For the labels themselves use `exact` (accuracy and speed on the same scenes: `BENCHMARKS.md`, written by `cargo xtask sweep`).
+//! **When to use it:** to compare with the colour-field surface test of SPH codes (one
+//! kernel sum per particle, no certificate), or to reproduce the thesis' comparison. For the labels themselves use `exact` (accuracy and speed on the same scenes: `BENCHMARKS.md`, written by `cargo xtask sweep`).
 //!
 //! # Method
 //! The colour field is 1 at particle locations and 0 elsewhere; its SPH interpolant and

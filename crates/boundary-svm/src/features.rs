@@ -40,14 +40,13 @@
 //! samples miss the small uncovered caps that neighbours at `r` of 2–3 spacings leave
 //! (thin sheets of splash frames): there most uncertified particles were boundary, and the
 //! model had to tell them from interior ones whose samples were as shallowly covered. The
-//! ascent certifies about four in five of them (the uncertified boundary particles of the
-//! held-out sheet `fluid50_r0.1`: 301 → 62, of `dambreak23_r0.05`: 400 → 167) and makes the
-//! margin of the rest a closer bound of the true one; on a bulk jittered ball at `r` = 1.2
-//! spacings it adds 0.4% to the instruction count of the features (callgrind), since
-//! deeply covered particles do not start it. A margin above [`CERTIFICATE_TOLERANCE`] proves that `p` is uncovered:
-//! the particle is boundary by the definition, which the detector uses as a certificate
-//! (see the crate documentation); a margin near 0 says that the sphere is nearly uncovered
-//! there, which the SVM uses as a feature.
+//! ascent certifies most of them and makes the margin of the rest a closer bound of the true
+//! one; deeply covered particles do not start it, so it costs little in the bulk (its effect
+//! on the splash frames: `docs/METHODS.md`, section "`svm`"). A margin above
+//! [`CERTIFICATE_TOLERANCE`] proves that `p` is uncovered: the particle is boundary by the
+//! definition, which the detector uses as a certificate (see the crate documentation); a
+//! margin near 0 says that the sphere is nearly uncovered there, which the SVM uses as a
+//! feature.
 //!
 //! **Scale-freeness.** Scaling every position and `r` by the same factor leaves every feature
 //! unchanged up to rounding (tested for factors `2^k`, relative tolerance `1e-12`), so a model

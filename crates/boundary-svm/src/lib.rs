@@ -18,7 +18,7 @@
 //! Sec. 3.2.3) trained against the `exact` labels classifies them ([`SvmModel`]). The thesis
 //! uses an RBF kernel; a model here has an RBF or a polynomial kernel of degree 1 to 3, and
 //! the trainer ships, per dimension, the kernel of its grid whose decision is cheapest
-//! within 0.005 of the best validation M (see *Trade-off* below): a **polynomial kernel**,
+//! within 0.005 of the best validation M (see *Kernel choice* below): a **polynomial kernel**,
 //! which [`PackedModel`] expands once into the weights of the monomials of the standardised
 //! features, so that a decision costs at most `7 + 7² + 7³` multiply-adds whatever the
 //! number of support vectors (an RBF model costs one exponential per support vector).
@@ -85,23 +85,12 @@
 //!   naming the model file.
 //! - Not certified as a whole: the SVM can miss boundary particles, and so can the cascade.
 //!
-//! # Held-out scores
+//! # Accuracy
 //! Every scene of the sweep (`fixtures/scenes.toml`: our fixtures and the public frames of
 //! `../shared/data`) is held out: the models never saw them, nor any frame or rotation of
 //! the simulations they come from. `cargo xtask train-svm` scores every one of them, with
-//! `marrone` beside it (its training report); the test
-//! `quoted_held_out_scores_are_reproduced` (`tests/svm.rs`) recomputes the rows quoted here:
-//!
-//! | scene (held out) | n | TP | FN | FP | TN | Rec | FPR | M | `marrone` M |
-//! |---|---|---|---|---|---|---|---|---|---|
-//! | `sandim_vortex_100` (the author's vortex, frame 100, 2D) | 1698 | 437 | 0 | 0 | 1261 | 1.0000 | 0.0000 | 1.0000 | 0.7962 |
-//! | `dambreak23_r0.05` (SPlisHSPlasH splash, 3D) | 24389 | 8134 | 122 | 18 | 16115 | 0.9852 | 0.0011 | 0.9841 | 0.9614 |
-//! | `double_dambreak26_r0.1` (thin sheet and droplets, 3D) | 4732 | 4140 | 15 | 37 | 540 | 0.9964 | 0.0641 | 0.9325 | 0.6374 |
-//!
-//! Over every held-out scene (training report of the shipped models): mean M 0.9942 in 2D
-//! (13 scenes; `marrone` 0.9437) and 0.9768 in 3D (23 scenes; `marrone` 0.8750), 0.983
-//! over all 36 (`marrone` 0.900); **no scene below M = 0.85**, the lowest
-//! `enright3d_t1.5` (0.940), `double_dambreak26_r0.1` (0.933) and `fluid50_r0.1` (0.967).
+//! `marrone` beside it, in its training report; `docs/METHODS.md` quotes the scores, and the
+//! test `quoted_held_out_scores_are_reproduced` (`tests/svm.rs`) recomputes the quoted rows.
 //!
 //! Thin splash sheets (`r` ≈ 2.7 spacings, at most about four layers thick: every interior
 //! particle within two spacings of a boundary one) are where fixed sample points of the
@@ -130,32 +119,15 @@
 //! values), or `cargo bench -p boundary-svm`; `BENCHMARKS.md` compares it with every method
 //! on the sweep's scenes.
 //!
-//! # Trade-off: support vectors against M and speed
+//! # Kernel choice
 //! `cargo xtask train-svm` trains every model of its grid (training-sample size 800, 1600
 //! or 3200; `C` 1, 10 or 100; kernel RBF with `γ` 0.1 or 0.3, or polynomial of degree 2 or
-//! 3 with `γ` 0.1) and writes, per dimension, the table of support vectors against the mean
-//! validation M, the held-out mean M and the speed relative to `exact` to its training
-//! report. Polynomial kernels of degree 3 are trained at `C = 1` only and of degree 2 at `C`
-//! up to 10 (linfa's SMO takes minutes beyond). In 3D, the rows of the largest sample (the
-//! shipped model among them) and the smallest polynomial model:
-//!
-//! | sample | C | kernel | support vectors | validation M | held-out mean M |
-//! |---|---|---|---|---|---|
-//! | 800 | 1 | poly2 γ=0.1 | 202 | 0.9747 | 0.9724 |
-//! | 3200 | 1 | rbf γ=0.1 | 673 | 0.9808 | 0.9759 |
-//! | 3200 | 1 | rbf γ=0.3 | 682 | 0.9789 | 0.9719 |
-//! | 3200 | 1 | poly2 γ=0.1 (shipped) | 650 | 0.9781 | 0.9768 |
-//! | 3200 | 1 | poly3 γ=0.1 | 612 | 0.9791 | 0.9763 |
-//! | 3200 | 10 | rbf γ=0.1 | 586 | 0.9758 | 0.9744 |
-//! | 3200 | 10 | rbf γ=0.3 | 585 | 0.9754 | 0.9695 |
-//! | 3200 | 10 | poly2 γ=0.1 | 609 | 0.9745 | 0.9743 |
-//! | 3200 | 100 | rbf γ=0.1 | 538 | 0.9718 | 0.9707 |
-//! | 3200 | 100 | rbf γ=0.3 | 540 | 0.9686 | 0.9633 |
-//!
-//! An RBF model's cost grows with its support vectors (one exponential each), a polynomial
-//! model's does not, at the same M. The shipped model is the cheapest decision within 0.005
-//! of the best validation M: the 3200-sample RBF model's validation M (0.9808) rules out the
-//! smaller polynomial models, and every degree-2 model costs the same.
+//! 3 with `γ` 0.1) and ships, per dimension, the model whose decision is cheapest within
+//! 0.005 of the best validation M. An RBF model's cost grows with its support vectors (one
+//! exponential each), a polynomial model's does not, and every degree-2 model costs the
+//! same: the shipped models are polynomial of degree 2. The table of support vectors
+//! against validation M, held-out M and speed is in the training report
+//! (`target/svm/training.md`) and, for 3D, in `docs/METHODS.md`.
 //!
 //! # Hard cases
 //! What `svm` (default model, `refine=none`) returns on the hard cases (the test

@@ -283,7 +283,7 @@ fn certified_particles_are_boundary_for_exact() {
     assert!(total > 1000, "the certificate fired only {total} times");
 }
 
-/// The held-out scores quoted in the crate documentation, recomputed: the shipped models on
+/// The held-out scores quoted in `docs/METHODS.md` (`svm`), recomputed: the shipped models on
 /// scenes of other simulations than any training scene (the trainer generates its own; see
 /// boundary-svm-train). `cargo xtask train-svm` prints the same rows for every scene of the
 /// sweep in its training report.

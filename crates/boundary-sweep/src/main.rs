@@ -1,7 +1,8 @@
 //! `boundary-sweep`: runs every detector over every scene and writes `results.csv`,
 //! `report.md` and the plots into its output folder; with `--benchmarks` also the summary page
-//! `BENCHMARKS.md`, and with `--frame-picture` the README's picture. Normally started by
-//! `cargo xtask sweep`, which builds it in release mode and asks for both pages on a full run.
+//! `BENCHMARKS.md` (with `--benchmark-pictures` also its speed-against-error pictures), and
+//! with `--frame-picture` the README's picture. Normally started by `cargo xtask sweep`,
+//! which builds it in release mode and asks for all of them on a full run.
 
 use boundary_sweep::benchmarks::{self, Provenance};
 use boundary_sweep::{
@@ -67,6 +68,11 @@ struct Args {
     /// Also draw the exact labels of the scene `vortex2d_t4` into this PNG file.
     #[arg(long)]
     frame_picture: Option<PathBuf>,
+    /// With --benchmarks: draw the summary page's speed-against-error pictures
+    /// (`speed_vs_error_2d.png`, `speed_vs_error_3d.png`) into this folder, and embed them in
+    /// the page by their path relative to the page's folder.
+    #[arg(long, value_name = "DIR", requires = "benchmarks")]
+    benchmark_pictures: Option<PathBuf>,
     /// Skip the sequence tier (the incremental tracker against full detections over 12 time
     /// steps of an advected sphere; on by default, about 10 s; with --scale also the 10^6
     /// sphere at 0.01 spacing per step).
@@ -267,6 +273,9 @@ fn real_main() -> Result<(), String> {
         }
     );
     let mut report_text = report::report_md(&outcome, &header);
+    if !outcome.auto.is_empty() {
+        report_text += &boundary_sweep::auto_radius::auto_md(&outcome.auto);
+    }
     if !sequence_points.is_empty() {
         written.push(write(
             "sequence.csv",
@@ -278,7 +287,23 @@ fn real_main() -> Result<(), String> {
     plots::register_font()?;
     written.extend(plots::write_all(&outcome, &args.out)?);
     if let (Some(path), Some(provenance)) = (&args.benchmarks, &provenance) {
-        let mut text = benchmarks::benchmarks_md(&outcome, provenance);
+        let mut pictures = Vec::new();
+        if let Some(dir) = &args.benchmark_pictures {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+            let page_dir = path.parent().unwrap_or(Path::new(""));
+            for (dim, file) in plots::write_benchmark_pictures(&outcome.rows, dir)? {
+                pictures.push(benchmarks::PagePicture {
+                    dim,
+                    link: link_from(page_dir, &file),
+                });
+                written.push(file);
+            }
+        }
+        let mut text = benchmarks::benchmarks_md(&outcome, provenance, &pictures);
+        if !outcome.auto.is_empty() {
+            text += &boundary_sweep::auto_radius::auto_md(&outcome.auto);
+        }
         if !sequence_points.is_empty() {
             text += &sequence::sequence_md(&sequence_points);
         }
@@ -362,10 +387,14 @@ fn provenance() -> Provenance {
     };
     let mut command = vec!["cargo xtask sweep".to_owned()];
     let mut args = std::env::args().skip(1);
+    const PAGE_OUTPUTS: [&str; 3] = ["--benchmarks", "--frame-picture", "--benchmark-pictures"];
     while let Some(arg) = args.next() {
-        if arg == "--benchmarks" || arg == "--frame-picture" {
+        if PAGE_OUTPUTS.contains(&arg.as_str()) {
             args.next();
-        } else if !(arg.starts_with("--benchmarks=") || arg.starts_with("--frame-picture=")) {
+        } else if !PAGE_OUTPUTS
+            .iter()
+            .any(|flag| arg.starts_with(&format!("{flag}=")))
+        {
             command.push(arg);
         }
     }
@@ -374,6 +403,24 @@ fn provenance() -> Provenance {
         commit,
         machine: machine(),
         command: command.join(" "),
+    }
+}
+
+/// How a page in `page_dir` links `file`: its path relative to `page_dir` when `file` lies
+/// below it (`/` between components, as Markdown wants), else `file` as given.
+fn link_from(page_dir: &Path, file: &Path) -> String {
+    let relative = if page_dir.as_os_str().is_empty() {
+        Some(file)
+    } else {
+        file.strip_prefix(page_dir).ok()
+    };
+    match relative {
+        Some(rel) => rel
+            .components()
+            .map(|c| c.as_os_str().to_string_lossy())
+            .collect::<Vec<_>>()
+            .join("/"),
+        None => file.display().to_string(),
     }
 }
 

@@ -7,6 +7,11 @@
 //!   parameter value, pooled over the scenes of that dimension. 1 − M is pooled over the
 //!   fixture scenes either way.
 //! - `scale_{2d,3d}`: seconds against |P|, log-log, one line per method (the scale tier).
+//!
+//! Every method has one colour and one marker shape in every plot ([`style_of`]). In the
+//! speed/error charts only the markers of the default parameters are labelled (with the
+//! method's name, placed clear of the other markers and labels); the other parameter values
+//! are small outlines of the method's marker.
 //! - `features_<scene>`: for 2D scenes, the feature class of each exact boundary particle
 //!   (thesis Sec. 2.6, Fig. 15 colours).
 //! - `depth_{2d,3d}`: false positives and time against depth for `ia` and `ge` (JCP Fig. 7,
@@ -28,26 +33,160 @@ use crate::scale::ScaleOutcome;
 use crate::{DomainPicture, Outcome, Picture, Row};
 use boundary::Confusion;
 use plotters::coord::Shift;
+use plotters::element::{Drawable, PointCollection};
 use plotters::prelude::*;
+use plotters_backend::{BackendCoord, DrawingErrorKind};
 use std::path::{Path, PathBuf};
 
 /// 1 − M below this is drawn at this value (log scale; M = 1 is a perfect score).
 pub const ERROR_FLOOR: f64 = 1e-5;
 
-const PALETTE: [RGBColor; 8] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(23, 190, 207),
+/// The shape of a method's marker.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Shape {
+    /// A disc.
+    Circle,
+    /// A square.
+    Square,
+    /// A triangle pointing up.
+    TriangleUp,
+    /// A triangle pointing down.
+    TriangleDown,
+    /// A square on its corner.
+    Diamond,
+    /// An ×.
+    Cross,
+    /// A +.
+    Plus,
+}
+
+/// How a method is drawn in every plot of the sweep: its colour and the shape of its marker.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MethodStyle {
+    /// The colour of the method's markers and lines.
+    pub colour: RGBColor,
+    /// The shape of its markers.
+    pub shape: Shape,
+}
+
+/// One fixed style per method, the same in every plot and whatever the methods a run
+/// selects: no two methods share both colour and shape.
+const STYLES: [(&str, RGBColor, Shape); 12] = [
+    ("exact", RGBColor(0, 0, 0), Shape::Circle),
+    ("dilts", RGBColor(127, 127, 127), Shape::Square),
+    ("ia", RGBColor(31, 119, 180), Shape::TriangleUp),
+    ("ge", RGBColor(23, 190, 207), Shape::TriangleDown),
+    ("marrone", RGBColor(214, 39, 40), Shape::Diamond),
+    ("muller", RGBColor(255, 127, 14), Shape::Circle),
+    ("divr", RGBColor(44, 160, 44), Shape::Square),
+    ("asymmetry", RGBColor(148, 103, 189), Shape::TriangleUp),
+    ("randles", RGBColor(140, 86, 75), Shape::TriangleDown),
+    ("lnm", RGBColor(227, 119, 194), Shape::Diamond),
+    ("hpr", RGBColor(188, 189, 34), Shape::Plus),
+    ("svm", RGBColor(0, 0, 128), Shape::Cross),
 ];
 
-fn colour_of(method: &str, methods: &[String]) -> RGBColor {
-    let k = methods.iter().position(|m| m == method).unwrap_or(0);
-    PALETTE[k % PALETTE.len()]
+/// The style of `method` from a fixed table; a method missing from it is dark grey, with a
+/// shape taken from its name.
+pub fn style_of(method: &str) -> MethodStyle {
+    match STYLES.iter().find(|(name, _, _)| *name == method) {
+        Some(&(_, colour, shape)) => MethodStyle { colour, shape },
+        None => {
+            const SHAPES: [Shape; 7] = [
+                Shape::Circle,
+                Shape::Square,
+                Shape::TriangleUp,
+                Shape::TriangleDown,
+                Shape::Diamond,
+                Shape::Cross,
+                Shape::Plus,
+            ];
+            let k = method.bytes().map(usize::from).sum::<usize>() % SHAPES.len();
+            MethodStyle {
+                colour: RGBColor(70, 70, 70),
+                shape: SHAPES[k],
+            }
+        }
+    }
+}
+
+/// The marker of `style` at `at`, `size` pixels from its centre to its edge: filled, or as
+/// an outline (a method's runs at other than its default parameters).
+fn marker<C>(at: C, style: MethodStyle, size: i32, filled: bool) -> Glyph<C> {
+    Glyph {
+        at,
+        style,
+        size,
+        filled,
+    }
+}
+
+/// A method's marker: one point of the chart, drawn in pixels around it.
+#[derive(Debug, Clone, Copy)]
+struct Glyph<C> {
+    at: C,
+    style: MethodStyle,
+    size: i32,
+    filled: bool,
+}
+
+impl<'a, C> PointCollection<'a, C> for &'a Glyph<C> {
+    type Point = &'a C;
+    type IntoIter = std::iter::Once<&'a C>;
+    fn point_iter(self) -> Self::IntoIter {
+        std::iter::once(&self.at)
+    }
+}
+
+impl<C, DB: DrawingBackend> Drawable<DB> for Glyph<C> {
+    fn draw<I: Iterator<Item = BackendCoord>>(
+        &self,
+        mut points: I,
+        backend: &mut DB,
+        _: (u32, u32),
+    ) -> Result<(), DrawingErrorKind<DB::ErrorType>> {
+        let Some((x, y)) = points.next() else {
+            return Ok(());
+        };
+        let (s, h) = (self.size, self.size * 7 / 8);
+        let colour = self.style.colour;
+        let outline = colour.stroke_width(2);
+        let line = colour.stroke_width(if self.filled { 3 } else { 2 });
+        let at = |pts: &[(i32, i32)]| pts.iter().map(|&(dx, dy)| (x + dx, y + dy)).collect();
+        let polygon = |backend: &mut DB, pts: &[(i32, i32)]| {
+            if self.filled {
+                backend.fill_polygon(at(pts), &colour.filled())
+            } else {
+                let mut closed: Vec<BackendCoord> = at(pts);
+                closed.push(closed[0]);
+                backend.draw_path(closed, &outline)
+            }
+        };
+        match self.style.shape {
+            Shape::Circle => backend.draw_circle((x, y), s as u32, &outline, self.filled),
+            Shape::Square => backend.draw_rect(
+                (x - h, y - h),
+                (x + h, y + h),
+                &if self.filled {
+                    colour.filled()
+                } else {
+                    outline
+                },
+                self.filled,
+            ),
+            Shape::TriangleUp => polygon(backend, &[(0, -s - 1), (s, h), (-s, h)]),
+            Shape::TriangleDown => polygon(backend, &[(0, s + 1), (s, -h), (-s, -h)]),
+            Shape::Diamond => polygon(backend, &[(0, -s - 1), (s, 0), (0, s + 1), (-s, 0)]),
+            Shape::Cross => {
+                backend.draw_path(at(&[(-h, -h), (h, h)]), &line)?;
+                backend.draw_path(at(&[(-h, h), (h, -h)]), &line)
+            }
+            Shape::Plus => {
+                backend.draw_path(at(&[(-s, 0), (s, 0)]), &line)?;
+                backend.draw_path(at(&[(0, -s), (0, s)]), &line)
+            }
+        }
+    }
 }
 
 /// Registers the embedded font once (plotters' text needs one).
@@ -81,8 +220,22 @@ fn short_tag(row: &Row) -> String {
         .join(" ")
 }
 
-/// Pools the rows of one dimension by (method, parameters).
+/// Which time of a row a speed marker takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Timing {
+    /// `seconds_all`: the run on all threads.
+    AllThreads,
+    /// `seconds_1`: the run on one thread (rows without it are left out).
+    OneThread,
+}
+
+/// Pools the rows of one dimension by (method, parameters), their times on all threads.
 pub fn markers(rows: &[Row], dim: usize) -> Vec<Marker> {
+    markers_timed(rows, dim, Timing::AllThreads)
+}
+
+/// Pools the rows of one dimension by (method, parameters), with the time `timing` names.
+pub fn markers_timed(rows: &[Row], dim: usize, timing: Timing) -> Vec<Marker> {
     let mut keys: Vec<(String, String, bool)> = Vec::new();
     for row in rows
         .iter()
@@ -104,13 +257,17 @@ pub fn markers(rows: &[Row], dim: usize) -> Vec<Marker> {
                     && r.params == params
                     && r.is_default == is_default
             }) {
-                if let Some(c) = row.confusion {
+                let time = match timing {
+                    Timing::AllThreads => Some(row.seconds_all),
+                    Timing::OneThread => row.seconds_1,
+                };
+                if let (Some(c), Some(time)) = (row.confusion, time) {
                     pooled.tp += c.tp;
                     pooled.tn += c.tn;
                     pooled.fp += c.fp;
                     pooled.fn_ += c.fn_;
                     n += row.n;
-                    seconds += row.seconds_all;
+                    seconds += time;
                     tag = short_tag(row);
                 }
             }
@@ -179,8 +336,8 @@ pub fn scale_markers(rows: &[Row], scale: &ScaleOutcome, dim: usize) -> Vec<Mark
     ms
 }
 
-/// Seconds against |P| on log-log axes, one line per method over the lattice series of `dim`;
-/// the Enright scene (3D) as a triangle in the method's colour.
+/// Seconds against |P| on log-log axes, one line per method over the lattice series of `dim`
+/// with the method's markers; the Enright scene (3D) as a large outline of its marker.
 fn scale_plot<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     scale: &ScaleOutcome,
@@ -224,7 +381,8 @@ where
         ("particles", "seconds"),
     )?;
     for method in methods {
-        let colour = colour_of(method, methods);
+        let style = style_of(method);
+        let colour = style.colour;
         let mut line: Vec<(f64, f64)> = pts
             .iter()
             .filter(|p| p.0 == method && !p.1)
@@ -239,16 +397,18 @@ where
             .map_err(err)?
             .label(method.as_str())
             .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                EmptyElement::at((x, y))
+                    + PathElement::new(vec![(0, 0), (20, 0)], colour.stroke_width(2))
+                    + marker((10, 0), style, 5, true)
             });
         chart
-            .draw_series(line.iter().map(|&p| Circle::new(p, 4, colour.filled())))
+            .draw_series(line.iter().map(|&p| marker(p, style, 5, true)))
             .map_err(err)?;
         chart
             .draw_series(
                 pts.iter()
                     .filter(|p| p.0 == method && p.1)
-                    .map(|p| TriangleMarker::new((p.2 as f64, p.3), 8, colour.filled())),
+                    .map(|p| marker((p.2 as f64, p.3), style, 8, false)),
             )
             .map_err(err)?;
     }
@@ -276,65 +436,196 @@ fn err<E: std::fmt::Display>(e: E) -> String {
     e.to_string()
 }
 
+/// Width in pixels of the legend column beside the speed/error chart.
+const LEGEND_WIDTH: u32 = 170;
+
+/// The speed/error chart: particles per second against 1 − M on log scales, one marker per
+/// method and parameter value in the method's [`MethodStyle`]. The default parameters are
+/// large filled markers labelled with the method's name; other parameter values are small
+/// outlines, unlabelled. A legend column on the right names every method's marker.
 fn speed_vs_error<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     markers: &[Marker],
     methods: &[String],
-    dim: usize,
-    from_scale: bool,
+    caption: String,
 ) -> Result<(), String>
 where
     DB::ErrorType: 'static,
 {
     root.fill(&WHITE).map_err(err)?;
+    let width = root.dim_in_pixel().0;
+    let (area, legend) = root.split_horizontally(width.saturating_sub(LEGEND_WIDTH));
     let xmin = markers.iter().map(|m| m.rate).fold(f64::INFINITY, f64::min) / 2.0;
     let xmax = markers.iter().map(|m| m.rate).fold(0.0, f64::max) * 2.0;
     let ymax = markers.iter().map(|m| m.error).fold(ERROR_FLOOR, f64::max) * 2.0;
-    let caption = if from_scale {
-        format!(
-            "{dim}D: speed (scale tier, all threads) against error (fixture scenes), default \
-             parameters"
-        )
-    } else {
-        format!("{dim}D: speed against error (pooled over scenes, all threads)")
-    };
     let mut chart = log_log_chart(
-        &root,
+        &area,
         caption,
         (xmin..xmax, ERROR_FLOOR / 2.0..ymax),
         ("particles per second", "1 - M"),
     )?;
-    for method in methods {
-        let colour = colour_of(method, methods);
-        let pts: Vec<&Marker> = markers.iter().filter(|m| &m.method == method).collect();
-        if pts.is_empty() {
-            continue;
+    let shown: Vec<&String> = methods
+        .iter()
+        .filter(|method| markers.iter().any(|m| &m.method == *method))
+        .collect();
+    // Parameter variants first, so that the defaults stay on top.
+    for default in [false, true] {
+        for method in &shown {
+            let style = style_of(method);
+            let size = if default { 7 } else { 4 };
+            chart
+                .draw_series(
+                    markers
+                        .iter()
+                        .filter(|m| &m.method == *method && m.tag.is_empty() == default)
+                        .map(|m| marker((m.rate, m.error), style, size, default)),
+                )
+                .map_err(err)?;
+        }
+    }
+    let font = ("sans-serif", 15).into_font();
+    let text = TextStyle::from(font.clone()).color(&BLACK);
+    let defaults: Vec<&Marker> = markers.iter().filter(|m| m.tag.is_empty()).collect();
+    let mut labels = Vec::with_capacity(defaults.len());
+    for m in &defaults {
+        let (w, h) = area.estimate_text_size(&m.method, &text).map_err(err)?;
+        labels.push((
+            chart.backend_coord(&(m.rate, m.error)),
+            (w as i32, h as i32),
+        ));
+    }
+    let obstacles: Vec<(i32, i32)> = markers
+        .iter()
+        .map(|m| chart.backend_coord(&(m.rate, m.error)))
+        .collect();
+    let placed = place_labels(&labels, &obstacles, chart.plotting_area().get_pixel_range());
+    for (m, (offset, leader)) in defaults.iter().zip(placed) {
+        let colour = style_of(&m.method).colour;
+        let at = (m.rate, m.error);
+        if let Some(end) = leader {
+            chart
+                .draw_series(std::iter::once(
+                    EmptyElement::at(at) + PathElement::new(vec![(0, 0), end], colour.mix(0.6)),
+                ))
+                .map_err(err)?;
         }
         chart
-            .draw_series(pts.iter().map(|m| {
-                let size = if m.tag.is_empty() { 7 } else { 4 };
-                Circle::new((m.rate, m.error), size, colour.filled())
-            }))
-            .map_err(err)?
-            .label(method.as_str())
-            .legend(move |(x, y)| Circle::new((x, y), 6, colour.filled()));
-        chart
-            .draw_series(pts.iter().filter(|m| !m.tag.is_empty()).map(|m| {
-                Text::new(
-                    m.tag.clone(),
-                    (m.rate, m.error),
-                    ("sans-serif", 12).into_font(),
-                )
-            }))
+            .draw_series(std::iter::once(
+                EmptyElement::at(at) + Text::new(m.method.clone(), offset, text.clone()),
+            ))
             .map_err(err)?;
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()
-        .map_err(err)?;
+    speed_legend(&legend, &shown, markers.iter().any(|m| !m.tag.is_empty()))?;
     root.present().map_err(err)
+}
+
+/// The legend column of the speed/error chart: each method's marker and name, then what an
+/// outline marker means when the chart has any.
+fn speed_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    methods: &[&String],
+    variants: bool,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let font = ("sans-serif", 15).into_font();
+    let small = ("sans-serif", 13).into_font();
+    let row = 24;
+    let mut y = 60;
+    for method in methods {
+        area.draw(&marker((14, y), style_of(method), 7, true))
+            .map_err(err)?;
+        area.draw(&Text::new(method.to_string(), (30, y - 8), font.clone()))
+            .map_err(err)?;
+        y += row;
+    }
+    if variants {
+        y += row / 2;
+        let outline = MethodStyle {
+            colour: RGBColor(90, 90, 90),
+            shape: Shape::Circle,
+        };
+        area.draw(&marker((14, y), outline, 4, false))
+            .map_err(err)?;
+        for (k, line) in ["other parameter", "values (unlabelled)"]
+            .iter()
+            .enumerate()
+        {
+            area.draw(&Text::new(
+                line.to_string(),
+                (30, y - 7 + 16 * k as i32),
+                small.clone(),
+            ))
+            .map_err(err)?;
+        }
+    }
+    Ok(())
+}
+
+/// A label to place: its marker's pixel and the label's width and height.
+type LabelBox = (BackendCoord, (i32, i32));
+
+/// A placed label: the offset of its top-left corner from its marker, and the end of a leader
+/// line from the marker (relative to it) when the label sits farther off.
+type Placement = (BackendCoord, Option<BackendCoord>);
+
+/// Places the label of each marker: `labels` holds each marker's pixel position and its
+/// label's size, `obstacles` every marker drawn (pixel positions), `bounds` the plotting
+/// area. Returns per label the offset of its top-left corner from its marker and, for a label
+/// set farther off, the end of a leader line from the marker. Greedy, in the order given:
+/// the first of a fixed list of places around the marker that overlaps no label placed
+/// before, no marker and no border; else the place with the fewest overlaps.
+fn place_labels(
+    labels: &[LabelBox],
+    obstacles: &[BackendCoord],
+    bounds: (std::ops::Range<i32>, std::ops::Range<i32>),
+) -> Vec<Placement> {
+    type Rect = (i32, i32, i32, i32);
+    let overlaps = |a: Rect, b: Rect| a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3;
+    let mut taken: Vec<Rect> = Vec::new();
+    let mut out = Vec::with_capacity(labels.len());
+    for &((x, y), (w, h)) in labels {
+        let gap = 10;
+        let mut candidates: Vec<((i32, i32), bool)> = Vec::new();
+        for (ring, far) in [(gap, false), (gap + 22, true)] {
+            candidates.extend(
+                [
+                    (ring, -h / 2),
+                    (-ring - w, -h / 2),
+                    (-w / 2, -ring - h),
+                    (-w / 2, ring),
+                    (ring - 3, -ring - h + 3),
+                    (ring - 3, ring - 3),
+                    (-ring - w + 3, -ring - h + 3),
+                    (-ring - w + 3, ring - 3),
+                ]
+                .map(|offset| (offset, far)),
+            );
+        }
+        let cost = |(dx, dy): (i32, i32)| {
+            let rect = (x + dx, y + dy, x + dx + w, y + dy + h);
+            let outside = rect.0 < bounds.0.start
+                || rect.2 > bounds.0.end
+                || rect.1 < bounds.1.start
+                || rect.3 > bounds.1.end;
+            let labels_hit = taken.iter().filter(|&&t| overlaps(rect, t)).count();
+            let markers_hit = obstacles
+                .iter()
+                .filter(|&&(px, py)| overlaps(rect, (px - 6, py - 6, px + 6, py + 6)))
+                .count();
+            100 * usize::from(outside) + 10 * labels_hit + markers_hit
+        };
+        let best = (0..candidates.len())
+            .min_by_key(|&k| (cost(candidates[k].0), k))
+            .map_or(((gap, -h / 2), false), |k| candidates[k]);
+        let ((dx, dy), far) = best;
+        taken.push((x + dx, y + dy, x + dx + w, y + dy + h));
+        // The leader ends at the point of the label's box nearest to the marker.
+        let leader = far.then(|| (0.clamp(dx, dx + w), 0.clamp(dy, dy + h)));
+        out.push(((dx, dy), leader));
+    }
+    out
 }
 
 /// A chart whose axes are both logarithmic.
@@ -407,7 +698,6 @@ fn depth_panel<DB: DrawingBackend>(
     panel: Panel<'_>,
     series: &DepthSeries,
     max_depth: u32,
-    methods: &[String],
 ) -> Result<(), String>
 where
     DB::ErrorType: 'static,
@@ -428,16 +718,25 @@ where
         .draw()
         .map_err(err)?;
     for (method, pts) in series {
-        let colour = colour_of(method, methods);
+        let style = style_of(method);
+        let colour = style.colour;
         let value = panel.value;
+        let line: Vec<(f64, f64)> = pts
+            .iter()
+            .map(|p| (p.0 as f64, value(p).max(floor)))
+            .collect();
         chart
-            .draw_series(LineSeries::new(
-                pts.iter().map(|p| (p.0 as f64, value(p).max(floor))),
-                colour.stroke_width(2),
-            ))
+            .draw_series(LineSeries::new(line.clone(), colour.stroke_width(2)))
             .map_err(err)?
             .label(method.as_str())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour));
+            .legend(move |(x, y)| {
+                EmptyElement::at((x, y))
+                    + PathElement::new(vec![(0, 0), (20, 0)], colour.stroke_width(2))
+                    + marker((10, 0), style, 5, true)
+            });
+        chart
+            .draw_series(line.into_iter().map(|p| marker(p, style, 5, true)))
+            .map_err(err)?;
     }
     chart
         .configure_series_labels()
@@ -450,7 +749,6 @@ where
 fn depth_plot<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     rows: &[Row],
-    methods: &[String],
     dim: usize,
 ) -> Result<(), String>
 where
@@ -473,7 +771,6 @@ where
         },
         &series,
         max_depth,
-        methods,
     )?;
     depth_panel(
         &panels[1],
@@ -485,7 +782,6 @@ where
         },
         &series,
         max_depth,
-        methods,
     )?;
     root.present().map_err(err)
 }
@@ -964,6 +1260,63 @@ fn file_stem(scene: &str) -> String {
         .collect()
 }
 
+/// Size of the speed/error charts, in pixels (the legend column included).
+const SPEED_SIZE: (u32, u32) = (1000, 680);
+
+/// Whether every run of `rows` that was scored has a one-thread time.
+fn has_one_thread(rows: &[Row]) -> bool {
+    rows.iter()
+        .filter(|r| r.confusion.is_some())
+        .all(|r| r.seconds_1.is_some())
+}
+
+/// The speed/error pictures of `BENCHMARKS.md` (`speed_vs_error_{2d,3d}.png`, PNG only) into
+/// `dir`: the report's chart over the fixture scenes, timed on one thread when every scored
+/// run has a one-thread time (as the page's tables are), else on all threads. Returns the
+/// dimension and file of each picture written.
+pub fn write_benchmark_pictures(rows: &[Row], dir: &Path) -> Result<Vec<(usize, PathBuf)>, String> {
+    let methods = method_names(rows);
+    let timing = if has_one_thread(rows) {
+        Timing::OneThread
+    } else {
+        Timing::AllThreads
+    };
+    let mut written = Vec::new();
+    for dim in [2, 3] {
+        let ms = markers_timed(rows, dim, timing);
+        if ms.is_empty() {
+            continue;
+        }
+        let mut scenes: Vec<&str> = rows
+            .iter()
+            .filter(|r| r.dim == dim && r.confusion.is_some())
+            .map(|r| r.scene.as_str())
+            .collect();
+        scenes.sort_unstable();
+        scenes.dedup();
+        let threads = match timing {
+            Timing::OneThread => "one thread".to_owned(),
+            Timing::AllThreads => format!(
+                "{} threads",
+                rows.iter().map(|r| r.threads).max().unwrap_or(0)
+            ),
+        };
+        let caption = format!(
+            "{dim}D: speed ({threads}) against error, pooled over {} scenes",
+            scenes.len()
+        );
+        let png = dir.join(format!("speed_vs_error_{dim}d.png"));
+        speed_vs_error(
+            BitMapBackend::new(&png, SPEED_SIZE).into_drawing_area(),
+            &ms,
+            &methods,
+            caption,
+        )?;
+        written.push((dim, png));
+    }
+    Ok(written)
+}
+
 /// Writes every plot as SVG and PNG into `dir`; returns the files written.
 pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<PathBuf>, String> {
     let methods = method_names(&outcome.rows);
@@ -982,25 +1335,30 @@ pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<PathBuf>, String> 
             .as_ref()
             .map(|s| scale_markers(&outcome.rows, s, dim))
             .filter(|ms| !ms.is_empty());
-        let from_scale = scaled.is_some();
+        let caption = if scaled.is_some() {
+            format!(
+                "{dim}D: speed (scale tier, all threads) against error (fixture scenes), \
+                 default parameters"
+            )
+        } else {
+            format!("{dim}D: speed against error (pooled over scenes, all threads)")
+        };
         let ms = scaled.unwrap_or_else(|| markers(&outcome.rows, dim));
         if !ms.is_empty() {
             let stem = dir.join(format!("speed_vs_error_{dim}d"));
             let svg = stem.with_extension("svg");
             speed_vs_error(
-                SVGBackend::new(&svg, (1000, 700)).into_drawing_area(),
+                SVGBackend::new(&svg, SPEED_SIZE).into_drawing_area(),
                 &ms,
                 &methods,
-                dim,
-                from_scale,
+                caption.clone(),
             )?;
             let png = stem.with_extension("png");
             speed_vs_error(
-                BitMapBackend::new(&png, (1000, 700)).into_drawing_area(),
+                BitMapBackend::new(&png, SPEED_SIZE).into_drawing_area(),
                 &ms,
                 &methods,
-                dim,
-                from_scale,
+                caption,
             )?;
             written.extend([svg, png]);
         }
@@ -1036,14 +1394,12 @@ pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<PathBuf>, String> 
             depth_plot(
                 SVGBackend::new(&svg, (1200, 500)).into_drawing_area(),
                 &outcome.rows,
-                &methods,
                 dim,
             )?;
             let png = stem.with_extension("png");
             depth_plot(
                 BitMapBackend::new(&png, (1200, 500)).into_drawing_area(),
                 &outcome.rows,
-                &methods,
                 dim,
             )?;
             written.extend([svg, png]);
@@ -1163,6 +1519,71 @@ mod tests {
         // ia: FPR 9/90, M = 0.9.
         assert!((ia.error - 0.1).abs() < 1e-12);
         assert!(scale_markers(&rows, &scale, 2).is_empty());
+    }
+
+    /// Every registered method has its own entry in the style table, and no two share both
+    /// colour and shape.
+    #[test]
+    fn every_method_has_its_own_colour_and_marker() {
+        let methods = boundary::methods();
+        for method in &methods {
+            assert!(
+                STYLES.iter().any(|(name, _, _)| name == method),
+                "{method} has no style"
+            );
+        }
+        for (k, (a, ca, sa)) in STYLES.iter().enumerate() {
+            for (b, cb, sb) in &STYLES[k + 1..] {
+                assert!(a != b && (ca != cb || sa != sb), "{a} and {b}");
+            }
+            // Colours are not reused across methods either.
+            assert_eq!(STYLES.iter().filter(|(_, c, _)| c == ca).count(), 1, "{a}");
+        }
+        assert_eq!(style_of("exact"), style_of("exact"));
+        assert_eq!(style_of("no-such-method").colour, RGBColor(70, 70, 70));
+    }
+
+    /// Labels of markers that sit on one another are placed apart, inside the plot.
+    #[test]
+    fn labels_of_coincident_markers_do_not_overlap() {
+        let labels = [((200, 200), (40, 14)); 4];
+        let obstacles = [(200, 200)];
+        let placed = place_labels(&labels, &obstacles, (0..400, 0..400));
+        let rects: Vec<(i32, i32, i32, i32)> = placed
+            .iter()
+            .map(|&((dx, dy), _)| (200 + dx, 200 + dy, 240 + dx, 214 + dy))
+            .collect();
+        for (k, a) in rects.iter().enumerate() {
+            assert!(a.0 >= 0 && a.1 >= 0 && a.2 <= 400 && a.3 <= 400, "{a:?}");
+            for b in &rects[k + 1..] {
+                let overlap = a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3;
+                assert!(!overlap, "{a:?} {b:?}");
+            }
+        }
+    }
+
+    /// The page's pictures: one per dimension with scored runs, timed on one thread when
+    /// every run has a one-thread time.
+    #[test]
+    fn the_benchmark_pictures_are_written_per_dimension() {
+        let mut rows = vec![
+            row("a", "exact", "", 0, 0.001),
+            row("a", "ia", "", 9, 0.01),
+            row("a", "ia", "depth=2", 30, 0.002),
+        ];
+        for r in &mut rows {
+            r.seconds_1 = Some(2.0 * r.seconds_all);
+        }
+        let ms = markers_timed(&rows, 3, Timing::OneThread);
+        let exact = ms.iter().find(|m| m.method == "exact").unwrap();
+        assert_eq!(exact.rate, 100.0 / 0.002);
+        register_font().unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let written = write_benchmark_pictures(&rows, dir.path()).unwrap();
+        assert_eq!(written.len(), 1, "{written:?}");
+        assert_eq!(written[0].0, 3);
+        assert!(written[0].1.ends_with("speed_vs_error_3d.png"));
+        assert!(std::fs::metadata(&written[0].1).unwrap().len() > 1000);
     }
 
     #[test]
