@@ -68,7 +68,10 @@ pub fn spoke_uncovered<const D: usize>(
             near.push((d, d.norm_squared() / (2.0 * rho)));
         }
     });
-    // Neighbouring samples are mostly covered by the same ball: try it first.
+    // The nearest neighbours cover the largest caps (angular radius `acos(|d| / 2 rho)`):
+    // scanned first, they end most scans early. Neighbouring samples are mostly covered by
+    // the same ball: it is tried first.
+    near.sort_unstable_by(|a, b| a.1.total_cmp(&b.1));
     let mut last = 0;
     'samples: for u in directions {
         if near.get(last).is_some_and(|(d, t)| d.dot(u) >= *t) {
