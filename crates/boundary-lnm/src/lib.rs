@@ -46,10 +46,11 @@
 //! - **The covering test** is Bubbles' sampled one, at its radius (`DILTS_RADIUS_MULTIPLIER`
 //!   0.75 times its particle radius, the spacing, which `lnm` pairs with `r`) and with its
 //!   sample directions, rather than `exact`'s covering at `r`: that would make the method a
-//!   costlier `exact` inside a band. Bubbles computes in single precision and drops neighbours
-//!   closer than `2ρ − 10⁻⁴` (an absolute tolerance, in the data's units); we compute in
-//!   double precision with the strict `< 2ρ`, and a particle at the same position does not
-//!   cover (the geometric definition's rule for duplicates; in Bubbles it covers).
+//!   costlier `exact` inside a band. Bubbles computes in single precision and takes as
+//!   neighbours the particles within `2ρ − 10⁻⁴` (an absolute tolerance, in the data's
+//!   units); we compute in double precision and take those closer than `2ρ`, and a particle
+//!   at the same position does not cover (the geometric definition's rule for duplicates; in
+//!   Bubbles it covers).
 //! - **`δ`.** Bubbles computes `δ = (l_min/h)^D`, minus 1 in 2D ("offset compensation for
 //!   2D"), in single precision from the smallest side `l_min` of its grid's cells, and stores
 //!   it in an integer, which truncates. Its cell sides are not exactly `2h`: the grid has
