@@ -1,7 +1,22 @@
 //! The layers of LNM on the occupied cells of a voxel grid: no particle here, only cell
 //! indices and counts, so the rules are tested on hand-made grids.
+//!
+//! Two implementations of the same rules: [`Cells`], a hash map of the occupied cells (the
+//! reference, and the path for sets whose cells are scattered), and a dense array over the
+//! bounding box of the occupied cells ([`particle_layers`] picks it when the box holds at most
+//! [`DENSE_CELLS_PER_PARTICLE`] cells per particle), whose passes are all parallel: the
+//! counts are atomic sums, and the layers of a cell read only counts and the first layer.
 
+use rayon::prelude::*;
 use rustc_hash::FxHashMap;
+use std::sync::atomic::{AtomicU32, Ordering};
+
+/// The dense array is used when the cells' bounding box (with a margin of one cell) holds at
+/// most this many cells per particle, plus [`DENSE_SLACK`]: its memory stays a few bytes per
+/// cell, and every cell of the box is visited once per pass.
+pub const DENSE_CELLS_PER_PARTICLE: usize = 8;
+/// Cells always allowed to the dense array, so that small sets take it too.
+const DENSE_SLACK: usize = 4096;
 
 /// The layer of an occupied cell.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -52,15 +67,13 @@ impl<const D: usize> Cells<D> {
             cells.entry(*key).or_insert((0, false)).0 += 1;
         }
         let offsets = neighbour_offsets::<D>();
-        let first: Vec<([i64; D], bool)> = cells
-            .keys()
-            .map(|key| {
-                let open = offsets.iter().any(|o| !cells.contains_key(&add(key, o)));
-                (*key, open)
-            })
+        let occupied: Vec<[i64; D]> = cells.keys().copied().collect();
+        let first: Vec<bool> = occupied
+            .par_iter()
+            .map(|key| offsets.iter().any(|o| !cells.contains_key(&add(key, o))))
             .collect();
-        for (key, open) in first {
-            if let Some(cell) = cells.get_mut(&key) {
+        for (key, open) in occupied.iter().zip(first) {
+            if let Some(cell) = cells.get_mut(key) {
                 cell.1 = open;
             }
         }
@@ -94,6 +107,145 @@ impl<const D: usize> Cells<D> {
         } else {
             Layer::Inner
         })
+    }
+}
+
+/// The layer of the cell of each of the first `count` particles, given the cell index of
+/// every particle (`keys`; those after `count` are ghosts, which fill cells but are not
+/// classified), with `delta` the largest count of a sparse `L1` cell. Cell indices must stay
+/// within `±2^53`. The same layers as [`Cells::layer`], whichever path is taken.
+pub fn particle_layers<const D: usize>(keys: &[[i64; D]], count: usize, delta: u32) -> Vec<Layer> {
+    debug_assert!(count <= keys.len());
+    match Dense::covering(keys) {
+        Some(dense) => dense.particle_layers(keys, count, delta),
+        None => hashed_particle_layers(keys, count, delta),
+    }
+}
+
+/// The layers through the hash map of the occupied cells.
+pub fn hashed_particle_layers<const D: usize>(
+    keys: &[[i64; D]],
+    count: usize,
+    delta: u32,
+) -> Vec<Layer> {
+    let cells = Cells::new(keys);
+    let occupied: Vec<[i64; D]> = cells.keys().copied().collect();
+    // Each cell's layer once, then one lookup per particle.
+    let layers: FxHashMap<[i64; D], Layer> = occupied
+        .par_iter()
+        .map(|key| (*key, cells.layer(key, delta).unwrap_or(Layer::First)))
+        .collect();
+    keys[..count]
+        .par_iter()
+        .map(|key| layers.get(key).copied().unwrap_or(Layer::First))
+        .collect()
+}
+
+/// A dense array of cells over the bounding box of the occupied cells, widened by one empty
+/// cell on every side so that the neighbours of an occupied cell are always in the array.
+#[derive(Debug, Clone)]
+struct Dense<const D: usize> {
+    /// The smallest cell index along each axis.
+    lo: [i64; D],
+    /// The step in the array of one cell along each axis (x fastest).
+    strides: [usize; D],
+    /// The number of cells in the array.
+    total: usize,
+}
+
+impl<const D: usize> Dense<D> {
+    /// The array over `keys`, or `None` when it would hold more than
+    /// [`DENSE_CELLS_PER_PARTICLE`] cells per particle (plus [`DENSE_SLACK`]).
+    fn covering(keys: &[[i64; D]]) -> Option<Self> {
+        let (lo, hi) = keys
+            .par_iter()
+            .fold(
+                || ([i64::MAX; D], [i64::MIN; D]),
+                |(mut lo, mut hi), key| {
+                    for k in 0..D {
+                        lo[k] = lo[k].min(key[k]);
+                        hi[k] = hi[k].max(key[k]);
+                    }
+                    (lo, hi)
+                },
+            )
+            .reduce(
+                || ([i64::MAX; D], [i64::MIN; D]),
+                |(a, b), (c, d)| {
+                    (
+                        std::array::from_fn(|k| a[k].min(c[k])),
+                        std::array::from_fn(|k| b[k].max(d[k])),
+                    )
+                },
+            );
+        let limit = keys
+            .len()
+            .checked_mul(DENSE_CELLS_PER_PARTICLE)?
+            .checked_add(DENSE_SLACK)?;
+        let mut strides = [0usize; D];
+        let mut total = 1usize;
+        for k in 0..D {
+            // Indices within ±2^53: the difference fits, and so does the margin.
+            let extent = usize::try_from(hi[k].checked_sub(lo[k])?.checked_add(3)?).ok()?;
+            strides[k] = total;
+            total = total.checked_mul(extent)?;
+            if total > limit {
+                return None;
+            }
+        }
+        Some(Dense { lo, strides, total })
+    }
+
+    fn index(&self, key: &[i64; D]) -> usize {
+        (0..D)
+            .map(|k| (key[k] - self.lo[k] + 1) as usize * self.strides[k])
+            .sum()
+    }
+
+    fn particle_layers(&self, keys: &[[i64; D]], count: usize, delta: u32) -> Vec<Layer> {
+        let offsets: Vec<isize> = neighbour_offsets::<D>()
+            .iter()
+            .map(|o| {
+                (0..D)
+                    .map(|k| o[k] as isize * self.strides[k] as isize)
+                    .sum()
+            })
+            .collect();
+        let cell_of: Vec<usize> = keys.par_iter().map(|key| self.index(key)).collect();
+        let counts: Vec<AtomicU32> = (0..self.total)
+            .into_par_iter()
+            .map(|_| AtomicU32::new(0))
+            .collect();
+        cell_of.par_iter().for_each(|&c| {
+            counts[c].fetch_add(1, Ordering::Relaxed);
+        });
+        let counts: Vec<u32> = counts.into_par_iter().map(AtomicU32::into_inner).collect();
+        // The margin keeps `c + o` inside the array for every occupied cell `c`.
+        let first: Vec<bool> = (0..self.total)
+            .into_par_iter()
+            .map(|c| {
+                counts[c] > 0
+                    && offsets
+                        .iter()
+                        .any(|&o| counts[c.wrapping_add_signed(o)] == 0)
+            })
+            .collect();
+        let layers: Vec<Layer> = (0..self.total)
+            .into_par_iter()
+            .map(|c| {
+                if counts[c] == 0 || first[c] {
+                    Layer::First
+                } else if offsets.iter().any(|&o| {
+                    let n = c.wrapping_add_signed(o);
+                    first[n] && counts[n] <= delta
+                }) {
+                    Layer::Second
+                } else {
+                    Layer::Inner
+                }
+            })
+            .collect();
+        cell_of[..count].par_iter().map(|&c| layers[c]).collect()
     }
 }
 
@@ -157,5 +309,67 @@ mod tests {
         // A lone cell is L1, whatever delta.
         let lone = Cells::<3>::new(&[[7, -3, 2]]);
         assert_eq!(lone.layer(&[7, -3, 2], 0), Some(Layer::First));
+    }
+
+    /// A seeded cloud of cell indices: a dense blob with holes, a few stray cells, and
+    /// duplicates, so that every layer occurs.
+    fn cloud<const D: usize>(seed: u64, n: usize, spread: i64) -> Vec<[i64; D]> {
+        let mut state = seed;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) as i64
+        };
+        (0..n)
+            .map(|_| {
+                let far = next() % 50 == 0;
+                std::array::from_fn(|_| {
+                    let c = next() % spread - spread / 2;
+                    if far {
+                        c * 2
+                    } else {
+                        c
+                    }
+                })
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_dense_array_gives_the_layers_of_the_hashed_cells() {
+        for seed in 0..6 {
+            let keys2 = cloud::<2>(seed, 4000, 40);
+            let keys3 = cloud::<3>(seed, 6000, 10);
+            for delta in [0, 2, 4, 8] {
+                for count in [keys2.len(), keys2.len() / 2] {
+                    assert!(Dense::covering(&keys2).is_some());
+                    let cells = Cells::new(&keys2);
+                    let want: Vec<Layer> = keys2[..count]
+                        .iter()
+                        .map(|k| cells.layer(k, delta).unwrap())
+                        .collect();
+                    assert_eq!(particle_layers(&keys2, count, delta), want);
+                    assert_eq!(hashed_particle_layers(&keys2, count, delta), want);
+                }
+                assert!(Dense::covering(&keys3).is_some());
+                let cells = Cells::new(&keys3);
+                let want: Vec<Layer> = keys3
+                    .iter()
+                    .map(|k| cells.layer(k, delta).unwrap())
+                    .collect();
+                assert!(want.contains(&Layer::Second) || delta < 4);
+                assert_eq!(particle_layers(&keys3, keys3.len(), delta), want);
+            }
+        }
+    }
+
+    #[test]
+    fn scattered_cells_take_the_hash_map() {
+        // Two cells 2^40 apart: no dense array, the same layers as the hash map.
+        let keys = [[0i64, 0, 0], [0, 0, 0], [1 << 40, 5, -3]];
+        assert!(Dense::covering(&keys).is_none());
+        assert_eq!(particle_layers(&keys, 3, 8), vec![Layer::First; 3]);
+        assert!(particle_layers::<2>(&[], 0, 4).is_empty());
     }
 }

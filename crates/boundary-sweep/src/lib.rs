@@ -81,8 +81,8 @@ impl MethodConfig {
 /// around the default 0.375 for the colour field of `muller` (how sensitive M is to it), the
 /// published thresholds of `divr` (DualSPHysics by default, SPHinXsys with and without its
 /// second layer, Chrono::FSI), three `asymmetry` thresholds, a `mu` grid for `randles`
-/// ([`RANDLES_MU_GRID`]), Bubbles' 2D `delta` for `lnm`, and the `svm` cascades
-/// `refine=exact|ge`.
+/// ([`RANDLES_MU_GRID`]), Bubbles' 2D `delta` and the fast variant for `lnm`, and the `svm`
+/// cascades `refine=exact|ge`.
 pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
     let mut out = Vec::new();
     for &m in methods {
@@ -145,8 +145,12 @@ pub fn default_configs(methods: &[&str], quick: bool) -> Vec<MethodConfig> {
                     });
                 }
             }
-            // Bubbles' 2D rule (delta one below the count of a full cell).
-            "lnm" => out.push(MethodConfig::with(m, "delta", "3")),
+            // Bubbles' 2D rule (delta one below the count of a full cell), and the variant
+            // that keeps every L2 particle without re-checking it.
+            "lnm" => {
+                out.push(MethodConfig::with(m, "delta", "3"));
+                out.push(MethodConfig::with(m, "variant", "fast"));
+            }
             // The cascades of thesis Sec. 3.4: the SVM's boundary particles re-tested.
             "svm" => {
                 for refine in ["exact", "ge"] {

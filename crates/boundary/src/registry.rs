@@ -380,7 +380,7 @@ mod adapters {
 
     #[cfg(feature = "lnm")]
     pub(super) fn lnm(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_lnm::{LnmDetector, LnmParams};
+        use boundary_lnm::{LnmDetector, LnmParams, LnmVariant};
         adapt(
             pairs,
             LnmDetector::try_new,
@@ -395,6 +395,11 @@ mod adapters {
                                     "must be auto or a whole number >= 0".to_owned()
                                 })?),
                             };
+                        Field::Set
+                    }
+                    "variant" => {
+                        p.variant = LnmVariant::from_name(text.trim())
+                            .ok_or_else(|| "must be refined or fast".to_owned())?;
                         Field::Set
                     }
                     _ => Field::Unknown,
@@ -751,9 +756,10 @@ mod tests {
         let lnm = boundary_lnm::LnmDetector::try_new(boundary_lnm::LnmParams {
             cell_over_r: 1.5,
             delta: Some(3),
+            variant: boundary_lnm::LnmVariant::Fast,
         })
         .unwrap();
-        let pairs = [("delta", "3"), ("cell_over_r", "1.5")];
+        let pairs = [("delta", "3"), ("cell_over_r", "1.5"), ("variant", "fast")];
         assert_eq!(built("lnm", &pairs), lnm.params().to_string());
         assert!(built("lnm", &[("delta", "3"), ("delta", "auto")]).contains("delta=auto"));
         // Every bad value is refused, quoting the text as given; unknown keys list the known.
@@ -773,6 +779,7 @@ mod tests {
             ("lnm", "cell_over_r", "0"),
             ("lnm", "delta", "-1"),
             ("lnm", "delta", "2.5"),
+            ("lnm", "variant", "slow"),
         ] {
             let err = detector_with_params(name, &[(key, bad)])
                 .unwrap_err()
