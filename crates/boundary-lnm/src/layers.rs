@@ -12,7 +12,7 @@ use rustc_hash::FxHashMap;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 /// The dense array is used when the cells' bounding box (with a margin of one cell) holds at
-/// most this many cells per particle, plus [`DENSE_SLACK`]: its memory stays a few bytes per
+/// most this many cells per particle, plus 4096 cells: its memory stays a few bytes per
 /// cell, and every cell of the box is visited once per pass.
 pub const DENSE_CELLS_PER_PARTICLE: usize = 8;
 /// Cells always allowed to the dense array, so that small sets take it too.
