@@ -27,8 +27,9 @@
 //! - `cargo xtask doc`: `cargo doc --workspace --no-deps` with `RUSTDOCFLAGS=-D warnings`
 //!   (a broken intra-doc link fails it), the same packages as clippy.
 //! - `cargo xtask check-deps`: the dependency rules of `docs/ARCHITECTURE.md`, from the
-//!   dependency graph (`cargo tree`): boundary-core has no file-format or CLI dependency, and
-//!   no method crate has an IO dependency (direct or not). Also the first step of `test`.
+//!   dependency graph (`cargo tree`): boundary-core has no file-format, CLI or big-integer
+//!   dependency, and no method crate has an IO dependency (direct or not). Also the first step
+//!   of `test`.
 //!
 //! xtask depends on the standard library only, so that it builds on a machine that lacks the
 //! prerequisites it installs.
@@ -103,7 +104,7 @@ BENCHMARKS.md and its pictures in docs/img (--scale adds the scale tier)\n  \
      train-svm  retrain the shipped svm models (seeded) and score them on held-out scenes:\n             \
 crates/boundary-svm/models/, target/svm/training.md\n  \
      prereqs    check the MPI prerequisites (install them when root with apt-get)\n  \
-     check-deps boundary-core has no format/CLI dependency, method crates no IO dependency\n  \
+     check-deps boundary-core has no format/CLI/big-integer dependency, method crates no IO dependency\n  \
      package    `cargo package --workspace --no-verify` (metadata, contents, dependencies)\n  \
      doc        the API documentation, every rustdoc warning an error"
 }
@@ -438,11 +439,16 @@ const IO_DEPENDENCIES: &[&str] = &[
 /// model; the core may not).
 const FORMAT_DEPENDENCIES: &[&str] = &["serde", "serde_json"];
 
+/// Nor does boundary-core hold a method's arithmetic: the exact covering predicate, with its
+/// arbitrary-precision integers, is `boundary-exact`'s.
+const METHOD_ARITHMETIC: &[&str] = &["num-bigint"];
+
 /// The rules: each crate with the dependencies it must not have.
 fn dependency_rules() -> Vec<(&'static str, Vec<&'static str>)> {
     let core: Vec<&str> = IO_DEPENDENCIES
         .iter()
         .chain(FORMAT_DEPENDENCIES)
+        .chain(METHOD_ARITHMETIC)
         .copied()
         .collect();
     let mut rules = vec![("boundary-core", core)];
@@ -944,6 +950,23 @@ rayon v1.12.0 (*)
             ]
         );
         assert!(forbidden_dependencies("boundary-svm", tree, svm).is_empty());
+    }
+
+    #[test]
+    fn the_core_may_not_have_the_big_integers_that_exact_has() {
+        let tree = "boundary-core v0.1.0 (/w)\nnum-bigint v0.4.6\nnum-integer v0.1.46\n";
+        let rules = dependency_rules();
+        let core = &rules.iter().find(|(k, _)| *k == "boundary-core").unwrap().1;
+        let exact = &rules
+            .iter()
+            .find(|(k, _)| *k == "boundary-exact")
+            .unwrap()
+            .1;
+        assert_eq!(
+            forbidden_dependencies("boundary-core", tree, core),
+            ["boundary-core depends on num-bigint (see `cargo tree -p boundary-core -e normal -i num-bigint`)"]
+        );
+        assert!(forbidden_dependencies("boundary-exact", tree, exact).is_empty());
     }
 
     #[test]

@@ -279,7 +279,7 @@ impl SphCriterion for AsymmetryDetector {
 impl SphMethod for AsymmetryDetector {
     const RADII_REFUSAL: &'static str =
         "the kernel sums and the thresholds in units of h (He et al. 2012) assume one smoothing length";
-    const SOLID_REFUSAL: &'static str = "its density and weighted mean are kernel sums over particles, and a half-space is no particle; give the walls as particles (--walls), which enter the sums";
+    const SOLID_REFUSAL: &'static str = "its density and weighted mean are kernel sums over particles, and a half-space is no particle; give the walls as wall particles, which enter the sums";
 
     fn param_list(&self) -> Params {
         let p = &self.params;

@@ -14,8 +14,8 @@ pub enum CliError {
     /// An unknown method or parameter, or a bad parameter value.
     #[error(transparent)]
     Registry(#[from] boundary::RegistryError),
-    /// A detector failed on the input.
-    #[error(transparent)]
+    /// A detector failed on the input (its message with the options named as flags).
+    #[error("{}", in_cli_terms(.0))]
     Detect(#[from] boundary::DetectError),
     /// Invalid core values (radius, label counts, grid limits).
     #[error(transparent)]
@@ -104,7 +104,7 @@ pub enum CliError {
         problem: String,
     },
     /// The tracker refused a frame (`--track`: its ids).
-    #[error("{}: {error}", .path.display())]
+    #[error("{}: {}", .path.display(), in_cli_terms(.error))]
     Track {
         /// The frame.
         path: PathBuf,
@@ -280,6 +280,27 @@ pub enum CliError {
     Stdout(std::io::Error),
 }
 
+/// The library's names of the inputs a detection takes, with the flag that gives each on
+/// the command line. The library's messages name inputs in its own terms (Python and C users
+/// have no flags); the CLI adds its flag after the first mention of each.
+const FLAGS: &[(&str, &str)] = &[
+    ("half-spaces", "--solid"),
+    ("solid meshes", "--solid-mesh"),
+    ("wall particles", "--walls"),
+];
+
+/// A detector's error message in the CLI's spelling: each input of [`FLAGS`] named by the
+/// library is followed by its flag, `solid half-spaces (--solid)`.
+fn in_cli_terms(error: &boundary::DetectError) -> String {
+    let mut message = error.to_string();
+    for (term, flag) in FLAGS {
+        if let Some(at) = message.find(term) {
+            message.insert_str(at + term.len(), &format!(" ({flag})"));
+        }
+    }
+    message
+}
+
 /// The message of [`CliError::Flat`]: what is flat and what to pass instead.
 fn flat_advice(flatness: &boundary::Flatness) -> String {
     let fix = match flatness {
@@ -303,4 +324,53 @@ fn flat_advice(flatness: &boundary::Flatness) -> String {
         "{flatness}: a flat set is 2D, and read as 3D every particle would be boundary; {fix} \
          (--dim 3 detects in 3D anyway)"
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use boundary::{detector_by_name, methods, Domain, Radius};
+
+    /// Every refusal of a solid by a registered method, as the CLI prints it: each input the
+    /// library names carries its flag, and the library's own text carries none.
+    #[test]
+    fn solid_refusals_name_the_flags() {
+        let set = boundary::ParticleSet::<3>::from_rows(&[[0.0, 0.0, 0.5], [0.3, 0.0, 0.5]])
+            .expect("two particles")
+            .to_any();
+        let floor = boundary::HalfSpace::parse("z<0").expect("a half-space");
+        let domain = Domain::new().with_solid(floor);
+        let r = Radius::new(0.2).expect("a radius");
+        let mut refused = 0;
+        for name in methods() {
+            let detector = detector_by_name(name).expect("a registered method");
+            let Err(error) = detector.detect_in(&set, &domain, r) else {
+                continue;
+            };
+            let library = error.to_string();
+            assert!(!library.contains("--"), "{name}: {library}");
+            let cli = CliError::from(error).to_string();
+            assert!(
+                cli.contains("solid half-spaces (--solid):"),
+                "{name}: {cli}"
+            );
+            assert!(cli.contains("wall particles (--walls)"), "{name}: {cli}");
+            refused += 1;
+        }
+        assert!(refused >= 8, "{refused} methods refused half-spaces");
+    }
+
+    #[test]
+    fn each_flag_follows_the_first_mention_of_its_input() {
+        let error = boundary::DetectError::UnsupportedOption {
+            method: "m",
+            option: "solid meshes",
+            reason: "give the solid as half-spaces or the walls as wall particles",
+        };
+        assert_eq!(
+            in_cli_terms(&error),
+            "method 'm' cannot honour solid meshes (--solid-mesh): give the solid as half-spaces \
+             (--solid) or the walls as wall particles (--walls)"
+        );
+    }
 }

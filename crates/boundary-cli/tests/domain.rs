@@ -787,7 +787,8 @@ fn bad_domain_options_and_wall_files_give_one_clear_line() {
         1,
     );
     assert!(
-        err.contains("method 'muller' cannot honour") && err.contains("--solid"),
+        err.contains("method 'muller' cannot honour solid half-spaces (--solid):")
+            && err.contains("give the walls as wall particles (--walls)"),
         "{err}"
     );
     // Options that do not fit the particles.
@@ -1033,7 +1034,10 @@ fn a_solid_mesh_covers_like_the_half_space_of_its_face() {
         ],
         1,
     );
-    assert!(err.contains("ge") && err.contains("--solid-mesh"), "{err}");
+    assert!(
+        err.contains("method 'ge' cannot honour solid meshes (--solid-mesh):"),
+        "{err}"
+    );
     let flat = write_csv(
         dir.path(),
         "flat.csv",

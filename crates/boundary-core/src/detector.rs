@@ -204,7 +204,8 @@ pub enum DetectError {
     UnsupportedOption {
         /// Method name.
         method: &'static str,
-        /// The option, in the CLI's words (`--solid`, …).
+        /// The option, in library terms (`solid half-spaces`, `solid meshes`); the CLI and the
+        /// bindings name it in their own spelling.
         option: &'static str,
         /// Why, in the method's terms.
         reason: &'static str,
@@ -227,16 +228,16 @@ pub enum DetectError {
 }
 
 /// The option a refusal of solid meshes names ([`DetectError::check_no_solid_meshes`]).
-pub(crate) const SOLID_MESH_OPTION: &str = "solid meshes (--solid-mesh)";
+pub(crate) const SOLID_MESH_OPTION: &str = "solid meshes";
 
 /// The reason of the default [`BoundaryDetector::solid_mesh_refusal`].
 const SOLID_MESH_REFUSAL: &str = "the method has no rule for a solid given as a triangle mesh \
-     covering part of a sphere; use exact, or give the solid as half-spaces (--solid) or as \
-     wall particles (--walls) where the method takes them";
+     covering part of a sphere; use exact, or give the solid as half-spaces or the walls as \
+     wall particles where the method takes them";
 
 impl DetectError {
     /// `Ok` when `solids` holds no mesh, else [`DetectError::UnsupportedOption`] naming the
-    /// option `solid meshes (--solid-mesh)` with `reason`: the first line of a
+    /// option `solid meshes` with `reason`: the first line of a
     /// [`BoundaryDetector::detect_owned_in`] that honours half-spaces but not meshes.
     pub fn check_no_solid_meshes(
         method: &'static str,
@@ -343,8 +344,8 @@ pub trait BoundaryDetector: Send + Sync + fmt::Debug {
     /// Classifies the first `owned` particles of `set` (the others cover only, as in
     /// [`BoundaryDetector::detect_owned`]) where the closed solid regions `solids` cover too
     /// (see [`crate::domain`]). The default honours an empty `solids` and refuses any other
-    /// with [`DetectError::UnsupportedOption`] (naming `solid meshes (--solid-mesh)` when
-    /// `solids` holds a mesh, `solid regions (--solid)` otherwise); methods that can count a
+    /// with [`DetectError::UnsupportedOption`] (naming `solid meshes` when `solids` holds a
+    /// mesh, `solid half-spaces` otherwise); methods that can count a
     /// solid as covering override it, and call [`DetectError::check_no_solid_meshes`] first
     /// unless they honour meshes too.
     fn detect_owned_in(
@@ -358,7 +359,7 @@ pub trait BoundaryDetector: Send + Sync + fmt::Debug {
         if !solids.is_empty() {
             return Err(DetectError::UnsupportedOption {
                 method: self.name(),
-                option: "solid regions (--solid)",
+                option: "solid half-spaces",
                 reason: self.solid_refusal(),
             });
         }
@@ -383,8 +384,8 @@ pub trait BoundaryDetector: Send + Sync + fmt::Debug {
     /// Why the default [`BoundaryDetector::detect_owned_in`] refuses solid regions, in the
     /// method's terms (a method that honours them overrides `detect_owned_in` instead).
     fn solid_refusal(&self) -> &'static str {
-        "the method has no rule for a solid covering part of a sphere; give the walls as \
-         particles (--walls) instead"
+        "the method has no rule for a solid covering part of a sphere; give the walls as wall \
+         particles instead"
     }
 
     /// Classifies `set` in a [`Domain`]: walls, solids, periodic axes and phases (see

@@ -51,7 +51,6 @@ pub mod decompose;
 mod detector;
 pub mod domain;
 mod error;
-pub mod exact_cover;
 mod grid;
 mod metrics;
 mod particles;

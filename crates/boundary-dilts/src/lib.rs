@@ -82,7 +82,7 @@
 //! is farther from its threshold than a bound on its rounding error; otherwise (and for the
 //! degenerate configurations below) the particle is decided by `exact`'s certified decision
 //! ([`boundary_exact::sphere_uncovered_3d`] and `_2d`: its float Voronoi cell with a proven
-//! bound, two certificates, then [`boundary_core::exact_cover::sphere_uncovered`], exact
+//! bound, two certificates, then [`boundary_exact::exact_cover::sphere_uncovered`], exact
 //! integer arithmetic on the exact differences `p_j − p_i`). `u = 2^-53`; the inputs `q_j = fl(fl(p_j −
 //! p_i)/r)` carry a relative error `<= 2u` per component, so `d_j`, `u_j`, `c_j = d_j/2` carry
 //! a few `u` each.

@@ -398,7 +398,7 @@ impl SphCriterion for Following<'_> {
 impl SphMethod for DivrDetector {
     const RADII_REFUSAL: &'static str =
         "the published thresholds on the divergence of position assume one smoothing length";
-    const SOLID_REFUSAL: &'static str = "the divergence of position is a kernel sum over particles, and a half-space is no particle; give the walls as particles (--walls), which enter the sums as in DualSPHysics";
+    const SOLID_REFUSAL: &'static str = "the divergence of position is a kernel sum over particles, and a half-space is no particle; give the walls as wall particles, which enter the sums as in DualSPHysics";
 
     fn param_list(&self) -> Params {
         let defaults = DivrParams::default();

@@ -69,7 +69,7 @@
 //! # Exactness: a float filter with a proven bound, and an exact fallback
 //! The labels are the exact answer for the given `f64` input (with the default `tie = 0`).
 //! The float clipping above decides a particle when its margin is clearly away from 0; the
-//! others go to [`boundary_core::exact_cover::sphere_uncovered`], which decides the same
+//! others go to [`exact_cover::sphere_uncovered`], which decides the same
 //! question in exact integer arithmetic (exact differences `p_j − p_i`, rational cell
 //! vertices; see its docs).
 //!
@@ -194,7 +194,7 @@
 //! cell with the solid planes among its planes (their normals exact, their offsets rounded
 //! twice, `2u` relative, inside the plane error of the bound), its general test where a plane
 //! comes within `1e-3·r_i` of `p_i`, and the exact predicate
-//! ([`boundary_core::exact_cover::sphere_uncovered_in`]), whose integer planes take the solids
+//! ([`exact_cover::sphere_uncovered_in`]), whose integer planes take the solids
 //! as exact differences in the common unit. Only particles whose closed ball reaches a solid
 //! (fluid depth at most `r_i`, with `1e-9` relative slack for the rounded depth) take this
 //! path; the others cannot see a solid and keep the usual one. A solid holding the whole
@@ -293,13 +293,13 @@
 //! ```
 
 mod cell;
+pub mod exact_cover;
 mod mesh;
 mod power;
 pub mod tracker;
 
 pub use tracker::Tracker;
 
-use boundary_core::exact_cover;
 use boundary_core::{
     AnyParticleSet, BoundaryDetector, DetectError, Detection, HalfSpace, Labels, NeighbourGrid,
     ParamError, ParamInfo, Params, ParticleSet, Point, Radius, Solids,

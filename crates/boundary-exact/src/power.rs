@@ -2,10 +2,9 @@
 //! per particle").
 
 use crate::cell::{self, ConvexCell};
+use crate::exact_cover;
 use crate::{INTERIOR_BAND, U};
-use boundary_core::{
-    exact_cover, DetectError, Detection, HalfSpace, ParticleSet, Point, RadiusGrid,
-};
+use boundary_core::{DetectError, Detection, HalfSpace, ParticleSet, Point, RadiusGrid};
 use rayon::prelude::*;
 
 /// The float power cell decides a particle only when every half-space it uses keeps a ball of

@@ -402,7 +402,7 @@ fn meshes_are_refused_where_they_cannot_apply() {
         matches!(
             e,
             DetectError::UnsupportedOption {
-                option: "solid meshes (--solid-mesh)",
+                option: "solid meshes",
                 ..
             }
         ),
@@ -412,12 +412,9 @@ fn meshes_are_refused_where_they_cannot_apply() {
     let e = PlanesOnly
         .detect_owned_in(&set, 1, domain.solids(), r)
         .unwrap_err();
-    assert!(e.to_string().contains("solid meshes (--solid-mesh)"), "{e}");
+    assert!(e.to_string().contains("cannot honour solid meshes:"), "{e}");
     let e = DetectError::check_no_solid_meshes("m", domain.solids(), "why").unwrap_err();
-    assert_eq!(
-        e.to_string(),
-        "method 'm' cannot honour solid meshes (--solid-mesh): why"
-    );
+    assert_eq!(e.to_string(), "method 'm' cannot honour solid meshes: why");
 }
 
 /// Per-particle radii keep working: a set whose radius factors are all 1 gets the uniform

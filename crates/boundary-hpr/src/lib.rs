@@ -544,7 +544,7 @@ impl BoundaryDetector for HprDetector {
     }
 
     fn solid_refusal(&self) -> &'static str {
-        "hidden point removal sees points, and a solid region is none; give the walls as particles (--walls): they occlude and are never reported"
+        "hidden point removal sees points, and a solid region is none; give the walls as wall particles: they occlude and are never reported"
     }
 
     /// Classifies only the owned particles; viewpoints that see none of them are skipped.

@@ -424,7 +424,7 @@ impl BoundaryDetector for LnmDetector {
     }
 
     fn solid_refusal(&self) -> &'static str {
-        "its layers count particles in voxel cells, and a cell inside a solid holds none; give the walls as particles (--walls), which fill cells"
+        "its layers count particles in voxel cells, and a cell inside a solid holds none; give the walls as wall particles, which fill cells"
     }
 
     /// Classifies only the owned particles; the ghosts fill cells.

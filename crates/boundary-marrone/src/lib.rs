@@ -253,7 +253,7 @@ impl SphCriterion for MarroneDetector {
 
 impl SphMethod for MarroneDetector {
     const RADII_REFUSAL: &'static str = "the renormalisation matrix and the scan cone (Marrone et al. 2010) assume one smoothing length";
-    const SOLID_REFUSAL: &'static str = "its renormalisation matrix and normal are kernel sums over particles, and a half-space is no particle; give the walls as particles (--walls), which enter the sums as in DualSPHysics";
+    const SOLID_REFUSAL: &'static str = "its renormalisation matrix and normal are kernel sums over particles, and a half-space is no particle; give the walls as wall particles, which enter the sums as in DualSPHysics";
 
     fn param_list(&self) -> Params {
         let mut list = vec![

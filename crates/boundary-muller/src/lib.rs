@@ -233,7 +233,7 @@ impl SphCriterion for MullerDetector {
 impl SphMethod for MullerDetector {
     const RADII_REFUSAL: &'static str =
         "the colour field (Müller et al. 2003) assumes one smoothing length";
-    const SOLID_REFUSAL: &'static str = "its density and colour-field gradient are kernel sums over particles, and a half-space is no particle; give the walls as particles (--walls), which enter the sums";
+    const SOLID_REFUSAL: &'static str = "its density and colour-field gradient are kernel sums over particles, and a half-space is no particle; give the walls as wall particles, which enter the sums";
 
     fn param_list(&self) -> Params {
         let mut list = vec![ParamInfo {

@@ -305,7 +305,7 @@ impl SphCriterion for RandlesDetector {
 impl SphMethod for RandlesDetector {
     const RADII_REFUSAL: &'static str =
         "the renormalisation matrix (Randles & Libersky 1996) assumes one smoothing length";
-    const SOLID_REFUSAL: &'static str = "its renormalisation matrix is a kernel sum over particles, and a half-space is no particle; give the walls as particles (--walls), which enter the sums";
+    const SOLID_REFUSAL: &'static str = "its renormalisation matrix is a kernel sum over particles, and a half-space is no particle; give the walls as wall particles, which enter the sums";
 
     fn param_list(&self) -> Params {
         let p = &self.params;

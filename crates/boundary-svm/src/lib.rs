@@ -480,7 +480,7 @@ impl BoundaryDetector for SvmDetector {
     }
 
     fn solid_refusal(&self) -> &'static str {
-        "its features are sums over neighbour particles and its models were trained without solids; give the walls as particles (--walls), which enter the features"
+        "its features are sums over neighbour particles and its models were trained without solids; give the walls as wall particles, which enter the features"
     }
 
     /// Classifies only the owned particles; the ghosts serve as neighbours and for volumes.

@@ -83,7 +83,7 @@ fn domain_scenes_are_scored_in_their_domain() {
         .any(|m| row("tank_dambreak3d_solids", m).unsupported)
     {
         assert!(
-            section.contains("| n/a: cannot honour solid regions"),
+            section.contains("| n/a: cannot honour solid half-spaces"),
             "{section}"
         );
     }

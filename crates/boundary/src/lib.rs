@@ -114,7 +114,7 @@ pub use boundary_svm::{ModelChoice, Refine, SvmDetector, SvmModel, SvmParams};
 /// - [`NeighbourGrid`](implement::NeighbourGrid) and [`RadiusGrid`](implement::RadiusGrid):
 ///   fixed-radius neighbour queries (uniform and per-particle radii), with
 ///   [`Neighbourhood`](implement::Neighbourhood);
-/// - [`exact_cover`](implement::exact_cover): the exact covering predicate;
+/// - `exact_cover` (with the feature `exact`): the exact covering predicate of `exact`;
 /// - [`decompose`](implement::decompose): subdomains with halos (what
 ///   [`BoundaryDetector::detect_owned`] classifies), as the MPI driver uses them;
 /// - [`domain`](implement::domain) and [`solid_mesh`](implement::solid_mesh): the module docs of
@@ -123,7 +123,9 @@ pub use boundary_svm::{ModelChoice, Refine, SvmDetector, SvmModel, SvmParams};
 ///   [`impl_display_as_label!`](implement::impl_display_as_label): a detector's `Display`.
 pub mod implement {
     pub use boundary_core::{
-        decompose, domain, exact_cover, impl_display_as_label, radius_grid, solid_mesh,
-        write_label, NeighbourGrid, Neighbourhood, RadiusGrid,
+        decompose, domain, impl_display_as_label, radius_grid, solid_mesh, write_label,
+        NeighbourGrid, Neighbourhood, RadiusGrid,
     };
+    #[cfg(feature = "exact")]
+    pub use boundary_exact::exact_cover;
 }

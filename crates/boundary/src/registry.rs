@@ -12,9 +12,18 @@
 //! | `ia`, `ge` | `depth` | an integer in `1..=16` |
 //! | `marrone` | `lambda_surface`, `lambda_interior` | a finite number `>= 0` |
 //! | `marrone` | `cone_angle` | degrees, in `(0, 90)` |
-//! | `marrone`, `muller` | `kernel` | `wendland` or `cubic` |
-//! | `marrone`, `muller` | `h_over_r` | a number in `(0, 100]` |
+//! | `marrone`, `muller`, `divr`, `asymmetry`, `randles` | `kernel` | `wendland` or `cubic` |
+//! | `marrone`, `muller`, `divr`, `asymmetry`, `randles` | `h_over_r` | a number in `(0, 100]` |
 //! | `muller` | `threshold` | a finite number `>= 0` |
+//! | `divr` | `threshold` | a number `> 0`, or `dualsphysics`, `sphinxsys` or `chrono` |
+//! | `divr` | `layers` | `0` or `1` |
+//! | `divr` | `min_neighbours` | `auto` or a whole number in `[0, 1000]` |
+//! | `asymmetry` | `threshold` | a finite number `>= 0` |
+//! | `asymmetry` | `density_ratio` | a number in `[0, 1]` |
+//! | `randles` | `mu_2d`, `mu_3d` | a finite number `>= 0` |
+//! | `lnm` | `cell_over_r` | a number in `[0.5, 16]` |
+//! | `lnm` | `delta` | `auto` or a whole number `>= 0` |
+//! | `lnm` | `variant` | `refined` or `fast` |
 //! | `hpr` | `gamma` | a number in `(1, 10]` |
 //! | `hpr` | `cavity` | `on` or `off` (also `true`/`false`, `1`/`0`, `yes`/`no`) |
 //! | `hpr` | `grids` | `1` or `2` |
@@ -584,6 +593,59 @@ where
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 mod tests {
     use super::*;
+
+    /// The `(method, key)` pairs of the key table in the module docs.
+    fn documented_keys() -> Vec<(String, String)> {
+        let ticked = |cell: &str| -> Vec<String> {
+            cell.split('`')
+                .skip(1)
+                .step_by(2)
+                .map(str::to_owned)
+                .collect()
+        };
+        let mut pairs = Vec::new();
+        for row in include_str!("registry.rs").lines() {
+            let Some(row) = row.strip_prefix("//! | `") else {
+                continue;
+            };
+            let row = format!("`{row}");
+            let cells: Vec<&str> = row.split('|').collect();
+            for method in ticked(cells[0]) {
+                for key in ticked(cells[1]) {
+                    pairs.push((method.clone(), key));
+                }
+            }
+        }
+        pairs
+    }
+
+    /// The key table documents every parameter of every compiled-in method, and nothing else:
+    /// a key added to a method's `params()` without a row fails here.
+    #[test]
+    fn the_key_table_lists_every_parameter_of_every_method() {
+        let table = documented_keys();
+        let mut listed = Vec::new();
+        for name in methods() {
+            for info in parameters(name).unwrap().0 {
+                let pair = (name.to_owned(), info.name.to_owned());
+                assert!(
+                    table.contains(&pair),
+                    "the key table has no row for {name}'s `{}`",
+                    info.name
+                );
+                listed.push(pair);
+            }
+        }
+        for (method, key) in &table {
+            if methods().contains(&method.as_str()) {
+                assert!(
+                    listed.contains(&(method.clone(), key.clone())),
+                    "the key table lists `{key}` for {method}, which has no such parameter"
+                );
+            }
+        }
+        assert!(listed.len() >= 25, "{} keys", listed.len());
+    }
 
     #[test]
     fn every_registered_name_builds_the_detector_of_that_name() {

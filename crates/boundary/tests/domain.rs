@@ -147,7 +147,9 @@ where
             Err(e @ DetectError::UnsupportedOption { .. }) => {
                 let text = e.to_string();
                 assert!(
-                    text.contains(method) && text.contains("--solid"),
+                    text.contains(&format!(
+                        "method '{method}' cannot honour solid half-spaces:"
+                    )) && !text.contains("--"),
                     "{method}: {text}"
                 );
             }

@@ -2,7 +2,8 @@
 //! included: checked against independent exact-rational computations written for the tests
 //! (`boundary_scenes::brute`: lattice ties decided as `2r² >= a²` / `4r² >= 3a²`, and vertex
 //! enumeration by brute force over exact rationals for small sets), and against
-//! `boundary_core::exact_cover` on dense decimal lattices. Every test runs both methods.
+//! `exact_cover` (the exact covering predicate of `boundary-exact`) on dense decimal lattices.
+//! Every test runs both methods.
 
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 #![cfg(all(feature = "exact", feature = "dilts"))]
@@ -242,7 +243,7 @@ fn generic_random_sets_match_brute_force_enumeration() {
 }
 
 /// Every particle of `rows` at `r`: the method's labels and the exact predicate of
-/// `boundary_core::exact_cover` alone must agree (and, for `exact`, its list-based entry
+/// `exact_cover` alone must agree (and, for `exact`, its list-based entry
 /// point); returns the fallback count.
 fn agree_with_the_exact_predicate<const D: usize>(
     name: &str,

@@ -8,7 +8,7 @@
 //! Particle `i` at `p_i` is boundary iff its restricted Voronoi cell
 //! `V_i = {x : |x − p_i| <= |x − p_j| for every neighbour j}` (neighbours: the other particles
 //! with `0 < |p_j − p_i| < 2r`; exact duplicates of `p_i` excluded) has a point strictly farther
-//! than `r` from `p_i` (the proof is in the `boundary-exact` crate docs). A neighbour at `2r` or
+//! than `r` from `p_i` (the proof is in the [crate docs](crate)). A neighbour at `2r` or
 //! more changes nothing: its bisector lies at distance `>= r` from `p_i`, so it removes from
 //! `V_i` no point of the closed ball of radius `r` and at most one point of `S_i`, while an
 //! uncovered part of `S_i` is open. So only neighbours with `|p_j − p_i|² < 4r²` (decided
@@ -137,7 +137,7 @@
 //! (non-dyadic radii, jittered positions), less in 2D. Callers use it only where their
 //! floating-point filters and certificates cannot decide.
 
-use crate::{HalfSpace, Point};
+use boundary_core::{HalfSpace, Point};
 use num_bigint::BigInt;
 use num_traits::{Signed, ToPrimitive, Zero};
 
@@ -149,11 +149,12 @@ use num_traits::{Signed, ToPrimitive, Zero};
 /// `2r` returned, so that no neighbour whose exact distance is below `2r` is missed.
 ///
 /// # Panics
-/// If `r` is not positive and finite (callers pass the value of a [`crate::Radius`]), or if
-/// `D` is not 2 or 3.
+/// If `r` is not positive and finite (callers pass the value of a [`boundary_core::Radius`]), or
+/// if `D` is not 2 or 3.
 ///
 /// ```
-/// use boundary_core::{exact_cover::sphere_uncovered, Point};
+/// use boundary_core::Point;
+/// use boundary_exact::exact_cover::sphere_uncovered;
 ///
 /// // Four neighbours at distance 1 on the axes cover the unit-spaced circle iff r >= 1/√2.
 /// let c = Point::<2>::new(0.0, 0.0);
@@ -416,10 +417,11 @@ fn as_i128<const D: usize>(planes: &[([BigInt; D], BigInt)]) -> Option<Vec<([i12
 ///
 /// # Panics
 /// If `r_centre` or some `r_j` is not positive and finite (callers pass validated radii, as
-/// [`crate::ParticleSet::with_radii`] makes them), or if `D` is not 2 or 3.
+/// [`boundary_core::ParticleSet::with_radii`] makes them), or if `D` is not 2 or 3.
 ///
 /// ```
-/// use boundary_core::{exact_cover::sphere_uncovered_power, Point};
+/// use boundary_core::Point;
+/// use boundary_exact::exact_cover::sphere_uncovered_power;
 ///
 /// let c = Point::<2>::new(0.0, 0.0);
 /// // A bigger neighbour at distance 1 with radius 2 holds the unit circle: its farthest
@@ -450,7 +452,7 @@ pub fn sphere_uncovered_power<const D: usize>(
 /// [`sphere_uncovered_power`] where the closed solid half-spaces `solids` cover too: whether
 /// some point of the sphere of radius `r_centre` around `centre` that lies outside every
 /// solid is outside every ball of `others` (boundary), decided exactly for the given `f64`
-/// input (see [`crate::domain`] for the definition).
+/// input (see [`boundary_core::domain`] for the definition).
 ///
 /// A solid `x_a <= c` is the half-space `−y_a <= p_a − c` of the cell (`y = x − centre`),
 /// `x_a >= c` is `y_a <= c − p_a`: planes whose integer offsets are exact differences in the
@@ -464,7 +466,8 @@ pub fn sphere_uncovered_power<const D: usize>(
 /// As [`sphere_uncovered_power`]; a solid's axis must be below `D`.
 ///
 /// ```
-/// use boundary_core::{exact_cover::sphere_uncovered_in, HalfSpace, Point};
+/// use boundary_core::{HalfSpace, Point};
+/// use boundary_exact::exact_cover::sphere_uncovered_in;
 ///
 /// // A lone particle at height 1 above the floor y <= 0, radius 1: its lowest point touches
 /// // the floor, the rest is open: boundary. Deep in the floor: interior.
