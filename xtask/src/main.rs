@@ -36,6 +36,10 @@
 //!
 //! # Prerequisites
 //! The default members need nothing beyond a Rust toolchain (no system library, no bindgen).
+//! The ParaView filter's tests (`crates/boundary-cli/tests/paraview.rs`) need ParaView's
+//! `pvpython` (Debian: `paraview python3-paraview`); `cargo xtask test` installs them with
+//! `apt-get --no-install-recommends` when it runs as root, and otherwise (or with
+//! `BOUNDARY_PARAVIEW=skip`) says so, while each of those tests prints `SKIPPED` and passes.
 //! The MPI driver needs Open MPI and libclang (Debian: `libopenmpi-dev openmpi-bin
 //! libclang-dev`: `mpicc` and libclang for the `mpi` crate's build, which runs bindgen,
 //! `mpirun` for its tests). `cargo xtask test` installs them with `apt-get` when it runs as
@@ -176,6 +180,12 @@ fn test_workspace(mpi: bool, python: bool, rest: &[String]) -> Result<(), String
 fn test(rest: &[String]) -> Result<(), String> {
     python_extension_env();
     let mpi = mpi_usable();
+    if let Err(why) = paraview_prereqs() {
+        eprintln!(
+            "xtask: NOTE: ParaView checks SKIPPED (boundary-cli's tests/paraview.rs prints \
+             SKIPPED for each): {why}"
+        );
+    }
     let python = python_usable();
     test_workspace(mpi, python.is_some(), rest)?;
     let cli = bindings_build(&workspace_exclusions(mpi, python.is_some()))?;
@@ -234,6 +244,44 @@ fn mpi_prereqs() -> Result<(), String> {
         Err(format!(
             "installed {} but mpicc or mpirun is still not on PATH",
             packages.join(" ")
+        ))
+    }
+}
+
+/// The Debian packages of ParaView's `pvpython`, without their recommendations (the MPI
+/// launcher and the documentation, which the ParaView tests do not use).
+const PARAVIEW_PACKAGES: [&str; 2] = ["paraview", "python3-paraview"];
+
+/// Makes sure ParaView's `pvpython` exists for the ParaView filter's tests: installs it with
+/// apt-get when root, else says why not (with the command to run).
+fn paraview_prereqs() -> Result<(), String> {
+    if env::var("BOUNDARY_PARAVIEW").is_ok_and(|v| v == "skip") {
+        return Err("BOUNDARY_PARAVIEW=skip is set".to_owned());
+    }
+    if has_program("pvpython") {
+        return Ok(());
+    }
+    let install = format!(
+        "sudo apt-get install -y --no-install-recommends {}",
+        PARAVIEW_PACKAGES.join(" ")
+    );
+    if !(is_root() && has_program("apt-get")) {
+        return Err(format!(
+            "ParaView's pvpython not found and not root with apt-get to install it; install \
+             it with:\n    {install}"
+        ));
+    }
+    eprintln!("xtask: ParaView's pvpython not found (needed by the ParaView filter's tests); installing it");
+    run_system("apt-get", &["update", "-qq"])?;
+    let mut args = vec!["install", "-y", "-qq", "--no-install-recommends"];
+    args.extend(PARAVIEW_PACKAGES);
+    run_system("apt-get", &args)?;
+    if has_program("pvpython") {
+        Ok(())
+    } else {
+        Err(format!(
+            "installed {} but pvpython is still not on PATH",
+            PARAVIEW_PACKAGES.join(" ")
         ))
     }
 }

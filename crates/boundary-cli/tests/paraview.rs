@@ -1,0 +1,284 @@
+//! The ParaView filter (`examples/paraview/BoundaryParticles.py`) through
+//! `examples/paraview/label.py`, run with ParaView's `pvpython`: its labels equal the command
+//! line's on the DualSPHysics dam break with its walls (3D) and the still wedge (2D), frame by
+//! frame on a time series, and a refused input is an error of the filter, never a crash of
+//! ParaView. Without `pvpython` (`BOUNDARY_PVPYTHON` names another) the ParaView tests print
+//! `SKIPPED` with the install command; `cargo xtask test` installs ParaView when it runs as
+//! root.
+
+#![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn plugin() -> PathBuf {
+    root().join("examples/paraview/BoundaryParticles.py")
+}
+
+/// ParaView's `pvpython`, or `None` after printing why the test is skipped.
+fn pvpython() -> Option<PathBuf> {
+    if std::env::var("BOUNDARY_PARAVIEW").is_ok_and(|v| v == "skip") {
+        eprintln!("SKIPPED: BOUNDARY_PARAVIEW=skip is set");
+        return None;
+    }
+    let name = std::env::var_os("BOUNDARY_PVPYTHON").unwrap_or_else(|| "pvpython".into());
+    let name = PathBuf::from(name);
+    let found = if name.components().count() > 1 {
+        name.is_file().then_some(name.clone())
+    } else {
+        std::env::var_os("PATH").and_then(|paths| {
+            std::env::split_paths(&paths)
+                .map(|dir| dir.join(&name))
+                .find(|p| p.is_file())
+        })
+    };
+    if found.is_none() {
+        eprintln!(
+            "SKIPPED: ParaView's {} not found (BOUNDARY_PVPYTHON names another); install it \
+             with `sudo apt-get install --no-install-recommends paraview python3-paraview` \
+             (Debian, Ubuntu), or run `cargo xtask test` as root, which installs it",
+            name.display()
+        );
+    }
+    found
+}
+
+/// `pvpython examples/paraview/label.py ARGS` with the command line under test.
+fn label(pvpython: &Path, args: &[&str]) -> Output {
+    Command::new(pvpython)
+        .arg(root().join("examples/paraview/label.py"))
+        .args(args)
+        .env("BOUNDARY_CLI", env!("CARGO_BIN_EXE_boundary"))
+        .output()
+        .unwrap()
+}
+
+fn boundary(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_boundary"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// A file of the shared data folder, through the one helper that makes a missing folder a
+/// failure (or, with `BOUNDARY_ALLOW_MISSING_DATA=1`, a skip printed on stderr: `None`).
+fn shared(rel: &str) -> Option<PathBuf> {
+    let data = boundary_scenes::SharedData::from_env();
+    let path = data.dir().join(rel);
+    let found = std::fs::metadata(&path)
+        .map_err(|e| format!("{}: {e}", path.display()))
+        .map(|_| path);
+    data.outcome(rel, found).unwrap()
+}
+
+fn s(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+/// The column `name` of a CSV with a header, as integers.
+fn column(path: &Path, name: &str) -> Vec<i64> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let k = header
+        .iter()
+        .position(|c| *c == name)
+        .unwrap_or_else(|| panic!("{}: no column {name} in {header:?}", path.display()));
+    lines
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| l.split(',').nth(k).unwrap().trim().parse().unwrap())
+        .collect()
+}
+
+/// The rows of `path` (a header, then one row per particle), without the header.
+fn rows(path: &Path) -> usize {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .filter(|l| !l.trim().is_empty())
+        .count()
+}
+
+/// The filter's labels of `fluid` with `walls` at smoothing length `h` equal the command
+/// line's, row by row, and count `expected` boundary particles.
+fn same_labels_as_the_cli(pvpython: &Path, fluid: &Path, walls: &Path, h: &str, expected: i64) {
+    let dir = tempfile::tempdir().unwrap();
+    let ours = dir.path().join("paraview.csv");
+    let cli = dir.path().join("cli.csv");
+    let out = label(
+        pvpython,
+        &[
+            s(fluid),
+            s(&ours),
+            "--smoothing-length",
+            h,
+            "--walls",
+            s(walls),
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "label.py failed ({}): {}{}",
+        out.status,
+        text(&out.stdout),
+        text(&out.stderr)
+    );
+    let out = boundary(&[
+        "detect",
+        s(fluid),
+        "--smoothing-length",
+        h,
+        "--walls",
+        s(walls),
+        "--output",
+        s(&cli),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let (from_paraview, from_cli) = (column(&ours, "boundary"), column(&cli, "boundary"));
+    assert_eq!(from_paraview.len(), rows(fluid), "one label per input row");
+    let differ: Vec<usize> = (0..from_cli.len())
+        .filter(|&i| from_paraview[i] != from_cli[i])
+        .collect();
+    assert!(
+        differ.is_empty(),
+        "{} rows differ from the CLI, the first at rows {:?}",
+        differ.len(),
+        &differ[..differ.len().min(10)]
+    );
+    assert_eq!(from_paraview.iter().sum::<i64>(), expected);
+}
+
+#[test]
+fn paraview_labels_equal_the_cli_on_the_dualsphysics_dam_break_with_its_walls() {
+    let (Some(fluid), Some(walls)) = (
+        shared("walls/dualsphysics_dambreak3d_dp0.02_fluid.csv"),
+        shared("walls/dualsphysics_dambreak3d_dp0.02_walls.csv"),
+    ) else {
+        return;
+    };
+    let Some(pvpython) = pvpython() else {
+        return;
+    };
+    // h = 1.5 dp, DualSPHysics' 3D default; the data README's exact count with the walls.
+    same_labels_as_the_cli(&pvpython, &fluid, &walls, "0.03", 1088);
+}
+
+#[test]
+fn paraview_labels_equal_the_cli_on_a_2d_tank_with_its_walls() {
+    let (Some(fluid), Some(walls)) = (
+        shared("walls/dualsphysics_stillwedge2d_dp0.01_fluid.csv"),
+        shared("walls/dualsphysics_stillwedge2d_dp0.01_walls.csv"),
+    ) else {
+        return;
+    };
+    let Some(pvpython) = pvpython() else {
+        return;
+    };
+    // The CSV has no z: label.py reads it as 2D points and the filter drops the flat axis.
+    same_labels_as_the_cli(&pvpython, &fluid, &walls, "0.015", 219);
+}
+
+#[test]
+fn paraview_labels_a_time_series_frame_by_frame_as_it_animates() {
+    let frames: Vec<Option<PathBuf>> = [1, 50, 100]
+        .iter()
+        .map(|k| shared(&format!("sequences/sandim_vortex_spin/frame_{k:03}.csv")))
+        .collect();
+    let Some(frames) = frames.into_iter().collect::<Option<Vec<PathBuf>>>() else {
+        return;
+    };
+    let Some(pvpython) = pvpython() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let labelled = dir.path().join("labelled");
+    let mut args: Vec<&str> = frames.iter().map(|f| s(f)).collect();
+    args.extend([s(&labelled), "--radius", "0.022105"]);
+    let out = label(&pvpython, &args);
+    assert!(
+        out.status.success(),
+        "label.py failed ({}): {}{}",
+        out.status,
+        text(&out.stdout),
+        text(&out.stderr)
+    );
+    let mut counts = Vec::new();
+    for frame in &frames {
+        let cli = dir.path().join("cli.csv");
+        let out = boundary(&[
+            "detect",
+            s(frame),
+            "--radius",
+            "0.022105",
+            "--output",
+            s(&cli),
+        ]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let ours = labelled.join(frame.file_name().unwrap());
+        let (from_paraview, from_cli) = (column(&ours, "boundary"), column(&cli, "boundary"));
+        assert_eq!(from_paraview, from_cli, "{}", frame.display());
+        counts.push(from_cli.iter().sum::<i64>());
+    }
+    // The frames differ, so a filter that kept its first result would fail above; the data
+    // README's exact counts of frames 1, 50 and 100.
+    assert_eq!(counts, [202, 239, 437]);
+}
+
+#[test]
+fn a_refused_input_is_an_error_of_the_filter_not_a_crash_of_paraview() {
+    let Some(pvpython) = pvpython() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out_csv = dir.path().join("out.csv");
+    let fixture = root().join("fixtures/tank_dambreak2d_walls.csv");
+    // A 2D set read as 3D is flat: the command line refuses it, naming --dim 2.
+    let out = label(
+        &pvpython,
+        &[s(&fixture), s(&out_csv), "--radius", "0.015", "--dim", "3"],
+    );
+    let stderr = text(&out.stderr) + &text(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("Boundary Particles:"), "{stderr}");
+    assert!(stderr.contains("--dim 2"), "{stderr}");
+    // A smoothing length of zero is refused by the filter before the command line runs.
+    let out = label(
+        &pvpython,
+        &[s(&fixture), s(&out_csv), "--smoothing-length", "0"],
+    );
+    let stderr = text(&out.stderr) + &text(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("set Value to the smoothing length"), "{stderr}");
+}
+
+#[test]
+fn the_plugin_offers_every_method_of_the_command_line() {
+    let out = boundary(&["methods", "--json"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let listed: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let names: Vec<String> = listed
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["name"].as_str().unwrap().to_owned())
+        .collect();
+    let source = std::fs::read_to_string(plugin()).unwrap();
+    let start = source.find("METHODS = (").unwrap();
+    let end = start + source[start..].find(')').unwrap();
+    let offered: Vec<String> = source[start..end]
+        .lines()
+        .skip(1)
+        .map(|l| l.trim().trim_end_matches(',').trim_matches('"').to_owned())
+        .filter(|l| !l.is_empty())
+        .collect();
+    assert_eq!(offered, names);
+}
