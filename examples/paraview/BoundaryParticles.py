@@ -272,7 +272,12 @@ class BoundaryParticles(VTKPythonAlgorithmBase):
                 )
             except OSError as e:
                 raise BoundaryError("cannot run {0}: {1}".format(exe, e))
+            # The command's messages name the temporary files: name the inputs instead.
             message = run.stderr.decode("utf-8", "replace").strip()
+            message = message.replace(points, "the input").replace(labelled, "the output")
+            if walls_path is not None:
+                message = message.replace(walls_path, "the Walls input")
+            message = message.replace("--dim 2", "--dim 2 (the filter's Dimension: 2D)")
             if run.returncode != 0:
                 raise BoundaryError(
                     "`boundary detect` failed ({0}): {1}".format(

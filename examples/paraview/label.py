@@ -52,7 +52,8 @@ def csv_columns(path):
 
 
 def open_points(paths):
-    """A ParaView point set from files of one kind; whether it is 2D (a CSV without z)."""
+    """The reader of files of one kind, the point set it gives, and whether that is 2D (a CSV
+    without z)."""
     if all(p.lower().endswith(".csv") for p in paths):
         x, y, z = csv_columns(paths[0])
         table = simple.CSVReader(FileName=paths)
@@ -61,11 +62,11 @@ def open_points(paths):
             points.a2DPoints = 1
         else:
             points.ZColumn = z
-        return points, z is None
+        return table, points, z is None
     reader = simple.OpenDataFile(paths if len(paths) > 1 else paths[0])
     if reader is None:
         sys.exit("ParaView has no reader for {0}".format(paths[0]))
-    return reader, False
+    return reader, reader, False
 
 
 def write_csv(path, data, flat):
@@ -93,7 +94,7 @@ def main():
         # one field they read, the argument names.
         inspect.getargspec = inspect.getfullargspec
     simple.LoadPlugin(os.path.join(here, "BoundaryParticles.py"), ns=globals())
-    points, flat = open_points(args.inputs)
+    reader, points, flat = open_points(args.inputs)
     options = {"Method": args.method, "Parameters": args.parameters, "Band": args.band}
     if args.smoothing_length is not None:
         options.update(ResolutionFrom=0, Value=args.smoothing_length)
@@ -106,7 +107,7 @@ def main():
     dim = args.dim or (2 if flat else 0)
     options["Dimension"] = dim
     if args.walls:
-        walls, _ = open_points([args.walls])
+        _, walls, _ = open_points([args.walls])
         options["Walls"] = walls
     if args.wall_attribute:
         name, _, values = args.wall_attribute.partition("=")
@@ -124,7 +125,7 @@ def main():
     os.makedirs(args.output, exist_ok=True)
     scene = simple.GetAnimationScene()
     scene.UpdateAnimationUsingDataTimeSteps()
-    times = list(points.TimestepValues)
+    times = list(reader.TimestepValues)
     if len(times) != len(args.inputs):
         sys.exit("ParaView read {0} time steps from {1} files".format(len(times), len(args.inputs)))
     for path, time in zip(args.inputs, times):

@@ -23,10 +23,11 @@ def points_of(path):
 
 
 def show_points(source, view, colour, size, opacity=1.0):
+    """`source` as points of one colour."""
     display = simple.Show(source, view)
     display.SetRepresentationType("Points")
     display.PointSize = size
-    simple.ColorBy(display, None)
+    display.ColorArrayName = ["POINTS", ""]
     display.AmbientColor = colour
     display.DiffuseColor = colour
     display.Opacity = opacity
@@ -51,11 +52,6 @@ def main():
     labelled = BoundaryParticles(  # noqa: F821 (from the plugin)
         Input=fluid, Walls=walls, ResolutionFrom=0, Value=args.smoothing_length
     )
-    boundary = simple.Threshold(Input=labelled, Scalars=["POINTS", "boundary"])
-    boundary.LowerThreshold, boundary.UpperThreshold = 0.5, 1.5
-    interior = simple.Threshold(Input=labelled, Scalars=["POINTS", "boundary"])
-    interior.LowerThreshold, interior.UpperThreshold = -0.5, 0.5
-
     view = simple.CreateView("RenderView")
     view.ViewSize = list(args.size)
     view.OrientationAxesVisibility = 0
@@ -63,16 +59,21 @@ def main():
     if hasattr(view, "UseColorPaletteForBackground"):
         view.UseColorPaletteForBackground = 0
     show_points(walls, view, [0.25, 0.25, 0.25], 1.5, opacity=0.25)
-    show_points(interior, view, [0.78, 0.78, 0.78], 3.0)
-    show_points(boundary, view, [0.12, 0.35, 0.85], 4.0)
+    fluid_display = show_points(labelled, view, [0.78, 0.78, 0.78], 3.0)
+    # Two colours, one per label.
+    simple.ColorBy(fluid_display, ("POINTS", "boundary"))
+    colours = simple.GetColorTransferFunction("boundary")
+    colours.InterpretValuesAsCategories = 1
+    colours.Annotations = ["0", "interior", "1", "boundary"]
+    colours.IndexedColors = [0.78, 0.78, 0.78, 0.12, 0.35, 0.85]
+    fluid_display.SetScalarBarVisibility(view, False)
 
-    # A view from the front, above the tank: the free surface on top, the walls below.
+    # DualSPHysics' z is up.
+    view.CameraFocalPoint = [0.0, 0.0, 0.0]
+    view.CameraPosition = [-0.8, -1.6, 1.0]
+    view.CameraViewUp = [0.0, 0.0, 1.0]
     view.ResetCamera()
-    camera = view.GetActiveCamera()
-    camera.Elevation(35)
-    camera.Azimuth(-30)
-    view.ResetCamera()
-    camera.Zoom(1.25)
+    view.GetActiveCamera().Zoom(1.55)
     simple.SaveScreenshot(args.output, view, ImageResolution=list(args.size))
 
 

@@ -241,15 +241,35 @@ fn a_refused_input_is_an_error_of_the_filter_not_a_crash_of_paraview() {
     let dir = tempfile::tempdir().unwrap();
     let out_csv = dir.path().join("out.csv");
     let fixture = root().join("fixtures/tank_dambreak2d_walls.csv");
-    // A 2D set read as 3D is flat: the command line refuses it, naming --dim 2.
-    let out = label(
-        &pvpython,
-        &[s(&fixture), s(&out_csv), "--radius", "0.015", "--dim", "3"],
-    );
+    // A 2D scene stored with z = 0 is flat: the command line refuses it as 3D, and the
+    // filter passes its message on, with the filter's setting that reads it as 2D.
+    let flat = dir.path().join("flat.csv");
+    let text_2d = std::fs::read_to_string(&fixture).unwrap();
+    let mut lines = text_2d.lines();
+    let mut flat_text = format!("{},z\n", lines.next().unwrap());
+    for line in lines.filter(|l| !l.trim().is_empty()) {
+        flat_text.push_str(&format!("{line},0\n"));
+    }
+    std::fs::write(&flat, flat_text).unwrap();
+    let out = label(&pvpython, &[s(&flat), s(&out_csv), "--radius", "0.015"]);
     let stderr = text(&out.stderr) + &text(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert!(stderr.contains("Boundary Particles:"), "{stderr}");
-    assert!(stderr.contains("--dim 2"), "{stderr}");
+    assert!(
+        stderr.contains("Boundary Particles: `boundary detect` failed (exit status 1)"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("the input: all 2400 particles have z = 0"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("the filter's Dimension: 2D"), "{stderr}");
+    // As 2D it is labelled.
+    let out = label(
+        &pvpython,
+        &[s(&flat), s(&out_csv), "--radius", "0.015", "--dim", "2"],
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(column(&out_csv, "boundary").len(), 2400);
     // A smoothing length of zero is refused by the filter before the command line runs.
     let out = label(
         &pvpython,
@@ -257,7 +277,10 @@ fn a_refused_input_is_an_error_of_the_filter_not_a_crash_of_paraview() {
     );
     let stderr = text(&out.stderr) + &text(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert!(stderr.contains("set Value to the smoothing length"), "{stderr}");
+    assert!(
+        stderr.contains("set Value to the smoothing length"),
+        "{stderr}"
+    );
 }
 
 #[test]
