@@ -305,3 +305,103 @@ fn the_plugin_offers_every_method_of_the_command_line() {
         .collect();
     assert_eq!(offered, names);
 }
+
+/// `label.py INPUT OUT ARGS` and `boundary detect INPUT ARGS --output` agree on `columns`
+/// (the same flags mean the same in both); returns the filter's columns.
+fn agree_with_the_cli(
+    pvpython: &Path,
+    input: &Path,
+    args: &[&str],
+    columns: &[&str],
+) -> Vec<Vec<i64>> {
+    let dir = tempfile::tempdir().unwrap();
+    let ours = dir.path().join("paraview.csv");
+    let cli = dir.path().join("cli.csv");
+    let mut label_args = vec![s(input), s(&ours)];
+    label_args.extend(args);
+    let out = label(pvpython, &label_args);
+    assert!(
+        out.status.success(),
+        "label.py failed ({}): {}{}",
+        out.status,
+        text(&out.stdout),
+        text(&out.stderr)
+    );
+    let mut cli_args = vec!["detect", s(input)];
+    cli_args.extend(args);
+    cli_args.extend(["--output", s(&cli)]);
+    let out = boundary(&cli_args);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    columns
+        .iter()
+        .map(|name| {
+            let from_paraview = column(&ours, name);
+            assert_eq!(from_paraview, column(&cli, name), "column {name}");
+            from_paraview
+        })
+        .collect()
+}
+
+#[test]
+fn a_wall_array_of_the_input_gives_the_labels_of_the_walls_given_apart() {
+    let Some(pvpython) = pvpython() else {
+        return;
+    };
+    // The bundled 2D tank, fluid and walls in one file with a `kind` array as DualSPHysics
+    // writes its `Type`: 3 for the fluid, 0 for the walls (listed first).
+    let fixtures = root().join("fixtures");
+    let fluid = std::fs::read_to_string(fixtures.join("tank_dambreak2d_walls.csv")).unwrap();
+    let walls = std::fs::read_to_string(fixtures.join("tank_dambreak2d_walls_walls.csv")).unwrap();
+    let mut both = String::from("x,y,kind\n");
+    let rows = |text: &str, kind: &str, both: &mut String| {
+        for line in text.lines().skip(1).filter(|l| !l.trim().is_empty()) {
+            both.push_str(&format!("{line},{kind}\n"));
+        }
+    };
+    rows(&walls, "0", &mut both);
+    rows(&fluid, "3", &mut both);
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("tank.csv");
+    std::fs::write(&input, both).unwrap();
+    let labels = agree_with_the_cli(
+        &pvpython,
+        &input,
+        &["--radius", "0.015", "--wall-attribute", "kind=0"],
+        &["boundary", "wall"],
+    );
+    let (boundary_column, wall) = (&labels[0], &labels[1]);
+    let n_walls = walls
+        .lines()
+        .skip(1)
+        .filter(|l| !l.trim().is_empty())
+        .count();
+    assert_eq!(wall.iter().sum::<i64>(), n_walls as i64);
+    assert!(boundary_column[..n_walls].iter().all(|&b| b == 0));
+    // The count of the fixture with its walls in a file of their own (docs/USAGE.md).
+    assert_eq!(boundary_column.iter().sum::<i64>(), 99);
+}
+
+#[test]
+fn a_phase_array_adds_the_interface_labels_of_the_cli() {
+    let Some(pvpython) = pvpython() else {
+        return;
+    };
+    let fixtures = root().join("fixtures");
+    let walls = fixtures.join("pool_droplet2d_phases_walls.csv");
+    let labels = agree_with_the_cli(
+        &pvpython,
+        &fixtures.join("pool_droplet2d_phases.csv"),
+        &[
+            "--radius",
+            "0.015",
+            "--phase-attribute",
+            "phase",
+            "--walls",
+            s(&walls),
+        ],
+        &["boundary", "interface"],
+    );
+    // Both kinds of label occur, so the comparison is not of two empty columns.
+    assert!(labels[0].iter().sum::<i64>() > 0);
+    assert!(labels[1].iter().sum::<i64>() > 0);
+}
