@@ -84,7 +84,7 @@ def _array_property(name, label, command, doc):
 
 
 @smproxy.filter(name="BoundaryParticles", label="Boundary Particles")
-@smhint.xml('<ShowInMenu category="Point Interpolation"/>')
+@smhint.xml('<ShowInMenu category="Particles"/>')
 @smproperty.xml(
     """
 <InputProperty name="Walls" port_index="1" command="SetInputConnection">
