@@ -212,7 +212,7 @@ class BoundaryParticles(VTKPythonAlgorithmBase):
 
     def _arguments(self, exe, points, walls, output):
         args = [exe, "detect", points, "--output", output, "--method", self._method]
-        for setting in self._parameters.replace(",", " ").split():
+        for setting in self._parameters.split():
             args += ["--set", setting]
         flag = RESOLUTION_FLAGS.get(self._resolution_from)
         if flag is None:
