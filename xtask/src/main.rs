@@ -21,7 +21,8 @@
 //!   A full run (no argument selecting scenes or methods) also rewrites `BENCHMARKS.md` and the
 //!   README's picture `docs/img/vortex2d_t4.png`.
 //! - `cargo xtask fixtures`: regenerate the scenes in `fixtures/`.
-//! - `cargo xtask prereqs`: only check (and where possible install) the MPI prerequisites.
+//! - `cargo xtask prereqs`: only check (and where possible install) the MPI and ParaView
+//!   prerequisites.
 //! - `cargo xtask package`: `cargo package --workspace --no-verify`: metadata, contents and
 //!   dependencies fit for crates.io. Reads the crates.io index (network), builds nothing.
 //! - `cargo xtask doc`: `cargo doc --workspace --no-deps` with `RUSTDOCFLAGS=-D warnings`
@@ -78,6 +79,9 @@ fn main() -> ExitCode {
             if let Err(why) = mpi_prereqs() {
                 eprintln!("xtask: MPI driver not buildable here: {why}");
             }
+            if let Err(why) = paraview_prereqs() {
+                eprintln!("xtask: ParaView filter not testable here: {why}");
+            }
             Ok(())
         }
         "help" | "--help" | "-h" => {
@@ -107,7 +111,7 @@ BENCHMARKS.md and its pictures in docs/img (--scale adds the scale tier)\n  \
      fixtures   regenerate the generated scenes in fixtures/\n  \
      train-svm  retrain the shipped svm models (seeded) and score them on held-out scenes:\n             \
 crates/boundary-svm/models/, target/svm/training.md\n  \
-     prereqs    check the MPI prerequisites (install them when root with apt-get)\n  \
+     prereqs    check the MPI and ParaView prerequisites (install them when root with apt-get)\n  \
      check-deps boundary-core has no format/CLI/big-integer dependency, method crates no IO dependency\n  \
      package    `cargo package --workspace --no-verify` (metadata, contents, dependencies)\n  \
      doc        the API documentation, every rustdoc warning an error"
