@@ -12,7 +12,7 @@ use crate::interrupt::Interrupt;
 use crate::output::{errln, outln};
 use boundary::{AnyParticleSet, BoundaryDetector, Detection, Domain, Tracker};
 use boundary_io::{
-    read_particle_file, write_particles, AttributeValues, Column, Format, ParticleFile,
+    read_frame, write_particles, AttributeValues, Column, Format, Frame, FrameParts,
     PositionColumns, ReadOptions,
 };
 use clap::Args;
@@ -161,35 +161,51 @@ struct FrameJob<'a> {
     tracker: Option<&'a std::sync::Mutex<Option<Tracker>>>,
     /// `--track-ids`: the attribute of the particles' ids.
     track_ids: Option<&'a str>,
+    /// Whether an option reads point attributes of every frame (radii, ids, walls, phases).
+    reads_attributes: bool,
+}
+
+/// Whether an option reads point attributes of every frame (radii, ids, wall rows, phases).
+fn reads_attributes(args: &DetectArgs, mode: &RadiusMode) -> bool {
+    matches!(mode, RadiusMode::PerParticle { .. })
+        || args.track_ids.is_some()
+        || args.domain.reads_attributes()
+}
+
+/// What to read of a frame: its point attributes too when they are written back (`output`)
+/// or an option reads one.
+fn frame_parts(output: bool, reads_attributes: bool) -> FrameParts {
+    if output || reads_attributes {
+        FrameParts::WithAttributes
+    } else {
+        FrameParts::Positions
+    }
 }
 
 impl FrameJob<'_> {
-    /// Reads `input`, detects, and writes `output` (when given) with `boundary`, the optional
+    /// Reads the frame at `input`, once: with its attributes when they are written back
+    /// (`output`) or an option reads one.
+    fn read(&self, input: &Path, output: bool) -> Result<Frame, CliError> {
+        let parts = frame_parts(output, self.reads_attributes);
+        Ok(read_frame(input, &self.options, parts)?)
+    }
+
+    /// Detects on `file`, and writes `output` (when given) with `boundary`, the optional
     /// `margin` and normals, and every attribute of the input it keeps.
     fn run(
         &self,
-        input: &Path,
+        file: Frame,
         radius_mode: &RadiusMode,
         output: Option<(&Path, Format)>,
     ) -> Result<FrameOutcome, CliError> {
-        let per_particle = matches!(radius_mode, RadiusMode::PerParticle { .. });
-        let with_attributes = output.is_some()
-            || per_particle
-            || self.track_ids.is_some()
-            || self.domain.is_some_and(DomainSetup::needs_attributes);
-        let file = if with_attributes {
-            read_particle_file(input, &self.options)?
-        } else {
-            boundary_io::read_positions(input, &self.options)?
-        };
-        refuse_flat(&file.set, input, &self.options)?;
+        refuse_flat(&file, &self.options)?;
         let (file, r_value, resolved, radii) = match radius_mode {
             RadiusMode::Uniform(arg) => {
-                let resolved = resolve_radius(*arg, &file.set, input)?;
+                let resolved = resolve_radius(*arg, &file.set, &file.path)?;
                 (file, resolved.r, Some(resolved), None)
             }
             RadiusMode::PerParticle { attribute, scale } => {
-                let (file, used) = attach_radii(file, attribute, *scale, input, &self.options)?;
+                let (file, used) = attach_radii(file, attribute, *scale)?;
                 (file, *scale, None, Some(used))
             }
         };
@@ -210,7 +226,7 @@ impl FrameJob<'_> {
                 recomputed: None,
                 skipped: Vec::new(),
             };
-            return self.run_in(setup, file, input, outcome, output);
+            return self.run_in(setup, file, outcome, output);
         }
         let set = &file.set;
         let (mut detection, seconds, recomputed) = match self.tracker {
@@ -227,7 +243,7 @@ impl FrameJob<'_> {
                     None => guard.insert(Tracker::new(r, None, Domain::new())?),
                 };
                 let ids = match self.track_ids {
-                    Some(name) => Some(particle_ids(&file, name, input, &self.options)?),
+                    Some(name) => Some(particle_ids(&file, name)?),
                     None => None,
                 };
                 let (labels, seconds) = self.pool.install(|| {
@@ -240,7 +256,7 @@ impl FrameJob<'_> {
                 });
                 let detection = Detection {
                     labels: labels.map_err(|error| CliError::Track {
-                        path: input.to_path_buf(),
+                        path: file.path.clone(),
                         error,
                     })?,
                     margin: None,
@@ -292,12 +308,11 @@ impl FrameJob<'_> {
     fn run_in(
         &self,
         setup: &DomainSetup,
-        file: boundary_io::ParticleFile,
-        input: &Path,
+        file: Frame,
         mut outcome: FrameOutcome,
         output: Option<(&Path, Format)>,
     ) -> Result<FrameOutcome, CliError> {
-        let frame = setup.frame(&file, input, &self.options)?;
+        let frame = setup.frame_domain(&file)?;
         let fluid = frame.fluid(&file.set);
         let r = radius(outcome.radius)?;
         let (mut found, seconds) = run_timed_in(self.pool, self.detector, fluid, &frame.domain, r)?;
@@ -389,7 +404,7 @@ impl FrameJob<'_> {
         &self,
         path: &Path,
         format: Format,
-        file: &boundary_io::ParticleFile,
+        file: &Frame,
         flags: &[i64],
         margin: Option<&[f64]>,
         normals: &[Vec<f64>],
@@ -486,21 +501,13 @@ fn check_track(
 }
 
 /// The stable ids of `--track-ids` (whole numbers >= 0), or an error naming the particle.
-fn particle_ids(
-    file: &ParticleFile,
-    name: &str,
-    input: &Path,
-    options: &ReadOptions,
-) -> Result<Vec<u64>, CliError> {
-    let attribute = point_attribute(file, name, input, "--track-ids", "an id")?;
+fn particle_ids(frame: &Frame, name: &str) -> Result<Vec<u64>, CliError> {
+    let attribute = point_attribute(frame, name, "--track-ids", "an id")?;
     let bad = |index: usize, problem: String| CliError::IdValue {
-        path: input.to_path_buf(),
+        path: frame.path.clone(),
         attribute: attribute.name.clone(),
         index,
-        // Looked up only on the error path (CSV only).
-        line: boundary_io::particle_line(input, options, index)
-            .ok()
-            .flatten(),
+        line: frame.line(index),
         problem,
     };
     // Below 2^53 every whole number is exact in f64.
@@ -568,9 +575,11 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
         pool: &pool,
         tracker: None,
         track_ids: None,
+        reads_attributes: reads_attributes(&args, &radius_mode),
     };
     let output = args.output.as_deref().zip(output_format);
-    let outcome = job.run(&args.input.input, &radius_mode, output)?;
+    let frame = job.read(&args.input.input, output.is_some())?;
+    let outcome = job.run(frame, &radius_mode, output)?;
     if let Some(note) = outcome
         .resolved
         .as_ref()
@@ -779,21 +788,36 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
     }
     // The spacing `auto` measured, for the JSON summary.
     let mut auto_spacing = None;
+    // Frames read before the run (by `--radius auto`), each taken by its run: no frame is
+    // read twice.
+    let read_before: Vec<std::sync::Mutex<Option<Result<Frame, CliError>>>> =
+        paths.iter().map(|_| std::sync::Mutex::new(None)).collect();
     // `--radius auto`: estimated once, on the first frame that reads, and used for all, so that
     // the counts of the frames are comparable.
+    let reads = reads_attributes(args, &radius_mode);
     let radius_mode = match radius_mode {
         RadiusMode::Uniform(RadiusArg::Auto) => {
             let mut estimate = None;
-            for path in &paths {
-                if let Ok(set) = boundary_io::read_particles(path, &options) {
-                    if let Ok(resolved) = resolve_radius(RadiusArg::Auto, &set, path) {
-                        if let Some(note) = radius_note(&resolved, path) {
-                            errln!("{note} (used for every frame)");
-                        }
-                        estimate = Some(resolved.r);
-                        auto_spacing = resolved.spacing;
-                        break;
+            for (k, path) in paths.iter().enumerate() {
+                let Ok(output) = &outputs[k] else {
+                    continue;
+                };
+                let parts = frame_parts(output.is_some(), reads);
+                let read = read_frame(path, &options, parts).map_err(CliError::from);
+                let resolved = read
+                    .as_ref()
+                    .ok()
+                    .and_then(|frame| resolve_radius(RadiusArg::Auto, &frame.set, path).ok());
+                if let Ok(mut slot) = read_before[k].lock() {
+                    *slot = Some(read);
+                }
+                if let Some(resolved) = resolved {
+                    if let Some(note) = radius_note(&resolved, path) {
+                        errln!("{note} (used for every frame)");
                     }
+                    estimate = Some(resolved.r);
+                    auto_spacing = resolved.spacing;
+                    break;
                 }
             }
             RadiusMode::Uniform(RadiusArg::Value(
@@ -818,6 +842,7 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
         pool: &pool,
         tracker: args.track.then_some(&tracker),
         track_ids: args.track_ids.as_deref(),
+        reads_attributes: reads_attributes(args, &radius_mode),
     };
     let bar = if args.input.json {
         indicatif::ProgressBar::hidden()
@@ -869,11 +894,18 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
             return FrameResult::NotRun;
         }
         let result = match output {
-            Ok(out) => job.run(
-                path,
-                &radius_mode,
-                out.as_ref().map(|(p, f)| (p.as_path(), *f)),
-            ),
+            Ok(out) => {
+                let read_before = read_before[k].lock().ok().and_then(|mut slot| slot.take());
+                read_before
+                    .unwrap_or_else(|| job.read(path, out.is_some()))
+                    .and_then(|frame| {
+                        job.run(
+                            frame,
+                            &radius_mode,
+                            out.as_ref().map(|(p, f)| (p.as_path(), *f)),
+                        )
+                    })
+            }
             Err(frame) => Err(CliError::UnknownFrameFormat(frame.clone())),
         };
         // The frame's row is on the disk before its line is printed.
