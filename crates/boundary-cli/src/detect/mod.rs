@@ -10,12 +10,10 @@ mod resume;
 mod summary;
 
 use crate::common::{
-    detector_for, method_label, output_format, parse_format, percent, pool, radius_note,
-    read_options, InputArgs, MethodArgs, RadiiUsed, ResolvedRadius,
+    detector_for, output_format, parse_format, pool, read_options, InputArgs, MethodArgs,
 };
 use crate::domain::{DomainArgs, DomainSetup};
 use crate::error::CliError;
-use crate::output::{errln, outln};
 use boundary_io::Format;
 use clap::Args;
 use frame::{check_normals, reads_attributes, FrameJob};
@@ -136,82 +134,13 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
     let output = args.output.as_deref().zip(output_format);
     let frame = job.read(&args.input.input, output.is_some())?;
     let outcome = job.run(frame, &radius_mode, output)?;
-    if let Some(note) = outcome
-        .resolved
-        .as_ref()
-        .and_then(|resolved| radius_note(resolved, &args.input.input))
-    {
-        errln!("{note}");
-    }
-    if let (Some(0), Some(selector)) = (outcome.wall_rows, setup.as_ref()) {
-        errln!(
-            "warning: {}: no row has --wall-attribute {}",
-            args.input.input.display(),
-            selector.wall_attribute().unwrap_or_default()
-        );
-    }
-    for skipped in &outcome.skipped {
-        errln!(
-            "warning: {}: not written back: {skipped}",
-            args.input.input.display()
-        );
-    }
-    if args.input.json {
-        let resolved = outcome.resolved.as_ref();
-        let object = json!({
-            "method": detector.name(),
-            "params": detector.params().to_string(),
-            "input": args.input.input.display().to_string(),
-            "n": outcome.n,
-            "dim": outcome.dim,
-            "radius": outcome.radius,
-            "radius_from": resolved.map_or("radius_attribute", |r| r.arg.source()),
-            "spacing": resolved.and_then(|r| r.spacing),
-            "radius_estimated": resolved.is_some_and(ResolvedRadius::estimated),
-            "radius_warning": resolved.and_then(|r| r.concern).map(|c| c.to_string()),
-            "radii": RadiiUsed::json(outcome.radii.as_ref()),
-            "boundary": outcome.boundary,
-            "seconds": outcome.seconds,
-            "threads": pool.current_num_threads(),
-            "domain": domain_json(setup.as_ref()),
-            "walls": outcome.walls,
-            "interface": outcome.interface,
-            "position_columns": outcome.columns.names,
-            "dropped_column": outcome.columns.dropped,
-            "band": args.band,
-        });
-        outln!("{object}")?;
-    } else {
-        errln!(
-            "{}: {} of {} particles boundary ({:.1}%), {}D from {}{}, {}{}, {} in {:.3} s on {} \
-             thread{}{}",
-            args.input.input.display(),
-            outcome.boundary,
-            outcome.n,
-            percent(outcome.boundary, outcome.n),
-            outcome.dim,
-            outcome.columns,
-            outcome.domain_facts(),
-            match &outcome.radii {
-                Some(radii) => radii.describe(),
-                None => format!("r = {}", outcome.radius),
-            },
-            band_text(args.band),
-            method_label(detector.as_ref()),
-            outcome.seconds,
-            pool.current_num_threads(),
-            if pool.current_num_threads() == 1 {
-                ""
-            } else {
-                "s"
-            },
-            match &args.output {
-                Some(p) => format!(", written to {}", p.display()),
-                None => String::new(),
-            }
-        );
-    }
-    Ok(())
+    summary::report_one(
+        &args,
+        detector.as_ref(),
+        &outcome,
+        setup.as_ref(),
+        pool.current_num_threads(),
+    )
 }
 
 /// The JSON record of the domain options (`null` for a bare cloud).

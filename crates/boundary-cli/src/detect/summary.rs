@@ -4,7 +4,9 @@
 use super::frame::FrameOutcome;
 use super::frames::{FrameResult, Output};
 use super::{band_text, domain_json, DetectArgs};
-use crate::common::{method_label, RadiiUsed, RadiusArg, RadiusMode};
+use crate::common::{
+    method_label, percent, radius_note, RadiiUsed, RadiusArg, RadiusMode, ResolvedRadius,
+};
 use crate::domain::DomainSetup;
 use crate::error::CliError;
 use crate::output::{errln, outln};
@@ -246,4 +248,87 @@ impl RunReport<'_> {
         outln!("{object}")?;
         Ok(())
     }
+}
+
+/// Prints what `detect` did on one file: the notes and warnings about the radius, the wall
+/// rows and the attributes not written back, then the JSON object of `--json` or one line.
+pub(super) fn report_one(
+    args: &DetectArgs,
+    detector: &dyn BoundaryDetector,
+    outcome: &FrameOutcome,
+    setup: Option<&DomainSetup>,
+    threads: usize,
+) -> Result<(), CliError> {
+    if let Some(note) = outcome
+        .resolved
+        .as_ref()
+        .and_then(|resolved| radius_note(resolved, &args.input.input))
+    {
+        errln!("{note}");
+    }
+    if let (Some(0), Some(selector)) = (outcome.wall_rows, setup) {
+        errln!(
+            "warning: {}: no row has --wall-attribute {}",
+            args.input.input.display(),
+            selector.wall_attribute().unwrap_or_default()
+        );
+    }
+    for skipped in &outcome.skipped {
+        errln!(
+            "warning: {}: not written back: {skipped}",
+            args.input.input.display()
+        );
+    }
+    if args.input.json {
+        let resolved = outcome.resolved.as_ref();
+        let object = json!({
+            "method": detector.name(),
+            "params": detector.params().to_string(),
+            "input": args.input.input.display().to_string(),
+            "n": outcome.n,
+            "dim": outcome.dim,
+            "radius": outcome.radius,
+            "radius_from": resolved.map_or("radius_attribute", |r| r.arg.source()),
+            "spacing": resolved.and_then(|r| r.spacing),
+            "radius_estimated": resolved.is_some_and(ResolvedRadius::estimated),
+            "radius_warning": resolved.and_then(|r| r.concern).map(|c| c.to_string()),
+            "radii": RadiiUsed::json(outcome.radii.as_ref()),
+            "boundary": outcome.boundary,
+            "seconds": outcome.seconds,
+            "threads": threads,
+            "domain": domain_json(setup),
+            "walls": outcome.walls,
+            "interface": outcome.interface,
+            "position_columns": outcome.columns.names,
+            "dropped_column": outcome.columns.dropped,
+            "band": args.band,
+        });
+        outln!("{object}")?;
+    } else {
+        errln!(
+            "{}: {} of {} particles boundary ({:.1}%), {}D from {}{}, {}{}, {} in {:.3} s on {} \
+             thread{}{}",
+            args.input.input.display(),
+            outcome.boundary,
+            outcome.n,
+            percent(outcome.boundary, outcome.n),
+            outcome.dim,
+            outcome.columns,
+            outcome.domain_facts(),
+            match &outcome.radii {
+                Some(radii) => radii.describe(),
+                None => format!("r = {}", outcome.radius),
+            },
+            band_text(args.band),
+            method_label(detector),
+            outcome.seconds,
+            threads,
+            if threads == 1 { "" } else { "s" },
+            match &args.output {
+                Some(p) => format!(", written to {}", p.display()),
+                None => String::new(),
+            }
+        );
+    }
+    Ok(())
 }
