@@ -250,6 +250,13 @@ fn libraries_print_nothing_and_touch_no_file() {
     let mut libraries: Vec<String> = LIBRARIES.iter().map(|s| (*s).to_owned()).collect();
     libraries.extend(method_crates());
     let patterns = ["std::fs", "fs::", "File::open", "File::create", "read_dir("];
+    let prints = [
+        "println!(",
+        "print!(",
+        "dbg!(",
+        "std::io::stdout",
+        "std::io::stderr",
+    ];
     for krate in &libraries {
         let lib = format!("crates/{krate}/src/lib.rs");
         // The facade has the lint too once it opens with it; the text check holds it anyway.
@@ -263,6 +270,12 @@ fn libraries_print_nothing_and_touch_no_file() {
             let source = fs::read_to_string(&file).unwrap_or_default();
             let lines: Vec<&str> = source.lines().collect();
             for (number, line) in code_lines(&source) {
+                assert!(
+                    !prints.iter().any(|p| line.contains(p)),
+                    "{}:{number}: a library crate prints: {}",
+                    file.display(),
+                    line.trim()
+                );
                 if !patterns.iter().any(|p| line.contains(p)) {
                     continue;
                 }
