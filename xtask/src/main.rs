@@ -31,6 +31,8 @@
 //!   dependency graph (`cargo tree`): boundary-core has no file-format, CLI or big-integer
 //!   dependency, and no method crate has an IO dependency (direct or not). Also the first step
 //!   of `test`.
+//! - Tidy tests (`src/tidy.rs`, run by `cargo test -p xtask` and so by `test`): the
+//!   invariants of `docs/ARCHITECTURE.md`, checked on the source tree as text.
 //!
 //! xtask depends on the standard library only, so that it builds on a machine that lacks the
 //! prerequisites it installs.
@@ -51,6 +53,9 @@
 use std::env;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
+
+#[cfg(test)]
+mod tidy;
 
 fn main() -> ExitCode {
     let args: Vec<String> = env::args().skip(1).collect();

@@ -466,8 +466,28 @@ fn run(
             DetectError::Domain(_) => BOUNDARY_ERR_DOMAIN,
             _ => BOUNDARY_ERR_DETECT,
         };
-        Failure::new(code, e.to_string())
+        Failure::new(code, in_c_terms(&e))
     })
+}
+
+/// The library's names of the inputs a detection takes, with the function of this API that
+/// gives each. The library names inputs in its own terms; the C API adds its function after
+/// the first mention of each. Solid meshes have no function here.
+const FUNCTIONS: &[(&str, &str)] = &[
+    ("half-spaces", "boundary_detector_add_solid"),
+    ("wall particles", "boundary_detector_set_walls"),
+];
+
+/// A detector's error message in the C API's spelling:
+/// `solid half-spaces (boundary_detector_add_solid)`.
+pub(crate) fn in_c_terms(error: &DetectError) -> String {
+    let mut message = error.to_string();
+    for (term, function) in FUNCTIONS {
+        if let Some(at) = message.find(term) {
+            message.insert_str(at + term.len(), &format!(" ({function})"));
+        }
+    }
+    message
 }
 
 /// The phase numbers `phases[0..n]`, or `None` when `phases` is NULL.

@@ -165,7 +165,7 @@ unsafe fn update(
                 DetectError::Core(_) => BOUNDARY_ERR_INPUT,
                 _ => BOUNDARY_ERR_DETECT,
             };
-            Failure::new(code, e.to_string())
+            Failure::new(code, crate::in_c_terms(&e))
         })?;
         for (slot, i) in out.iter_mut().zip(0..n) {
             *slot = u8::from(labels.is_boundary(i));

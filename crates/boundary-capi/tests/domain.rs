@@ -86,7 +86,7 @@ impl Handle {
         let n = xyz.len() / dim;
         let mut labels = vec![7u8; n];
         let mut interface = vec![7u8; n];
-        let mut err = [0 as c_char; 512];
+        let mut err = [0 as c_char; 1024];
         let code = unsafe {
             boundary_detector_detect_phases(
                 self.0,
@@ -212,6 +212,16 @@ fn a_solid_covers_what_lies_in_it_and_a_method_without_solids_says_so() {
     assert_eq!(code, BOUNDARY_ERR_DETECT);
     assert!(err.contains("method 'muller' cannot honour solid"), "{err}");
     assert_eq!(labels, [7, 7, 7], "nothing written on error");
+    // The message names the functions of this API that give the inputs, not the CLI's flags.
+    assert!(
+        err.contains("solid half-spaces (boundary_detector_add_solid)"),
+        "{err}"
+    );
+    assert!(
+        err.contains("wall particles (boundary_detector_set_walls)"),
+        "{err}"
+    );
+    assert!(!err.contains("--"), "{err}");
 }
 
 #[test]

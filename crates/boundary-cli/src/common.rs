@@ -8,7 +8,7 @@ use boundary::{
     parse_param, AnyParticleSet, BoundaryDetector, CoreError, Detection, Domain, DomainDetection,
     Radius,
 };
-use boundary_io::{Attribute, AttributeValues, Format, ParticleFile, ReadOptions};
+use boundary_io::{read_frame, Attribute, AttributeValues, Format, Frame, FrameParts, ReadOptions};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -226,38 +226,21 @@ pub(crate) fn short(x: f64) -> String {
     }
 }
 
-/// The attribute `name` of `file`: the exact name, else the one name equal ignoring ASCII
-/// case; `None` when there is no such scalar attribute.
-pub(crate) fn find_attribute<'a>(file: &'a ParticleFile, name: &str) -> Option<&'a Attribute> {
-    let attributes = &file.attributes;
-    if let Some(a) = attributes.iter().find(|a| a.name == name) {
-        return Some(a);
-    }
-    let folded: Vec<&Attribute> = attributes
-        .iter()
-        .filter(|a| a.name.eq_ignore_ascii_case(name))
-        .collect();
-    match folded[..] {
-        [a] => Some(a),
-        _ => None,
-    }
-}
-
-/// The attribute `name` of `file` for the option `option` (`--radius-attribute`, …), which
-/// needs one scalar per particle: `what` it is to the option ("a radius"). Errors name
-/// `input`: a missing attribute lists the available ones; a vector (`name:0` … `name:k-1`)
-/// is not a scalar.
+/// The attribute `name` of `frame` for the option `option` (`--radius-attribute`, …), which
+/// needs one scalar per particle: `what` it is to the option ("a radius"). Errors name the
+/// frame's file: a missing attribute lists the available ones; a vector (`name:0` …
+/// `name:k-1`) is not a scalar.
 pub(crate) fn point_attribute<'a>(
-    file: &'a ParticleFile,
+    frame: &'a Frame,
     name: &str,
-    input: &Path,
     option: &'static str,
     what: &'static str,
 ) -> Result<&'a Attribute, CliError> {
-    if let Some(a) = find_attribute(file, name) {
+    if let Some(a) = frame.attribute(name) {
         return Ok(a);
     }
-    let attributes = &file.attributes;
+    let input = frame.path.as_path();
+    let attributes = &frame.attributes;
     let components = attributes
         .iter()
         .filter(|a| vector_base(&a.name).is_some_and(|b| b.eq_ignore_ascii_case(name)))
@@ -296,7 +279,7 @@ pub(crate) fn point_attribute<'a>(
     } else {
         available.join(", ")
     };
-    for skipped in &file.skipped {
+    for skipped in &frame.skipped {
         available.push_str(&format!("; not read: {skipped}"));
     }
     Err(CliError::AttributeMissing {
@@ -313,21 +296,27 @@ fn vector_base(name: &str) -> Option<&str> {
     (!base.is_empty() && !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit())).then_some(base)
 }
 
-/// Gives the particle set of `file` the radii of its attribute `name`, scaled by `scale`, and
-/// returns what was used. Errors name `input`, the particle and, in a CSV file, its line.
+/// Gives the particle set of `frame` the radii of its attribute `name`, scaled by `scale`,
+/// and returns what was used. Errors name the file, the particle and, in a CSV file, its line.
 pub(crate) fn attach_radii(
-    file: ParticleFile,
+    frame: Frame,
     name: &str,
     scale: f64,
-    input: &Path,
-    options: &ReadOptions,
-) -> Result<(ParticleFile, RadiiUsed), CliError> {
-    let attribute = point_attribute(&file, name, input, "--radius-attribute", "a radius")?;
+) -> Result<(Frame, RadiiUsed), CliError> {
+    let attribute = point_attribute(&frame, name, "--radius-attribute", "a radius")?;
     let attribute_name = attribute.name.clone();
     let values: Vec<f64> = match &attribute.values {
         AttributeValues::Float(v) => v.clone(),
         AttributeValues::Int(v) => v.iter().map(|&i| i as f64).collect(),
     };
+    let Frame {
+        path,
+        set,
+        attributes,
+        skipped,
+        position_columns,
+        lines,
+    } = frame;
     let bad_value = |error: CoreError, scaled: bool| -> CliError {
         let (index, problem) = match &error {
             CoreError::InvalidParticleRadius { index, .. }
@@ -349,24 +338,14 @@ pub(crate) fn attach_radii(
         } else {
             problem
         };
-        // The line is looked up only now, on the error path (CSV only).
-        let line = boundary_io::particle_line(input, options, index)
-            .ok()
-            .flatten();
         CliError::RadiusValue {
-            path: input.to_path_buf(),
+            path: path.clone(),
             attribute: attribute_name.clone(),
             index,
-            line,
+            line: lines.line(index),
             problem,
         }
     };
-    let ParticleFile {
-        set,
-        attributes,
-        skipped,
-        position_columns,
-    } = file;
     let set = set.with_radii(values).map_err(|e| bad_value(e, false))?;
     let resolved = match &set {
         AnyParticleSet::D2(s) => s.resolved_radii(radius(scale)?),
@@ -385,15 +364,15 @@ pub(crate) fn attach_radii(
         min: if resolved.is_empty() { scale } else { min },
         max: if resolved.is_empty() { scale } else { max },
     };
-    Ok((
-        ParticleFile {
-            set,
-            attributes,
-            skipped,
-            position_columns,
-        },
-        used,
-    ))
+    let frame = Frame {
+        path,
+        set,
+        attributes,
+        skipped,
+        position_columns,
+        lines,
+    };
+    Ok((frame, used))
 }
 
 /// `--radius-scale`: a resolution (positive, finite, within the supported range).
@@ -522,19 +501,19 @@ pub(crate) fn read_input(
     let options = read_options(args);
     match args.radius_mode()? {
         RadiusMode::Uniform(arg) => {
-            let set = boundary_io::read_particles(&args.input, &options)?;
-            refuse_flat(&set, &args.input, &options)?;
-            let resolved = resolve_radius(arg, &set, &args.input)?;
+            let frame = read_frame(&args.input, &options, FrameParts::Positions)?;
+            refuse_flat(&frame, &options)?;
+            let resolved = resolve_radius(arg, &frame.set, &args.input)?;
             if let Some(note) = radius_note(&resolved, &args.input) {
                 errln!("{note}");
             }
-            Ok((set, resolved.r, None))
+            Ok((frame.set, resolved.r, None))
         }
         RadiusMode::PerParticle { attribute, scale } => {
-            let file = boundary_io::read_particle_file(&args.input, &options)?;
-            refuse_flat(&file.set, &args.input, &options)?;
-            let (file, used) = attach_radii(file, &attribute, scale, &args.input, &options)?;
-            Ok((file.set, scale, Some(used)))
+            let frame = read_frame(&args.input, &options, FrameParts::WithAttributes)?;
+            refuse_flat(&frame, &options)?;
+            let (frame, used) = attach_radii(frame, &attribute, scale)?;
+            Ok((frame.set, scale, Some(used)))
         }
     }
 }
@@ -542,14 +521,10 @@ pub(crate) fn read_input(
 /// Refuses a flat 3D set read without `--dim` (see [`CliError::Flat`]): read as 3D, every
 /// particle of a flat set is boundary, which is never what a 2D scene stored as x,y,z means.
 /// `--dim 3` keeps it 3D.
-pub(crate) fn refuse_flat(
-    set: &AnyParticleSet,
-    input: &Path,
-    options: &ReadOptions,
-) -> Result<(), CliError> {
-    match (options.dim, set.flatness()) {
+pub(crate) fn refuse_flat(frame: &Frame, options: &ReadOptions) -> Result<(), CliError> {
+    match (options.dim, frame.set.flatness()) {
         (None, Some(flatness)) => Err(CliError::Flat {
-            path: input.to_path_buf(),
+            path: frame.path.clone(),
             flatness,
         }),
         _ => Ok(()),

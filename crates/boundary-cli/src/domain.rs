@@ -3,13 +3,13 @@
 //! turned into the core's [`Domain`] once per frame. The definition lives in the core
 //! (`boundary::domain`); this module only reads files and attributes.
 
-use crate::common::{attach_radii, find_attribute, point_attribute, InputArgs, RadiusMode};
+use crate::common::{attach_radii, point_attribute, InputArgs, RadiusMode};
 use crate::error::CliError;
 use boundary::{
     AnyParticleSet, CoreError, Domain, HalfSpace, ParticleSet, Periodic, Point, SolidMesh,
 };
 use boundary::{Dim, SupportedDim};
-use boundary_io::{read_mesh, AttributeValues, Format, ParticleFile, ReadOptions};
+use boundary_io::{read_frame, read_mesh, AttributeValues, Format, Frame, FrameParts, ReadOptions};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -47,6 +47,14 @@ pub(crate) struct DomainArgs {
     /// `boundary` stays the free surface.
     #[arg(long, value_name = "NAME")]
     pub(crate) phase_attribute: Option<String>,
+}
+
+impl DomainArgs {
+    /// Whether the options read point attributes of each frame (`--wall-attribute`,
+    /// `--phase-attribute`).
+    pub(crate) fn reads_attributes(&self) -> bool {
+        self.wall_attribute.is_some() || self.phase_attribute.is_some()
+    }
 }
 
 /// `--wall-attribute NAME=V[,V...]`: the attribute and the values that mark a wall row.
@@ -214,11 +222,6 @@ impl DomainSetup {
         self.file_walls.is_some() || self.selector.is_some()
     }
 
-    /// Whether each frame's point attributes are needed.
-    pub(crate) fn needs_attributes(&self) -> bool {
-        self.selector.is_some() || self.phase_attribute.is_some()
-    }
-
     /// Whether the detection reports interfaces.
     pub(crate) fn has_phases(&self) -> bool {
         self.phase_attribute.is_some()
@@ -247,14 +250,10 @@ impl DomainSetup {
         self.selector.as_ref().map(WallSelector::describe)
     }
 
-    /// The domain of the frame `file` read from `input` (with its radii attached, if any).
-    pub(crate) fn frame(
-        &self,
-        file: &ParticleFile,
-        input: &Path,
-        options: &ReadOptions,
-    ) -> Result<FrameDomain, CliError> {
-        let set = &file.set;
+    /// The domain of `frame` (with its radii attached, if any).
+    pub(crate) fn frame_domain(&self, frame: &Frame) -> Result<FrameDomain, CliError> {
+        let set = &frame.set;
+        let input = frame.path.as_path();
         if let Some((walls, path)) = &self.file_walls {
             if walls.dim() != set.dim() {
                 return Err(CliError::WallDimension {
@@ -269,13 +268,8 @@ impl DomainSetup {
         let (fluid, rows, wall_rows, input_walls) = match &self.selector {
             None => (None, None, None, None),
             Some(selector) => {
-                let attribute = point_attribute(
-                    file,
-                    &selector.name,
-                    input,
-                    "--wall-attribute",
-                    "a wall flag",
-                )?;
+                let attribute =
+                    point_attribute(frame, &selector.name, "--wall-attribute", "a wall flag")?;
                 let is_wall = |x: f64| selector.values.contains(&x);
                 let mask: Vec<bool> = match &attribute.values {
                     AttributeValues::Int(v) => v.iter().map(|&i| is_wall(i as f64)).collect(),
@@ -317,7 +311,7 @@ impl DomainSetup {
             domain = domain.with_periodic(*p);
         }
         if let Some(name) = &self.phase_attribute {
-            let phases = phases(file, name, input, options, rows.as_deref())?;
+            let phases = phases(frame, name, rows.as_deref())?;
             domain = domain.with_phases(phases);
         }
         Ok(FrameDomain {
@@ -332,14 +326,8 @@ impl DomainSetup {
 
 /// The phase numbers of the classified rows (`rows`, else every row) from the attribute
 /// `name`; a value that is not an integer in `0..=u32::MAX` names its row and line.
-fn phases(
-    file: &ParticleFile,
-    name: &str,
-    input: &Path,
-    options: &ReadOptions,
-    rows: Option<&[usize]>,
-) -> Result<Vec<u32>, CliError> {
-    let attribute = point_attribute(file, name, input, "--phase-attribute", "a phase number")?;
+fn phases(frame: &Frame, name: &str, rows: Option<&[usize]>) -> Result<Vec<u32>, CliError> {
+    let attribute = point_attribute(frame, name, "--phase-attribute", "a phase number")?;
     let value = |i: usize| -> f64 {
         match &attribute.values {
             AttributeValues::Int(v) => v[i] as f64,
@@ -351,18 +339,17 @@ fn phases(
         if x.is_finite() && x >= 0.0 && x <= f64::from(u32::MAX) && x.fract() == 0.0 {
             return Ok(x as u32);
         }
-        let line = boundary_io::particle_line(input, options, i).ok().flatten();
         Err(CliError::PhaseValue {
-            path: input.to_path_buf(),
+            path: frame.path.clone(),
             attribute: attribute.name.clone(),
             index: i,
-            line,
+            line: frame.line(i),
             value: x,
         })
     };
     match rows {
         Some(rows) => rows.iter().map(|&i| phase(i)).collect(),
-        None => (0..file.set.len()).map(phase).collect(),
+        None => (0..frame.set.len()).map(phase).collect(),
     }
 }
 
@@ -387,15 +374,18 @@ fn read_wall_file(
     };
     let set = match mode {
         RadiusMode::PerParticle { attribute, scale } => {
-            let file = boundary_io::read_particle_file(path, &options).map_err(no_particle)?;
-            if find_attribute(&file, attribute).is_some() {
-                attach_radii(file, attribute, *scale, path, &options)?.0.set
+            let frame =
+                read_frame(path, &options, FrameParts::WithAttributes).map_err(no_particle)?;
+            if frame.attribute(attribute).is_some() {
+                attach_radii(frame, attribute, *scale)?.0.set
             } else {
-                file.set
+                frame.set
             }
         }
         RadiusMode::Uniform(_) => {
-            boundary_io::read_particles(path, &options).map_err(no_particle)?
+            read_frame(path, &options, FrameParts::Positions)
+                .map_err(no_particle)?
+                .set
         }
     };
     if set.is_empty() {

@@ -5,7 +5,7 @@ use crate::out::{self, Real, AXES};
 use crate::text::{
     find_near_miss, normalise_name, position_axis, select_position_columns, trim_field, TextLines,
 };
-use crate::{Column, NearMiss, Positions};
+use crate::{Column, LineIndex, NearMiss, Positions};
 use boundary_core::AnyParticleSet;
 use std::io::{BufRead, Write};
 
@@ -150,6 +150,7 @@ pub(crate) fn read<R: BufRead>(
         slot[c] = k;
     }
     let mut coords = Vec::new();
+    let mut line_index = LineIndex::default();
     let mut row = [0.0f64; 3];
     let mut index = 0usize;
     // Policy: a row may not have more values than the header has columns (or, headerless,
@@ -211,6 +212,7 @@ pub(crate) fn read<R: BufRead>(
             ));
         }
         coords.extend_from_slice(&row[..stride]);
+        line_index.push(line_number);
         index += 1;
         if !extra.is_empty() {
             let all: Vec<&str> = fields(line, sep).collect();
@@ -249,6 +251,7 @@ pub(crate) fn read<R: BufRead>(
         names: if headerless { Vec::new() } else { labels },
         near_miss,
         empty,
+        lines: line_index,
         ..Default::default()
     })
 }
@@ -320,39 +323,6 @@ impl ExtraColumn {
         };
         attributes.push(crate::Attribute { name, values });
     }
-}
-
-/// The 1-based line of particle `index` (0-based, in file order, counted as [`read`] counts
-/// them: after the header, blank and `#` lines skipped); `None` when the file has fewer
-/// particles. For error messages about a particle found after reading (a bad radius).
-pub(crate) fn particle_line<R: BufRead>(
-    reader: R,
-    name: &str,
-    index: usize,
-) -> Result<Option<usize>, IoError> {
-    let mut lines = TextLines::new(reader);
-    let Some((first_number, first, sep)) = first_line(&mut lines, name)? else {
-        return Ok(None);
-    };
-    let mut k = 0;
-    if fields(&first, sep).all(|f| number(f, sep).is_some()) {
-        // Headerless: the first line is particle 0.
-        if index == 0 {
-            return Ok(Some(first_number));
-        }
-        k = 1;
-    }
-    while let Some((line_number, line)) = lines.next_line(name)? {
-        let t = line.trim_start();
-        if t.is_empty() || t.starts_with('#') {
-            continue;
-        }
-        if k == index {
-            return Ok(Some(line_number));
-        }
-        k += 1;
-    }
-    Ok(None)
 }
 
 /// The values of the column named `column` of a CSV file with a header.
@@ -502,18 +472,16 @@ mod tests {
     }
 
     #[test]
-    fn particle_line_counts_particles_as_the_reader_does() {
+    fn each_particle_keeps_the_line_it_was_read_from() {
         let text = "sep=;\n# comment\nx;y;h\n\n0;0;1\n# skipped\n1;0;2\n\n2;0;3\n";
-        let lines: Vec<Option<usize>> = (0..4)
-            .map(|i| particle_line(text.as_bytes(), "l.csv", i).unwrap())
-            .collect();
-        assert_eq!(lines, [Some(5), Some(7), Some(9), None]);
         let p = read(text.as_bytes(), "l.csv", None, true).unwrap();
+        let lines: Vec<Option<usize>> = (0..4).map(|i| p.lines.line(i)).collect();
+        assert_eq!(lines, [Some(5), Some(7), Some(9), None]);
         assert_eq!(p.coords, [0.0, 0.0, 1.0, 0.0, 2.0, 0.0]);
         // Headerless: the first data line is particle 0.
         let text = "\n0,0\n1,1\n";
-        assert_eq!(particle_line(text.as_bytes(), "h.csv", 0).unwrap(), Some(2));
-        assert_eq!(particle_line(text.as_bytes(), "h.csv", 1).unwrap(), Some(3));
+        let p = read(text.as_bytes(), "h.csv", None, false).unwrap();
+        assert_eq!((p.lines.line(0), p.lines.line(1)), (Some(2), Some(3)));
     }
 
     #[test]

@@ -98,6 +98,13 @@
 //! [`ParticleFile::skipped`], when a value is not a number, when its name would read back as a
 //! position (`px` beside `x`), or when it repeats a name. [`read_particles`] parses none of it.
 //!
+//! # Frames
+//!
+//! [`read_frame`] reads a file once into a [`Frame`]: the set, the attributes (when asked,
+//! [`FrameParts`]), the coordinates used and the line of each particle ([`Frame::line`], CSV),
+//! so that a tool that finds a bad value after reading (a radius, an id) names its line
+//! without opening the file again.
+//!
 //! # Dimension
 //!
 //! A file with two coordinates per particle (CSV or XYZ with x and y only, PLY without `z`) is a
@@ -173,6 +180,7 @@ mod atomic;
 mod bgeo;
 mod csv;
 mod error;
+mod frame;
 mod mesh;
 mod ply;
 mod text;
@@ -182,6 +190,7 @@ mod xyz;
 
 pub use atomic::{is_temp_name_for, write_atomic, TEMP_MARKER};
 pub use error::{IoError, Location};
+pub use frame::{Frame, FrameParts, LineIndex};
 
 use boundary_core::{AnyParticleSet, CoreError, ParticleSet, Point};
 use boundary_core::{Dim, SupportedDim};
@@ -396,12 +405,20 @@ impl ParticleFile {
     /// The attributes as columns for [`write_particles`], leaving out those whose name equals
     /// (ignoring ASCII case) one in `except`: the columns the caller writes itself.
     pub fn columns<'a>(&'a self, except: &[&str]) -> Vec<(&'a str, Column<'a>)> {
-        self.attributes
-            .iter()
-            .filter(|a| !except.iter().any(|e| e.eq_ignore_ascii_case(&a.name)))
-            .map(|a| (a.name.as_str(), a.column()))
-            .collect()
+        attribute_columns(&self.attributes, except)
     }
+}
+
+/// `attributes` as columns to write, less those named (ignoring ASCII case) in `except`.
+pub(crate) fn attribute_columns<'a>(
+    attributes: &'a [Attribute],
+    except: &[&str],
+) -> Vec<(&'a str, Column<'a>)> {
+    attributes
+        .iter()
+        .filter(|a| !except.iter().any(|e| e.eq_ignore_ascii_case(&a.name)))
+        .map(|a| (a.name.as_str(), a.column()))
+        .collect()
 }
 
 /// Coordinates as a reader found them, before the dimension policy.
@@ -426,6 +443,8 @@ pub(crate) struct Positions {
     /// Why the file holds no particle, in the reader's words, when it holds none (for
     /// [`IoError::NoParticles`]; a generic reason by format otherwise).
     pub empty: Option<String>,
+    /// The line of each particle, for readers that count lines (CSV).
+    pub lines: LineIndex,
 }
 
 /// A column beside two position columns that looks like the misspelt third
@@ -597,7 +616,7 @@ pub fn read_particles_from(
     format: Format,
     options: &ReadOptions,
 ) -> Result<AnyParticleSet, IoError> {
-    read_any(reader, name, format, options, false).map(|f| f.set)
+    read_any(reader, name, format, options, false).map(|(f, _)| f.set)
 }
 
 /// Reads the particles of the file at `path` with their other point attributes (see the crate
@@ -614,7 +633,7 @@ pub fn read_particle_file_from(
     format: Format,
     options: &ReadOptions,
 ) -> Result<ParticleFile, IoError> {
-    read_any(reader, name, format, options, true)
+    read_any(reader, name, format, options, true).map(|(f, _)| f)
 }
 
 /// [`read_particle_file`] without the attributes: the particle set and the
@@ -622,17 +641,41 @@ pub fn read_particle_file_from(
 /// (nothing but the positions is parsed, as in [`read_particles`]).
 pub fn read_positions(path: &Path, options: &ReadOptions) -> Result<ParticleFile, IoError> {
     let (file, name, format) = open_input(path, options)?;
-    read_any(file, &name, format, options, false)
+    read_any(file, &name, format, options, false).map(|(f, _)| f)
 }
 
-/// Reads positions, and the other point attributes when `attributes` is set.
+/// Reads the file at `path` once into a [`Frame`]: the particles, with `parts` the other
+/// point attributes too, and the line of each particle (CSV) for later messages. The format
+/// is `options.format` or the one the extension names.
+///
+/// ```
+/// use boundary_io::{read_frame, FrameParts, ReadOptions};
+///
+/// let dir = tempfile::tempdir().expect("temporary directory");
+/// let path = dir.path().join("frame.csv");
+/// std::fs::write(&path, "x,y,h\n0,0,1\n# a comment\n1,0,2\n")?;
+/// let frame = read_frame(&path, &ReadOptions::default(), FrameParts::WithAttributes)?;
+/// assert_eq!(frame.set.len(), 2);
+/// assert_eq!(frame.attribute("H").map(|a| a.name.as_str()), Some("h"));
+/// assert_eq!((frame.line(0), frame.line(1), frame.line(2)), (Some(2), Some(4), None));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn read_frame(path: &Path, options: &ReadOptions, parts: FrameParts) -> Result<Frame, IoError> {
+    let (file, name, format) = open_input(path, options)?;
+    let attributes = parts == FrameParts::WithAttributes;
+    let (file, lines) = read_any(file, &name, format, options, attributes)?;
+    Ok(Frame::new(path, file, lines))
+}
+
+/// Reads positions, and the other point attributes when `attributes` is set; with the line
+/// of each particle where the reader counts lines.
 fn read_any(
     reader: impl Read,
     name: &str,
     format: Format,
     options: &ReadOptions,
     attributes: bool,
-) -> Result<ParticleFile, IoError> {
+) -> Result<(ParticleFile, LineIndex), IoError> {
     if let Some(d) = options.dim {
         if d != 2 && d != 3 {
             return Err(IoError::dimension(
@@ -680,6 +723,7 @@ fn read_any(
         };
     }
     let empty = positions.empty.take();
+    let lines = std::mem::take(&mut positions.lines);
     let (set, dropped) = apply_dimension(positions, name, options.dim)?;
     if set.is_empty() {
         return Err(IoError::NoParticles {
@@ -703,12 +747,13 @@ fn read_any(
         1 => out::AXES[axis].to_owned(),
         _ => names.remove(axis),
     });
-    Ok(ParticleFile {
+    let file = ParticleFile {
         set,
         attributes,
         skipped,
         position_columns: PositionColumns { names, dropped },
-    })
+    };
+    Ok((file, lines))
 }
 
 /// Whether coordinate `axis` has the same value for every particle (vacuously for none).
@@ -797,22 +842,6 @@ where
                 source: other,
             },
         })
-}
-
-/// The 1-based line on which particle `index` (0-based, in file order) is written, for
-/// messages about a particle found after reading (a bad radius): CSV files only (`None` for
-/// other formats, and when the file has fewer particles). The format is `options.format` or
-/// the one the extension names.
-pub fn particle_line(
-    path: &Path,
-    options: &ReadOptions,
-    index: usize,
-) -> Result<Option<usize>, IoError> {
-    let (file, name, format) = open_input(path, options)?;
-    match format {
-        Format::Csv => csv::particle_line(BufReader::new(file), &name, index),
-        _ => Ok(None),
-    }
 }
 
 /// Reads the numeric column named `column` (matched like position names: case-insensitive,

@@ -88,12 +88,29 @@ fn io_error(err: IoError) -> PyErr {
 }
 
 /// A detection's error as a Python exception: `KeyboardInterrupt` when it was stopped,
-/// `ValueError` otherwise (bad input for the method or the domain).
+/// `ValueError` otherwise (bad input for the method or the domain), its message in Python's
+/// spelling ([`in_python_terms`]).
 fn detect_error(err: DetectError) -> PyErr {
     match err {
         DetectError::Interrupted => PyKeyboardInterrupt::new_err(err.to_string()),
-        other => value_error(other),
+        other => value_error(in_python_terms(&other)),
     }
+}
+
+/// The library's names of the inputs a detection takes, with the argument of `detect` that
+/// gives each. The library names inputs in its own terms; Python adds its argument after the
+/// first mention of each. Solid meshes have no argument here.
+const ARGUMENTS: &[(&str, &str)] = &[("half-spaces", "solids="), ("wall particles", "walls=")];
+
+/// A detector's error message in Python's spelling: `solid half-spaces (solids=)`.
+fn in_python_terms(error: &DetectError) -> String {
+    let mut message = error.to_string();
+    for (term, argument) in ARGUMENTS {
+        if let Some(at) = message.find(term) {
+            message.insert_str(at + term.len(), &format!(" ({argument})"));
+        }
+    }
+    message
 }
 
 /// An array-like argument `what` as a C-contiguous `float64` array: the object itself when it

@@ -142,3 +142,13 @@ def test_bad_domains_raise_with_the_library_message(kwargs, error, message):
     with pytest.raises(error) as info:
         boundary.detect(points, 0.8, **kwargs)
     assert message in str(info.value), str(info.value)
+
+
+def test_a_refused_solid_names_the_arguments_of_detect_not_the_flags_of_the_cli():
+    points = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    with pytest.raises(ValueError) as info:
+        boundary.detect(points, 0.8, method="muller", solids=["y<0"])
+    message = str(info.value)
+    assert "solid half-spaces (solids=)" in message, message
+    assert "wall particles (walls=)" in message, message
+    assert "--" not in message, message
