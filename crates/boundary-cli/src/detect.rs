@@ -466,7 +466,7 @@ fn check_track(
     mode: &RadiusMode,
     domain: bool,
 ) -> Result<(), CliError> {
-    if detector.name() != "exact" || detector.params().0.iter().any(|p| p.value != p.default) {
+    if detector.name() != "exact" || detector.describe().0.iter().any(|p| p.value != p.default) {
         return Err(CliError::Usage(
             "--track gives the labels of exact at its default parameters: use --method exact \
              without --set",
@@ -595,7 +595,7 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
         let resolved = outcome.resolved.as_ref();
         let object = json!({
             "method": detector.name(),
-            "params": detector.params().to_string(),
+            "params": detector.describe().to_string(),
             "input": args.input.input.display().to_string(),
             "n": outcome.n,
             "dim": outcome.dim,
@@ -1016,7 +1016,7 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
             .collect();
         let object = json!({
             "method": detector.name(),
-            "params": detector.params().to_string(),
+            "params": detector.describe().to_string(),
             "input": pattern,
             "radius": match &radius_mode {
                 RadiusMode::Uniform(arg) => arg.fixed().unwrap_or(f64::NAN),

@@ -25,7 +25,7 @@
 //! use boundary::{BoundaryDetector, IaDetector, IaParams, ParticleSet, Radius};
 //!
 //! let ia = IaDetector::try_new(IaParams { depth: 4 }).unwrap();
-//! assert_eq!(ia.settings().depth, 4);
+//! assert_eq!(ia.params().depth, 4);
 //! assert!(IaDetector::try_new(IaParams { depth: 0 }).is_err());
 //! let set = ParticleSet::<2>::from_rows(&[[0.0, 0.0], [1.0, 0.0]]).unwrap();
 //! let labels = ia.detect_2d(&set, Radius::new(0.8).unwrap()).unwrap().labels;
@@ -108,9 +108,14 @@ pub use boundary_sph::Kernel;
 #[cfg(feature = "svm")]
 pub use boundary_svm::{ModelChoice, Refine, SvmDetector, SvmModel, SvmParams};
 
-/// For writing a detector: what an implementation of [`BoundaryDetector`] uses beyond the
-/// types at the crate root. A user who runs the existing methods needs none of it.
+/// For writing a detector: what an implementation of [`Method`](implement::Method) uses beyond
+/// the types at the crate root. A user who runs the existing methods needs none of it
+/// (`docs/ADDING_A_METHOD.md` gives the steps).
 ///
+/// - [`Method`](implement::Method), [`Capabilities`](implement::Capabilities),
+///   [`Support`](implement::Support) and [`Job`](implement::Job): the trait a method
+///   implements, what it supports, and the job it classifies; every `Method` is a
+///   [`BoundaryDetector`] through the core's face, which checks each job once for all;
 /// - [`NeighbourGrid`](implement::NeighbourGrid) and [`RadiusGrid`](implement::RadiusGrid):
 ///   fixed-radius neighbour queries (uniform and per-particle radii), with
 ///   [`Neighbourhood`](implement::Neighbourhood);
@@ -123,8 +128,9 @@ pub use boundary_svm::{ModelChoice, Refine, SvmDetector, SvmModel, SvmParams};
 ///   [`impl_display_as_label!`](implement::impl_display_as_label): a detector's `Display`.
 pub mod implement {
     pub use boundary_core::{
-        decompose, domain, impl_display_as_label, radius_grid, solid_mesh, write_label,
-        NeighbourGrid, Neighbourhood, RadiusGrid,
+        decompose, detect, domain, impl_display_as_label, method, radius_grid, solid_mesh,
+        write_label, Capabilities, Job, JobByDim, Method, NeighbourGrid, Neighbourhood, RadiusGrid,
+        Support,
     };
     #[cfg(feature = "exact")]
     pub use boundary_exact::exact_cover;
