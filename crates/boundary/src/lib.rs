@@ -16,7 +16,8 @@
 //! [`implement`]. Any method's labels widen to a narrow band with [`Labels::widen`] (the
 //! command line's `--band K`: every particle within `K·r` of a boundary particle), and
 //! [`Tracker`] labels the successive time steps of a simulation as `exact` does, recomputing
-//! only the particles whose label may have changed.
+//! only the particles whose label may have changed. [`Cascade`] composes two methods: a
+//! certified one re-tests the boundary particles of another.
 //!
 //! # Typed parameters
 //! Each method has a parameter struct with public fields and the paper's defaults, and a
@@ -52,7 +53,10 @@
 //! assert_eq!(score.recall(), 1.0);
 //! ```
 
+mod cascade;
 pub mod registry;
+
+pub use cascade::Cascade;
 
 pub use registry::{
     detector_by_name, detector_with_params, methods, parameters, parse_param, parse_param_list,

@@ -176,3 +176,38 @@ fn the_face_gives_a_new_method_owned_particles_and_domains() {
     let tolerant = Tolerant(probe.clone()).detect(&with_radii, r).unwrap();
     assert_eq!(tolerant.labels, whole.labels);
 }
+
+/// `Cascade` composes any method with a certified refiner: `svm` then `exact` is exactly
+/// `svm`'s own cascade (`refine=exact`), and the new method above refined by `exact` keeps
+/// only true boundary particles, none lost that it had found.
+#[test]
+fn a_cascade_refines_any_method_with_a_certified_one() {
+    use boundary::registry::detector_with_params;
+    use boundary::Cascade;
+    let set = AnyParticleSet::from(block(14, 11));
+    let r = Radius::new(0.75).unwrap();
+    let exact = detector_by_name("exact").unwrap();
+    let svm_then_exact = Cascade::new(detector_by_name("svm").unwrap(), exact).unwrap();
+    let own = detector_with_params("svm", &[("refine", "exact")]).unwrap();
+    assert_eq!(
+        svm_then_exact.detect(&set, r).unwrap().labels,
+        own.detect(&set, r).unwrap().labels
+    );
+    let probe = AxisProbe { inset: 0.0 };
+    let alone = probe.detect(&set, r).unwrap().labels;
+    let refined = Cascade::new(Box::new(probe), detector_by_name("exact").unwrap())
+        .unwrap()
+        .detect(&set, r)
+        .unwrap()
+        .labels;
+    assert_eq!(
+        refined, alone,
+        "the probe flags only true boundary particles"
+    );
+    let e = Cascade::new(
+        detector_by_name("ia").unwrap(),
+        Box::new(AxisProbe { inset: 0.0 }),
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("certified"), "{e}");
+}
