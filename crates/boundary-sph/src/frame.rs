@@ -75,7 +75,7 @@ impl Smoothing {
         }
     }
 
-    /// The listing of `kernel` and `h_over_r` for [`BoundaryDetector::params`](boundary_core::BoundaryDetector::params).
+    /// The listing of `kernel` and `h_over_r` for [`Method::describe`](boundary_core::Method::describe).
     pub fn param_infos(&self) -> [ParamInfo; 2] {
         [
             ParamInfo {
