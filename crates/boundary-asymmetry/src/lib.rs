@@ -212,7 +212,7 @@ impl AsymmetryDetector {
     }
 
     /// The parameters.
-    pub fn settings(&self) -> &AsymmetryParams {
+    pub fn params(&self) -> &AsymmetryParams {
         &self.params
     }
 

@@ -371,7 +371,7 @@ fn refuse_flat(set: &AnyParticleSet) -> Result<(), Failure> {
 /// make their smoothing length a multiple of `h`) is `BOUNDARY_ERR_PARAM`, as the command
 /// line refuses it with `--smoothing-length`.
 fn refuse_h_over_r(detector: &dyn BoundaryDetector, h: f64) -> Result<(), Failure> {
-    for p in detector.params().0 {
+    for p in detector.describe().0 {
         let one = p.value.trim().parse::<f64>().is_ok_and(|v| v == 1.0);
         if p.name == "h_over_r" && !one {
             return Err(Failure::new(

@@ -27,7 +27,7 @@ pub(crate) fn list_methods(args: MethodsArgs) -> Result<(), CliError> {
                     "name": name,
                     "summary": summary(name),
                     "certified": d.certified(),
-                    "params": d.params().0.iter().map(|p| json!({
+                    "params": d.describe().0.iter().map(|p| json!({
                         "name": p.name, "default": p.default, "description": p.description,
                     })).collect::<Vec<_>>(),
                 })
@@ -39,7 +39,7 @@ pub(crate) fn list_methods(args: MethodsArgs) -> Result<(), CliError> {
     for (name, d) in &entries {
         let tag = if d.certified() { " [certified]" } else { "" };
         outln!("{name}{tag}: {}", summary(name).unwrap_or(""))?;
-        let params = d.params();
+        let params = d.describe();
         if params.0.is_empty() {
             outln!("    (no parameters)")?;
         }

@@ -105,7 +105,7 @@ pub(crate) fn resample(args: ResampleArgs) -> Result<(), CliError> {
     if args.input.json {
         let object = json!({
             "method": detector.name(),
-            "params": detector.params().to_string(),
+            "params": detector.describe().to_string(),
             "input": args.input.input.display().to_string(),
             "output": args.output.display().to_string(),
             "n": set.len(),

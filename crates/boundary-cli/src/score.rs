@@ -57,7 +57,7 @@ pub(crate) fn score(args: ScoreArgs) -> Result<(), CliError> {
     if args.input.json {
         let object = json!({
             "method": detector.name(),
-            "params": detector.params().to_string(),
+            "params": detector.describe().to_string(),
             "truth": truth_name,
             "input": args.input.input.display().to_string(),
             "n": set.len(),

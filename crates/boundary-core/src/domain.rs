@@ -42,13 +42,13 @@
 //!
 //! ```
 //! use boundary_core::{AnyParticleSet, Domain, HalfSpace, ParticleSet, Radius};
-//! # use boundary_core::{BoundaryDetector, Detection, DetectError, Labels, Params};
+//! # use boundary_core::{BoundaryDetector, Capabilities, Detection, DetectError, Dim, Job, Labels, Method, Params, SupportedDim};
 //! # #[derive(Debug)] struct Lonely;
-//! # impl BoundaryDetector for Lonely {
-//! #     fn name(&self) -> &'static str { "lonely" }
-//! #     fn params(&self) -> Params { Params::default() }
-//! #     fn detect_2d(&self, s: &ParticleSet<2>, _: Radius) -> Result<Detection, DetectError> { Ok(Detection { labels: Labels::new(vec![true; s.len()]), margin: None }) }
-//! #     fn detect_3d(&self, s: &ParticleSet<3>, _: Radius) -> Result<Detection, DetectError> { Ok(Detection { labels: Labels::new(vec![true; s.len()]), margin: None }) }
+//! # impl Method for Lonely {
+//! #     const NAME: &'static str = "lonely";
+//! #     fn describe(&self) -> Params { Params::default() }
+//! #     fn capabilities(&self) -> Capabilities { Capabilities::DEFAULT }
+//! #     fn classify<const D: usize>(&self, job: Job<'_, D>) -> Result<Detection, DetectError> where Dim<D>: SupportedDim { Ok(Detection { labels: Labels::new(vec![true; job.owned]), margin: None }) }
 //! # }
 //! // A column of fluid on a floor of wall particles, and the floor's solid below y = -0.5.
 //! let fluid = ParticleSet::<2>::from_rows(&[[0.0, 0.0], [0.0, 1.0]]).unwrap();
@@ -63,24 +63,20 @@
 //! assert!(result.unwrap_err().to_string().contains("solid"));
 //! ```
 
-use crate::{
-    AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, ParticleSet, Point, Radius,
-    SolidMesh,
-};
-use crate::{Dim, SupportedDim};
+use crate::{AnyParticleSet, SolidMesh};
 use std::fmt;
 use std::sync::Arc;
 
 /// The axis names of messages and of [`HalfSpace::parse`].
-const AXES: [char; 3] = ['x', 'y', 'z'];
+pub(crate) const AXES: [char; 3] = ['x', 'y', 'z'];
 
 /// An axis-aligned solid half-space: `{x_axis <= value}` (`x<value`) or `{x_axis >= value}`
 /// (`x>value`). Closed (module docs, *Policy*).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HalfSpace {
-    axis: usize,
-    solid_below: bool,
-    value: f64,
+    pub(crate) axis: usize,
+    pub(crate) solid_below: bool,
+    pub(crate) value: f64,
 }
 
 impl HalfSpace {
@@ -187,8 +183,8 @@ impl fmt::Display for HalfSpace {
 /// insides of closed triangle meshes ([`SolidMesh`]).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Solids {
-    half_spaces: Vec<HalfSpace>,
-    meshes: Vec<Arc<SolidMesh>>,
+    pub(crate) half_spaces: Vec<HalfSpace>,
+    pub(crate) meshes: Vec<Arc<SolidMesh>>,
 }
 
 impl Solids {
@@ -240,27 +236,14 @@ impl Solids {
             .iter()
             .any(|h| h.fluid_depth(x) <= radius * (1.0 + 1e-9))
     }
-
-    /// `Ok` when every half-space has its axis in a set of dimension `dim`, else the error a
-    /// method's [`crate::BoundaryDetector::detect_owned_in`] returns, naming the solid
-    /// (`detect_in` checks the same before any method runs).
-    pub fn check_axes(&self, method: &'static str, dim: usize) -> Result<(), DetectError> {
-        match self.half_spaces.iter().find(|h| h.axis() >= dim) {
-            None => Ok(()),
-            Some(h) => Err(DetectError::Method {
-                method,
-                message: format!("solid '{h}' has no axis in a {dim}D set"),
-            }),
-        }
-    }
 }
 
 /// A periodic axis: particles leaving `max` re-enter at `min`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Periodic {
-    axis: usize,
-    min: f64,
-    max: f64,
+    pub(crate) axis: usize,
+    pub(crate) min: f64,
+    pub(crate) max: f64,
 }
 
 impl Periodic {
@@ -344,7 +327,7 @@ pub struct DomainError {
 }
 
 impl DomainError {
-    fn new(message: String) -> Self {
+    pub(crate) fn new(message: String) -> Self {
         DomainError { message }
     }
 }
@@ -353,10 +336,10 @@ impl DomainError {
 /// The default is the bare cloud of the crate docs.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Domain {
-    walls: Option<AnyParticleSet>,
-    solids: Solids,
-    periodic: Vec<Periodic>,
-    phases: Option<Vec<u32>>,
+    pub(crate) walls: Option<AnyParticleSet>,
+    pub(crate) solids: Solids,
+    pub(crate) periodic: Vec<Periodic>,
+    pub(crate) phases: Option<Vec<u32>>,
 }
 
 impl Domain {
@@ -378,7 +361,7 @@ impl Domain {
         self
     }
 
-    /// Adds a solid mesh (3D sets only: [`detect_in`] refuses it for a 2D set). The mesh is
+    /// Adds a solid mesh (3D sets only: [`crate::detect_in`] refuses it for a 2D set). The mesh is
     /// shared, so one read mesh can serve many detections.
     pub fn with_solid_mesh(mut self, mesh: Arc<SolidMesh>) -> Self {
         self.solids.push_mesh(mesh);
@@ -426,345 +409,6 @@ impl Domain {
     }
 }
 
-/// What a detection in a [`Domain`] returns.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct DomainDetection {
-    /// Free-surface labels (and margins) of the classified particles, in input order.
-    pub detection: Detection,
-    /// With phases: `true` for a particle on an interface between phases (not on the free
-    /// surface, but uncovered by its own phase and the walls).
-    pub interface: Option<Labels>,
-}
-
-/// Classifies `set` in `domain` with `detector` (module docs): the classified particles come
-/// first in one set, the covering-only ones after them as ghosts, and the detector's
-/// [`BoundaryDetector::detect_owned_in`] classifies the first part with the solids.
-pub fn detect_in<T: BoundaryDetector + ?Sized>(
-    detector: &T,
-    set: &AnyParticleSet,
-    domain: &Domain,
-    r: Radius,
-) -> Result<DomainDetection, DetectError> {
-    if domain.is_bare() {
-        // The bare cloud: the detection itself, without a copy of the set.
-        return Ok(DomainDetection {
-            detection: detector.detect(set, r)?,
-            interface: None,
-        });
-    }
-    let err = |message: String| DetectError::Domain(DomainError::new(message));
-    if let Some(w) = &domain.walls {
-        if w.dim() != set.dim() {
-            return Err(err(format!(
-                "the walls are {}D and the particles {}D",
-                w.dim(),
-                set.dim()
-            )));
-        }
-    }
-    if let Some(phases) = &domain.phases {
-        if phases.len() != set.len() {
-            return Err(err(format!(
-                "{} phase numbers for {} particles (one per particle)",
-                phases.len(),
-                set.len()
-            )));
-        }
-    }
-    for h in domain.solids.half_spaces() {
-        if h.axis >= set.dim() {
-            return Err(err(format!(
-                "solid '{h}': a {}D set has no {} axis",
-                set.dim(),
-                AXES[h.axis]
-            )));
-        }
-        if domain.periodic.iter().any(|p| p.axis == h.axis) {
-            return Err(err(format!(
-                "solid '{h}': the {} axis is periodic; a periodic axis has no solid bound",
-                AXES[h.axis]
-            )));
-        }
-    }
-    if !domain.solids.meshes.is_empty() {
-        if set.dim() != 3 {
-            return Err(err(format!(
-                "a solid mesh needs a 3D set; the particles are {}D",
-                set.dim()
-            )));
-        }
-        if !detector.honours_solid_meshes() {
-            return Err(DetectError::UnsupportedOption {
-                method: detector.name(),
-                option: crate::detector::SOLID_MESH_OPTION,
-                reason: detector.solid_mesh_refusal(),
-            });
-        }
-    }
-    for (k, p) in domain.periodic.iter().enumerate() {
-        if p.axis >= set.dim() {
-            return Err(err(format!(
-                "periodic '{p}': a {}D set has no {} axis",
-                set.dim(),
-                AXES[p.axis]
-            )));
-        }
-        if domain.periodic[..k].iter().any(|q| q.axis == p.axis) {
-            return Err(err(format!(
-                "periodic {}: the axis is given twice",
-                AXES[p.axis]
-            )));
-        }
-    }
-    // The reach: the halo at the largest radius of either kind.
-    let largest = |s: Option<&[f64]>| s.map_or(1.0, |s| s.iter().copied().fold(1.0, f64::max));
-    let scale = largest(set.radii()).max(largest(domain.walls.as_ref().and_then(|w| w.radii())));
-    let reach = detector.halo_width(Radius::new(r.get() * scale).map_err(DetectError::Core)?);
-    for p in &domain.periodic {
-        if p.period() < reach {
-            return Err(err(format!(
-                "periodic '{p}': the period {} is shorter than the reach {reach} of method \
-                 '{}' at r = {r}; use a longer period or a smaller radius",
-                p.period(),
-                detector.name()
-            )));
-        }
-    }
-    // A mesh is not repeated across a period: it must stay clear of the ends of every
-    // periodic range by the reach, where no sphere can meet an image of it.
-    for mesh in domain.solids.meshes() {
-        let (lo, hi) = mesh.bounds();
-        for p in &domain.periodic {
-            let a = p.axis;
-            if !(lo[a] >= p.min + reach && hi[a] <= p.max - reach) {
-                return Err(err(format!(
-                    "periodic '{p}': a solid mesh spans {}..{} along {}, within the reach \
-                     {reach} of the ends of the period; a mesh is not repeated across a \
-                     period, so it must lie inside {}..{}",
-                    lo[a],
-                    hi[a],
-                    AXES[a],
-                    p.min + reach,
-                    p.max - reach
-                )));
-            }
-        }
-    }
-    let n = set.len();
-    let free = match (set, &domain.walls) {
-        (AnyParticleSet::D2(s), w) => {
-            let w = w.as_ref().map(|w| match w {
-                AnyParticleSet::D2(w) => w,
-                AnyParticleSet::D3(_) => unreachable!("dimensions checked above"),
-            });
-            let all: Vec<usize> = (0..n).collect();
-            let ext = extend(s, &all, w, &domain.periodic, reach)?;
-            detector.detect_owned_in(&ext.into(), n, &domain.solids, r)?
-        }
-        (AnyParticleSet::D3(s), w) => {
-            let w = w.as_ref().map(|w| match w {
-                AnyParticleSet::D3(w) => w,
-                AnyParticleSet::D2(_) => unreachable!("dimensions checked above"),
-            });
-            let all: Vec<usize> = (0..n).collect();
-            let ext = extend(s, &all, w, &domain.periodic, reach)?;
-            detector.detect_owned_in(&ext.into(), n, &domain.solids, r)?
-        }
-    };
-    let interface = match &domain.phases {
-        None => None,
-        Some(phases) => Some(interfaces(
-            detector,
-            set,
-            domain,
-            phases,
-            &free.labels,
-            reach,
-            r,
-        )?),
-    };
-    // A stopped method loop leaves partial labels: never return them.
-    crate::stop::check()?;
-    Ok(DomainDetection {
-        detection: free,
-        interface,
-    })
-}
-
-/// The interface labels: per phase, its particles classified with only their own phase,
-/// its images and the walls covering; an interface particle is boundary there and not on the
-/// free surface.
-fn interfaces<T: BoundaryDetector + ?Sized>(
-    detector: &T,
-    set: &AnyParticleSet,
-    domain: &Domain,
-    phases: &[u32],
-    free: &Labels,
-    reach: f64,
-    r: Radius,
-) -> Result<Labels, DetectError> {
-    let mut kinds: Vec<u32> = phases.to_vec();
-    kinds.sort_unstable();
-    kinds.dedup();
-    let mut interface = vec![false; set.len()];
-    if kinds.len() < 2 {
-        return Ok(Labels::new(interface));
-    }
-    for k in kinds {
-        let members: Vec<usize> = (0..set.len()).filter(|&i| phases[i] == k).collect();
-        let own = match (set, &domain.walls) {
-            (AnyParticleSet::D2(s), w) => {
-                let w = w.as_ref().and_then(|w| match w {
-                    AnyParticleSet::D2(w) => Some(w),
-                    AnyParticleSet::D3(_) => None,
-                });
-                let ext = extend(s, &members, w, &domain.periodic, reach)?;
-                detector.detect_owned_in(&ext.into(), members.len(), &domain.solids, r)?
-            }
-            (AnyParticleSet::D3(s), w) => {
-                let w = w.as_ref().and_then(|w| match w {
-                    AnyParticleSet::D3(w) => Some(w),
-                    AnyParticleSet::D2(_) => None,
-                });
-                let ext = extend(s, &members, w, &domain.periodic, reach)?;
-                detector.detect_owned_in(&ext.into(), members.len(), &domain.solids, r)?
-            }
-        };
-        for (slot, &i) in members.iter().enumerate() {
-            interface[i] = own.labels.is_boundary(slot) && !free.is_boundary(i);
-        }
-    }
-    Ok(Labels::new(interface))
-}
-
-/// The set a detector classifies: the particles `members` of `set` first (in that order),
-/// then the walls within `reach` of their bounding box, then the periodic images of both
-/// within `reach` of it. Radii: each kind's own factors, 1 where a kind has none, none at all
-/// when neither kind has them.
-fn extend<const D: usize>(
-    set: &ParticleSet<D>,
-    members: &[usize],
-    walls: Option<&ParticleSet<D>>,
-    periodic: &[Periodic],
-    reach: f64,
-) -> Result<ParticleSet<D>, DetectError>
-where
-    Dim<D>: SupportedDim,
-{
-    let err = |message: String| DetectError::Domain(DomainError::new(message));
-    for p in periodic {
-        let a = p.axis;
-        for (kind, s) in [("particle", Some(set)), ("wall particle", walls)] {
-            let Some(s) = s else { continue };
-            if let Some(i) = s
-                .positions()
-                .iter()
-                .position(|x| !(x[a] >= p.min && x[a] <= p.max))
-            {
-                return Err(err(format!(
-                    "{kind} {i}: {} = {} lies outside the periodic range {}..{}",
-                    AXES[a],
-                    s.positions()[i][a],
-                    p.min,
-                    p.max
-                )));
-            }
-        }
-    }
-    let with_radii = set.radii().is_some() || walls.is_some_and(|w| w.radii().is_some());
-    let factor = |s: &ParticleSet<D>, i: usize| s.radii().map_or(1.0, |f| f[i]);
-    if members.is_empty() {
-        return ParticleSet::new(Vec::new()).map_err(DetectError::Core);
-    }
-    // Room for every wall without a reallocation (the set is the largest allocation of a
-    // detection in a tank); radii only when some kind has them.
-    let room = members.len() + walls.map_or(0, ParticleSet::len);
-    let mut positions: Vec<Point<D>> = Vec::with_capacity(room);
-    positions.extend(members.iter().map(|&i| set.positions()[i]));
-    let mut radii: Vec<f64> = Vec::new();
-    if with_radii {
-        radii.reserve(room);
-        radii.extend(members.iter().map(|&i| factor(set, i)));
-    }
-    // The bounding box of the classified particles, widened by the reach.
-    let mut lo = positions[0];
-    let mut hi = positions[0];
-    for x in &positions {
-        for k in 0..D {
-            lo[k] = lo[k].min(x[k]);
-            hi[k] = hi[k].max(x[k]);
-        }
-    }
-    let near = |x: &Point<D>| (0..D).all(|k| x[k] >= lo[k] - reach && x[k] <= hi[k] + reach);
-    if let Some(w) = walls {
-        for (i, x) in w.positions().iter().enumerate() {
-            if near(x) {
-                positions.push(*x);
-                if with_radii {
-                    radii.push(factor(w, i));
-                }
-            }
-        }
-    }
-    if periodic.is_empty() {
-        return finish(positions, radii, with_radii);
-    }
-    // Every covering candidate of the images: the members, then all the walls.
-    let mut sources: Vec<(Point<D>, f64)> = members
-        .iter()
-        .map(|&i| (set.positions()[i], factor(set, i)))
-        .collect();
-    if let Some(w) = walls {
-        sources.extend(
-            w.positions()
-                .iter()
-                .enumerate()
-                .map(|(i, x)| (*x, factor(w, i))),
-        );
-    }
-    // Images: every combination of shifts in {−L, 0, +L} over the periodic axes but none.
-    let combos = 3usize.pow(periodic.len() as u32);
-    for combo in 1..combos {
-        let mut shift = [0.0f64; D];
-        let mut c = combo;
-        for p in periodic {
-            shift[p.axis] = match c % 3 {
-                1 => p.period(),
-                2 => -p.period(),
-                _ => 0.0,
-            };
-            c /= 3;
-        }
-        for (x, s) in &sources {
-            let image: Point<D> = Point::<D>::from_fn(|k, _| x[k] + shift[k]);
-            if near(&image) {
-                positions.push(image);
-                if with_radii {
-                    radii.push(*s);
-                }
-            }
-        }
-    }
-    finish(positions, radii, with_radii)
-}
-
-/// The validated set of `positions`, with `radii` when `with_radii`.
-fn finish<const D: usize>(
-    positions: Vec<Point<D>>,
-    radii: Vec<f64>,
-    with_radii: bool,
-) -> Result<ParticleSet<D>, DetectError>
-where
-    Dim<D>: SupportedDim,
-{
-    let out = ParticleSet::new(positions).map_err(DetectError::Core)?;
-    if with_radii {
-        out.with_radii(radii).map_err(DetectError::Core)
-    } else {
-        Ok(out)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -794,38 +438,5 @@ mod tests {
         for bad in ["y:1:1", "y:2:1", "w:0:1", "y:0", "y:a:1", "y:0:inf"] {
             assert!(Periodic::parse(bad).is_err(), "{bad}");
         }
-    }
-
-    #[test]
-    fn the_extended_set_holds_members_then_near_walls_then_images() {
-        let set = ParticleSet::<2>::from_rows(&[[0.1, 0.0], [0.9, 0.0], [0.5, 0.0]]).unwrap();
-        let walls = ParticleSet::<2>::from_rows(&[[0.5, -0.3], [0.5, -5.0]]).unwrap();
-        let periodic = [Periodic::new(0, 0.0, 1.0).unwrap()];
-        let ext = extend(&set, &[0, 1], Some(&walls), &periodic, 0.5).unwrap();
-        let rows: Vec<[f64; 2]> = ext.positions().iter().map(|p| [p[0], p[1]]).collect();
-        // Members 0 and 1, the near wall, then the images within 0.5 of [0.1, 0.9] x [0, 0]:
-        // 0.1 + 1 and 0.9 − 1 (the walls' images at x = 1.5 and −0.5 lie beyond it).
-        assert_eq!(&rows[..3], &[[0.1, 0.0], [0.9, 0.0], [0.5, -0.3]]);
-        let images: Vec<[f64; 2]> = rows[3..].to_vec();
-        assert!(images.contains(&[1.1, 0.0]) && images.contains(&[0.9 - 1.0, 0.0]));
-        assert_eq!(images.len(), 2);
-        assert!(ext.radii().is_none());
-        // A particle outside the period is named.
-        let out = ParticleSet::<2>::from_rows(&[[1.5, 0.0]]).unwrap();
-        let e = extend(&out, &[0], None, &periodic, 0.5)
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("particle 0: x = 1.5"), "{e}");
-    }
-
-    #[test]
-    fn walls_without_radii_get_factor_one_beside_fluid_radii() {
-        let set = ParticleSet::<2>::from_rows(&[[0.0, 0.0]])
-            .unwrap()
-            .with_radii(vec![2.0])
-            .unwrap();
-        let walls = ParticleSet::<2>::from_rows(&[[0.0, -1.0]]).unwrap();
-        let ext = extend(&set, &[0], Some(&walls), &[], 3.0).unwrap();
-        assert_eq!(ext.radii(), Some(&[2.0, 1.0][..]));
     }
 }

@@ -13,7 +13,10 @@
 //! - [`Radius`]: a positive, finite resolution `r`.
 //! - [`NeighbourGrid`]: a uniform grid for fixed-radius neighbour queries; [`RadiusGrid`] for
 //!   sets with a radius per particle ([`ParticleSet::with_radii`]).
-//! - [`BoundaryDetector`]: the trait every method implements, returning a [`Detection`].
+//! - [`Method`]: the small trait every method implements (its parameters, its
+//!   [`Capabilities`] as data, and one `classify` of a [`Job`], generic over the dimension);
+//!   [`BoundaryDetector`]: the object-safe face every method gets from it, which checks each
+//!   job once for all methods and returns a [`Detection`] (see [`detect`]).
 //! - [`bulk_spacing`]: the particle spacing `dp` (volume per particle in the bulk), and
 //!   [`auto_radius`], [`radius_from_spacing`] (`r = k·dp`) and [`radius_concern`] from it.
 //! - [`Confusion`]: accuracy metrics (Rec, FPR, M = Rec·(1−FPR), precision, F1).
@@ -30,7 +33,7 @@
 //! [`SolidMesh::rounding`]: unlike a [`HalfSpace`], a mesh is not an exact input of the
 //! covering predicate, so a method that honours meshes states its tolerance near the surface.
 //! [`Domain::with_solid_mesh`] adds one; a method that cannot honour it refuses it by name
-//! ([`BoundaryDetector::honours_solid_meshes`], [`DetectError::check_no_solid_meshes`]).
+//! ([`Capabilities::meshes`]).
 //!
 //! Architecture invariant: this crate knows no file format, prints nothing and touches no file.
 //!
@@ -48,10 +51,12 @@
 
 mod band;
 pub mod decompose;
-mod detector;
+pub mod detect;
+mod detection;
 pub mod domain;
 mod error;
 mod grid;
+pub mod method;
 mod metrics;
 mod particles;
 pub mod radius_grid;
@@ -59,12 +64,12 @@ pub mod solid_mesh;
 mod spacing;
 pub mod stop;
 
-pub use detector::{
-    write_label, BoundaryDetector, DetectError, Detection, Labels, ParamError, ParamInfo, Params,
-};
-pub use domain::{Domain, DomainDetection, DomainError, HalfSpace, Periodic, Solids};
+pub use detect::{detect_in, write_label, BoundaryDetector, DomainDetection};
+pub use detection::{DetectError, Detection, Labels, ParamError, ParamInfo, Params};
+pub use domain::{Domain, DomainError, HalfSpace, Periodic, Solids};
 pub use error::CoreError;
 pub use grid::{NeighbourGrid, Neighbourhood};
+pub use method::{Capabilities, Job, JobByDim, Method, Support};
 pub use metrics::Confusion;
 pub use particles::{AnyParticleSet, Dim, Flatness, ParticleSet, Point, Radius, SupportedDim};
 pub use radius_grid::RadiusGrid;

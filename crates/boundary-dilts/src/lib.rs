@@ -134,7 +134,7 @@
 //! # Solid half-spaces
 //! In a [`boundary_core::Domain`] with solid half-spaces (closed, axis-aligned), particle `i`
 //! is interior iff every point of `S_i` outside the solids is covered by the other balls (see
-//! [`boundary_core::domain`]); [`BoundaryDetector::detect_in`] and `detect_owned_in` take
+//! [`boundary_core::domain`]); [`boundary_core::BoundaryDetector::detect_in`] and `detect_owned_in` take
 //! them. A solid covers a closed cap of the unit sphere, in units of `r_i`: for the solid
 //! `x_a <= c` the cap `x·(−e_a) >= δ` with `δ = (p_a − c)/r_i`, the particle's fluid depth (for
 //! `x_a >= c`, `x·e_a >= δ` with `δ = (c − p_a)/r_i`), the same form as a neighbour's cap
@@ -230,8 +230,9 @@ mod arcs;
 mod caps;
 
 use boundary_core::{
-    AnyParticleSet, BoundaryDetector, DetectError, Detection, HalfSpace, Labels, NeighbourGrid,
-    ParamError, ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid, Solids,
+    AnyParticleSet, Capabilities, DetectError, Detection, Dim, HalfSpace, Job, JobByDim, Labels,
+    Method, NeighbourGrid, ParamError, ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid,
+    Solids, Support, SupportedDim,
 };
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -292,11 +293,11 @@ impl DiltsDetector {
     }
 
     /// The parameters.
-    pub fn settings(&self) -> &DiltsParams {
+    pub fn params(&self) -> &DiltsParams {
         &self.params
     }
 
-    /// Like [`BoundaryDetector::detect`], also returning how many particles the exact
+    /// Like [`boundary_core::BoundaryDetector::detect`], also returning how many particles the exact
     /// predicate decided (those the float covering test could not decide within its bound).
     pub fn detect_counting_fallbacks(
         &self,
@@ -313,12 +314,10 @@ impl DiltsDetector {
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(DiltsDetector);
 
-impl BoundaryDetector for DiltsDetector {
-    fn name(&self) -> &'static str {
-        "dilts"
-    }
+impl Method for DiltsDetector {
+    const NAME: &'static str = "dilts";
 
-    fn params(&self) -> Params {
+    fn describe(&self) -> Params {
         Params(vec![ParamInfo {
             name: "tie",
             value: self.params.tie.to_string(),
@@ -328,55 +327,39 @@ impl BoundaryDetector for DiltsDetector {
         }])
     }
 
-    /// Exact: the float covering test decides the clear cases, the exact predicate the rest.
-    fn certified(&self) -> bool {
-        true
-    }
-
-    fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(detect_with::<2, arcs::Arcs>(set, set.len(), r, self.params.tie)?.0)
-    }
-
-    fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(detect_with::<3, caps::Caps>(set, set.len(), r, self.params.tie)?.0)
-    }
-
-    /// Classifies the owned particles with the solids covering too (crate docs, "Solid
-    /// half-spaces"); exact with the default `tie = 0`.
-    fn detect_owned_in(
-        &self,
-        set: &AnyParticleSet,
-        owned: usize,
-        solids: &Solids,
-        r: Radius,
-    ) -> Result<Detection, DetectError> {
-        if solids.is_empty() {
-            return self.detect_owned(set, owned, r);
+    /// Exact (so certified): the float covering test decides the clear cases, the exact
+    /// predicate the rest; per-particle radii and the closed solid half-spaces (crate docs,
+    /// "Solid half-spaces"); the ghosts serve as neighbours only.
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            certified: true,
+            radii: Support::Honoured,
+            half_spaces: Support::Honoured,
+            ..Capabilities::DEFAULT
         }
-        DetectError::check_owned("dilts", owned, set.len())?;
-        Ok(match set {
-            AnyParticleSet::D2(s) => {
-                detect_in_solids::<2, arcs::Arcs>(s, owned, r, self.params.tie, solids)?.0
-            }
-            AnyParticleSet::D3(s) => {
-                detect_in_solids::<3, caps::Caps>(s, owned, r, self.params.tie, solids)?.0
-            }
-        })
     }
 
-    /// Classifies only the owned particles; the ghosts serve as neighbours only.
-    fn detect_owned(
-        &self,
-        set: &AnyParticleSet,
-        owned: usize,
-        r: Radius,
-    ) -> Result<Detection, DetectError> {
-        DetectError::check_owned("dilts", owned, set.len())?;
-        Ok(match set {
-            AnyParticleSet::D2(s) => detect_with::<2, arcs::Arcs>(s, owned, r, self.params.tie)?.0,
-            AnyParticleSet::D3(s) => detect_with::<3, caps::Caps>(s, owned, r, self.params.tie)?.0,
-        })
+    fn classify<const D: usize>(&self, job: Job<'_, D>) -> Result<Detection, DetectError>
+    where
+        Dim<D>: SupportedDim,
+    {
+        match job.by_dim() {
+            JobByDim::D2(job) => classify_arcs::<2, arcs::Arcs>(job, self.params.tie),
+            JobByDim::D3(job) => classify_arcs::<3, caps::Caps>(job, self.params.tie),
+        }
     }
+}
+
+/// The owned particles of `job`, with the solid half-spaces when it has any.
+fn classify_arcs<const D: usize, C: SphereCover<D>>(
+    job: Job<'_, D>,
+    tie: f64,
+) -> Result<Detection, DetectError> {
+    Ok(if job.solids.is_empty() {
+        detect_with::<D, C>(job.set, job.owned, job.r, tie)?.0
+    } else {
+        detect_in_solids::<D, C>(job.set, job.owned, job.r, tie, job.solids)?.0
+    })
 }
 
 /// The part of ball `B_j` that matters on `S_i`, in scaled coordinates: the cap (arc) centred
@@ -717,7 +700,6 @@ fn detect_in_solids<const D: usize, C: SphereCover<D>>(
     tie: f64,
     domain_solids: &Solids,
 ) -> Result<(Detection, usize), DetectError> {
-    domain_solids.check_axes("dilts", D)?;
     let solids: &[HalfSpace] = domain_solids.half_spaces();
     let radii = set.resolved_radii(r)?;
     let positions = set.positions();

@@ -239,7 +239,7 @@ impl DivrDetector {
     }
 
     /// The parameters.
-    pub fn settings(&self) -> &DivrParams {
+    pub fn params(&self) -> &DivrParams {
         &self.params
     }
 

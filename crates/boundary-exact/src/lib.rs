@@ -301,8 +301,9 @@ pub mod tracker;
 pub use tracker::Tracker;
 
 use boundary_core::{
-    AnyParticleSet, BoundaryDetector, DetectError, Detection, HalfSpace, Labels, NeighbourGrid,
-    ParamError, ParamInfo, Params, ParticleSet, Point, Radius, Solids,
+    AnyParticleSet, Capabilities, DetectError, Detection, Dim, HalfSpace, Job, JobByDim, Labels,
+    Method, NeighbourGrid, ParamError, ParamInfo, Params, ParticleSet, Point, Radius, Solids,
+    Support, SupportedDim,
 };
 use cell::{Clipper, ConvexCell, Polygon, Polyhedron};
 use rayon::prelude::*;
@@ -379,11 +380,11 @@ impl ExactDetector {
     }
 
     /// The parameters.
-    pub fn settings(&self) -> &ExactParams {
+    pub fn params(&self) -> &ExactParams {
         &self.params
     }
 
-    /// Like [`BoundaryDetector::detect`], also returning how many particles the exact
+    /// Like [`boundary_core::BoundaryDetector::detect`], also returning how many particles the exact
     /// fallback decided (those whose float decision fell inside its error bound).
     pub fn detect_counting_fallbacks(
         &self,
@@ -400,12 +401,10 @@ impl ExactDetector {
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(ExactDetector);
 
-impl BoundaryDetector for ExactDetector {
-    fn name(&self) -> &'static str {
-        "exact"
-    }
+impl Method for ExactDetector {
+    const NAME: &'static str = "exact";
 
-    fn params(&self) -> Params {
+    fn describe(&self) -> Params {
         Params(vec![ParamInfo {
             name: "tie",
             value: self.params.tie.to_string(),
@@ -415,83 +414,66 @@ impl BoundaryDetector for ExactDetector {
         }])
     }
 
-    fn certified(&self) -> bool {
-        true
-    }
-
-    fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(dispatch::<2, Polygon>(set, set.len(), r, self.params.tie)?.0)
-    }
-
-    fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(dispatch::<3, Polyhedron>(set, set.len(), r, self.params.tie)?.0)
-    }
-
-    /// Classifies only the owned particles; the ghosts serve as neighbours only. A halo of
-    /// [`BoundaryDetector::halo_width`] = `2r` gives the global labels.
-    fn detect_owned(
-        &self,
-        set: &AnyParticleSet,
-        owned: usize,
-        r: Radius,
-    ) -> Result<Detection, DetectError> {
-        DetectError::check_owned("exact", owned, set.len())?;
-        Ok(match set {
-            AnyParticleSet::D2(s) => dispatch::<2, Polygon>(s, owned, r, self.params.tie)?.0,
-            AnyParticleSet::D3(s) => dispatch::<3, Polyhedron>(s, owned, r, self.params.tie)?.0,
-        })
-    }
-
-    fn honours_solid_meshes(&self) -> bool {
-        true
-    }
-
-    /// Classifies the owned particles with the solids covering too: half-spaces exactly, like
-    /// every other label of `exact` (crate docs, "Solid half-spaces"); meshes exactly away
-    /// from their surface and up to a stated tolerance near it (crate docs, "Solid meshes").
-    fn detect_owned_in(
-        &self,
-        set: &AnyParticleSet,
-        owned: usize,
-        solids: &Solids,
-        r: Radius,
-    ) -> Result<Detection, DetectError> {
-        if solids.is_empty() {
-            return self.detect_owned(set, owned, r);
+    /// Certified; per-particle radii (power cells), solid half-spaces exactly, like every
+    /// other label (crate docs, "Solid half-spaces"), and solid meshes exactly away from their
+    /// surface and up to a stated tolerance near it (crate docs, "Solid meshes"). The ghosts
+    /// serve as neighbours only: a halo of `2r` gives the global labels.
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            certified: true,
+            radii: Support::Honoured,
+            half_spaces: Support::Honoured,
+            meshes: Support::Honoured,
+            ..Capabilities::DEFAULT
         }
-        DetectError::check_owned("exact", owned, set.len())?;
-        if !solids.meshes().is_empty() {
-            // Crate docs, "Solid meshes": the labels with the half-spaces only, then the
-            // witness search where a ball meets a mesh surface.
-            let AnyParticleSet::D3(s) = set else {
-                return Err(DetectError::Method {
-                    method: "exact",
-                    message: "a solid mesh needs a 3D set".to_owned(),
-                });
-            };
-            let base = self.detect_owned_in(set, owned, &solids.without_meshes(), r)?;
-            let radii = match s.resolved_radii(r)? {
-                Some(radii) => radii,
-                None => vec![r.get(); s.len()],
-            };
-            return mesh::apply_meshes(
-                s,
-                owned,
-                &radii,
-                solids.meshes(),
-                solids.half_spaces(),
-                base,
-            );
-        }
-        Ok(match set {
-            AnyParticleSet::D2(s) => {
-                dispatch_in::<2, Polygon>(s, owned, r, self.params.tie, solids)?.0
-            }
-            AnyParticleSet::D3(s) => {
-                dispatch_in::<3, Polyhedron>(s, owned, r, self.params.tie, solids)?.0
-            }
-        })
     }
+
+    fn classify<const D: usize>(&self, job: Job<'_, D>) -> Result<Detection, DetectError>
+    where
+        Dim<D>: SupportedDim,
+    {
+        let tie = self.params.tie;
+        match job.by_dim() {
+            JobByDim::D2(job) => classify_cells::<2, Polygon>(job, tie),
+            JobByDim::D3(job) if !job.solids.meshes().is_empty() => {
+                // Crate docs, "Solid meshes": the labels with the half-spaces only, then the
+                // witness search where a ball meets a mesh surface.
+                let half_spaces = job.solids.without_meshes();
+                let base = classify_cells::<3, Polyhedron>(
+                    Job {
+                        solids: &half_spaces,
+                        ..job
+                    },
+                    tie,
+                )?;
+                let radii = match job.set.resolved_radii(job.r)? {
+                    Some(radii) => radii,
+                    None => vec![job.r.get(); job.set.len()],
+                };
+                mesh::apply_meshes(
+                    job.set,
+                    job.owned,
+                    &radii,
+                    job.solids.meshes(),
+                    job.solids.half_spaces(),
+                    base,
+                )
+            }
+            JobByDim::D3(job) => classify_cells::<3, Polyhedron>(job, tie),
+        }
+    }
+}
+
+/// The cells of the owned particles of `job`, with the solid half-spaces when it has any.
+fn classify_cells<const D: usize, C>(job: Job<'_, D>, tie: f64) -> Result<Detection, DetectError>
+where
+    C: ConvexCell<D> + Default + Send + Clone,
+{
+    Ok(if job.solids.is_empty() {
+        dispatch::<D, C>(job.set, job.owned, job.r, tie)?.0
+    } else {
+        dispatch_in::<D, C>(job.set, job.owned, job.r, tie, job.solids)?.0
+    })
 }
 
 /// [`dispatch`] with solid half-spaces. A particle whose closed ball stays clear of every solid
@@ -510,7 +492,6 @@ fn dispatch_in<const D: usize, C>(
 where
     C: ConvexCell<D> + Default + Send + Clone,
 {
-    solids.check_axes("exact", D)?;
     let half_spaces: &[HalfSpace] = solids.half_spaces();
     let radii = match set.resolved_radii(r)? {
         Some(radii) => radii,
@@ -1158,7 +1139,7 @@ fn cell_margin<const D: usize, C: Clipper<D>>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use boundary_core::{Dim, SupportedDim};
+    use boundary_core::BoundaryDetector;
 
     /// The interior certificate on the fast cell answers as the one on the full cell (or
     /// hands over) for every particle of perfect and slightly jittered cubic lattices, at
@@ -1298,9 +1279,9 @@ mod tests {
 
     #[test]
     fn try_new_takes_finite_non_negative_ties_and_refuses_the_rest() {
-        assert_eq!(ExactDetector::default().settings(), &ExactParams::default());
+        assert_eq!(ExactDetector::default().params(), &ExactParams::default());
         let d = ExactDetector::try_new(ExactParams { tie: 1e-9 }).unwrap();
-        assert_eq!(d.settings().tie, 1e-9);
+        assert_eq!(d.params().tie, 1e-9);
         assert_eq!(d.to_string(), "exact (tie=0.000000001)");
         for bad in [-1e-9, f64::NAN, f64::INFINITY] {
             let err = ExactDetector::try_new(ExactParams { tie: bad }).unwrap_err();

@@ -135,8 +135,8 @@ use crate::{cell_margin, classify, detect_with, Near, Neighbours, Scratch, NEAR_
 /// half of it, so it needs no other neighbour.
 const FIRST_REACH: f64 = 1.6;
 use boundary_core::{
-    domain, AnyParticleSet, CoreError, DetectError, Domain, Labels, NeighbourGrid, ParticleSet,
-    Point, Radius,
+    AnyParticleSet, CoreError, DetectError, Domain, Labels, NeighbourGrid, ParticleSet, Point,
+    Radius,
 };
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
@@ -410,11 +410,19 @@ impl Tracker {
         if !incremental {
             let detection = match &self.pool {
                 Some(pool) => pool.install(|| {
-                    domain::detect_in(&crate::ExactDetector::default(), set, &self.domain, self.r)
+                    boundary_core::detect_in(
+                        &crate::ExactDetector::default(),
+                        set,
+                        &self.domain,
+                        self.r,
+                    )
                 }),
-                None => {
-                    domain::detect_in(&crate::ExactDetector::default(), set, &self.domain, self.r)
-                }
+                None => boundary_core::detect_in(
+                    &crate::ExactDetector::default(),
+                    set,
+                    &self.domain,
+                    self.r,
+                ),
             }?;
             self.state = State::Empty;
             self.recomputed = set.len();

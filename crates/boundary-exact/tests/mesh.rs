@@ -375,26 +375,26 @@ fn meshes_are_refused_where_they_cannot_apply() {
     // A method that does not honour meshes refuses them by name, through the trait.
     #[derive(Debug)]
     struct PlanesOnly;
-    impl BoundaryDetector for PlanesOnly {
-        fn name(&self) -> &'static str {
-            "planes-only"
-        }
-        fn params(&self) -> boundary_core::Params {
+    impl boundary_core::Method for PlanesOnly {
+        const NAME: &'static str = "planes-only";
+        fn describe(&self) -> boundary_core::Params {
             boundary_core::Params::default()
         }
-        fn detect_2d(
-            &self,
-            s: &ParticleSet<2>,
-            r: Radius,
-        ) -> Result<boundary_core::Detection, DetectError> {
-            ExactDetector::default().detect_2d(s, r)
+        fn capabilities(&self) -> boundary_core::Capabilities {
+            boundary_core::Capabilities {
+                half_spaces: boundary_core::Support::Honoured,
+                meshes: boundary_core::Support::Refused("why"),
+                ..boundary_core::Capabilities::DEFAULT
+            }
         }
-        fn detect_3d(
+        fn classify<const D: usize>(
             &self,
-            s: &ParticleSet<3>,
-            r: Radius,
-        ) -> Result<boundary_core::Detection, DetectError> {
-            ExactDetector::default().detect_3d(s, r)
+            job: boundary_core::Job<'_, D>,
+        ) -> Result<boundary_core::Detection, DetectError>
+        where
+            boundary_core::Dim<D>: boundary_core::SupportedDim,
+        {
+            job.run_on(&ExactDetector::default())
         }
     }
     let e = PlanesOnly.detect_in(&set, &domain, r).unwrap_err();
@@ -408,13 +408,14 @@ fn meshes_are_refused_where_they_cannot_apply() {
         ),
         "{e}"
     );
-    // The trait's default names the option when called directly too.
+    // The face names the option, with the method's reason, when called directly too.
     let e = PlanesOnly
         .detect_owned_in(&set, 1, domain.solids(), r)
         .unwrap_err();
-    assert!(e.to_string().contains("cannot honour solid meshes:"), "{e}");
-    let e = DetectError::check_no_solid_meshes("m", domain.solids(), "why").unwrap_err();
-    assert_eq!(e.to_string(), "method 'm' cannot honour solid meshes: why");
+    assert_eq!(
+        e.to_string(),
+        "method 'planes-only' cannot honour solid meshes: why"
+    );
 }
 
 /// Per-particle radii keep working: a set whose radius factors are all 1 gets the uniform

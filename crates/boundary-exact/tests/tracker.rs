@@ -3,8 +3,8 @@
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
 use boundary_core::{
-    domain, AnyParticleSet, BoundaryDetector, Domain, HalfSpace, Labels, ParticleSet, Periodic,
-    Point, Radius,
+    AnyParticleSet, BoundaryDetector, Domain, HalfSpace, Labels, ParticleSet, Periodic, Point,
+    Radius,
 };
 use boundary_exact::{ExactDetector, Tracker};
 use proptest::prelude::*;
@@ -16,7 +16,7 @@ fn check_sequence(frames: &[AnyParticleSet], r: f64, domain: Domain) -> Vec<usiz
     let mut tracker = Tracker::new(r, Some(1), domain.clone()).unwrap();
     let mut recomputed = vec![];
     for (step, set) in frames.iter().enumerate() {
-        let full = domain::detect_in(&ExactDetector::default(), set, &domain, r).unwrap();
+        let full = boundary_core::detect_in(&ExactDetector::default(), set, &domain, r).unwrap();
         let labels = tracker.update(set).unwrap().clone();
         assert_eq!(
             first_difference(&labels, &full.detection.labels),
@@ -249,7 +249,8 @@ fn domains_and_radii_match_full_detection() {
         let walls = wall(0.02 * s as f64);
         tracker.move_walls(walls.clone()).unwrap();
         let domain = Domain::new().with_walls(walls);
-        let full = domain::detect_in(&ExactDetector::default(), set, &domain, radius).unwrap();
+        let full =
+            boundary_core::detect_in(&ExactDetector::default(), set, &domain, radius).unwrap();
         let labels = tracker.update(set).unwrap();
         assert_eq!(
             first_difference(labels, &full.detection.labels),
@@ -672,7 +673,8 @@ fn ids_beside_walls_match_full_detection() {
         let rows: Vec<[f64; 2]> = particles.iter().map(|(p, _)| *p).collect();
         let ids: Vec<u64> = particles.iter().map(|(_, id)| *id).collect();
         let set = set2(&rows);
-        let full = domain::detect_in(&ExactDetector::default(), &set, &domain, radius).unwrap();
+        let full =
+            boundary_core::detect_in(&ExactDetector::default(), &set, &domain, radius).unwrap();
         let labels = tracker.update_with_ids(&set, &ids).unwrap();
         assert_eq!(
             first_difference(labels, &full.detection.labels),

@@ -101,7 +101,7 @@
 //!
 //! # Solid regions
 //! With solid half-spaces ([`boundary_core::Solids`], through
-//! [`BoundaryDetector::detect_owned_in`] or a [`boundary_core::Domain`]), particle `i` is
+//! [`boundary_core::BoundaryDetector::detect_owned_in`] or a [`boundary_core::Domain`]), particle `i` is
 //! interior iff every point of `S_i` outside the closed solids is covered by the balls. An
 //! element is *covered* when some ball holds its slab, as above, or when some solid holds every
 //! vertex of its slab: the slab is convex and the solid a half-space, so the slab and its patch
@@ -162,8 +162,9 @@ mod reference;
 mod slab;
 
 use boundary_core::{
-    AnyParticleSet, BoundaryDetector, CoreError, DetectError, Detection, Labels, NeighbourGrid,
-    ParamError, ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid, Solids,
+    Capabilities, CoreError, DetectError, Detection, Dim, Job, JobByDim, Labels, Method,
+    NeighbourGrid, ParamError, ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid, Solids,
+    Support, SupportedDim,
 };
 use rayon::prelude::*;
 use slab::{Arc, Element, Triangle};
@@ -244,7 +245,7 @@ impl GeDetector {
     }
 
     /// The parameters.
-    pub fn settings(&self) -> &GeParams {
+    pub fn params(&self) -> &GeParams {
         &self.params
     }
 }
@@ -252,12 +253,10 @@ impl GeDetector {
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(GeDetector);
 
-impl BoundaryDetector for GeDetector {
-    fn name(&self) -> &'static str {
-        "ge"
-    }
+impl Method for GeDetector {
+    const NAME: &'static str = "ge";
 
-    fn params(&self) -> Params {
+    fn describe(&self) -> Params {
         Params(vec![ParamInfo {
             name: "depth",
             value: self.params.depth.to_string(),
@@ -267,55 +266,25 @@ impl BoundaryDetector for GeDetector {
         }])
     }
 
-    fn certified(&self) -> bool {
-        true
+    /// Certified; per-particle radii and the closed solid half-spaces (crate docs, "Solid
+    /// regions"); the ghosts serve as neighbours only.
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            certified: true,
+            radii: Support::Honoured,
+            half_spaces: Support::Honoured,
+            ..Capabilities::DEFAULT
+        }
     }
 
-    fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(detect_with::<2, Arc>(
-            set,
-            set.len(),
-            r,
-            self.params.depth,
-            &Solids::new(),
-        )?)
-    }
-
-    fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(detect_with::<3, Triangle>(
-            set,
-            set.len(),
-            r,
-            self.params.depth,
-            &Solids::new(),
-        )?)
-    }
-
-    /// Classifies only the owned particles; the ghosts serve as neighbours only.
-    fn detect_owned(
-        &self,
-        set: &AnyParticleSet,
-        owned: usize,
-        r: Radius,
-    ) -> Result<Detection, DetectError> {
-        self.detect_owned_in(set, owned, &Solids::new(), r)
-    }
-
-    /// Classifies the owned particles where the closed solid half-spaces cover too (crate
-    /// docs, "Solid regions").
-    fn detect_owned_in(
-        &self,
-        set: &AnyParticleSet,
-        owned: usize,
-        solids: &Solids,
-        r: Radius,
-    ) -> Result<Detection, DetectError> {
-        DetectError::check_owned("ge", owned, set.len())?;
-        solids.check_axes("ge", set.dim())?;
+    fn classify<const D: usize>(&self, job: Job<'_, D>) -> Result<Detection, DetectError>
+    where
+        Dim<D>: SupportedDim,
+    {
         let depth = self.params.depth;
-        Ok(match set {
-            AnyParticleSet::D2(s) => detect_with::<2, Arc>(s, owned, r, depth, solids)?,
-            AnyParticleSet::D3(s) => detect_with::<3, Triangle>(s, owned, r, depth, solids)?,
+        Ok(match job.by_dim() {
+            JobByDim::D2(j) => detect_with::<2, Arc>(j.set, j.owned, j.r, depth, j.solids)?,
+            JobByDim::D3(j) => detect_with::<3, Triangle>(j.set, j.owned, j.r, depth, j.solids)?,
         })
     }
 }
@@ -995,6 +964,7 @@ impl<const D: usize, E: Element<D>> Scratch<D, E> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use boundary_core::BoundaryDetector;
 
     #[test]
     fn a_ball_covers_a_slab_only_with_every_vertex_inside() {

@@ -5,6 +5,7 @@
 //! [`against_ball`] against every neighbour ball.
 
 use super::*;
+use boundary_core::{AnyParticleSet, BoundaryDetector};
 use boundary_scenes::certify::{hard_cases, jittered_lattice, near_tie_cases};
 
 /// Algorithm 3 without shortcuts for the balls `(centre, (s², inner))`: true if boundary.

@@ -89,11 +89,11 @@ fn deep_meshes_approach_the_exact_labels_on_jittered_lattices() {
 #[test]
 fn parameters_are_validated_never_clamped() {
     let d = GeDetector::default();
-    assert_eq!(d.params().to_string(), "depth=6");
-    assert_eq!(d.settings(), &GeParams::default());
+    assert_eq!(d.describe().to_string(), "depth=6");
+    assert_eq!(d.params(), &GeParams::default());
     let d = GeDetector::try_new(GeParams { depth: 3 }).unwrap();
     assert_eq!(
-        (d.settings().depth, d.params().to_string()),
+        (d.params().depth, d.describe().to_string()),
         (3, "depth=3".into())
     );
     for bad in [0, MAX_DEPTH + 1, u32::MAX] {

@@ -181,8 +181,8 @@ pub mod viewpoint;
 pub mod visibility;
 
 use boundary_core::{
-    AnyParticleSet, BoundaryDetector, CoreError, DetectError, Detection, Labels, NeighbourGrid,
-    ParamError, ParamInfo, Params, ParticleSet, Point, Radius,
+    Capabilities, CoreError, DetectError, Detection, Dim, Job, Labels, Method, NeighbourGrid,
+    ParamError, ParamInfo, Params, ParticleSet, Point, Radius, Support, SupportedDim,
 };
 use rayon::prelude::*;
 use viewpoint::{place_viewpoints, ViewpointKind};
@@ -348,7 +348,7 @@ impl HprDetector {
     }
 
     /// The parameters.
-    pub fn settings(&self) -> &HprParams {
+    pub fn params(&self) -> &HprParams {
         &self.params
     }
 
@@ -481,12 +481,10 @@ fn switch(on: bool) -> String {
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(HprDetector);
 
-impl BoundaryDetector for HprDetector {
-    fn name(&self) -> &'static str {
-        METHOD
-    }
+impl Method for HprDetector {
+    const NAME: &'static str = METHOD;
 
-    fn params(&self) -> Params {
+    fn describe(&self) -> Params {
         Params(vec![
             ParamInfo {
                 name: "gamma",
@@ -519,47 +517,25 @@ impl BoundaryDetector for HprDetector {
         ])
     }
 
-    fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        DetectError::check_uniform("hpr", NO_RADII, set.radii())?;
-        let (labels, _) = self.detect_first(set, set.len(), r)?;
-        Ok(Detection {
-            labels,
-            margin: None,
-        })
-    }
-
-    fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        DetectError::check_uniform("hpr", NO_RADII, set.radii())?;
-        let (labels, _) = self.detect_first(set, set.len(), r)?;
-        Ok(Detection {
-            labels,
-            margin: None,
-        })
-    }
-
-    /// `(5 + 4√3)·r`: a cavity viewpoint `r` from a particle whose cell neighbourhood spans
-    /// `4r` per axis, seeing a particle `4r` away (crate documentation, "Halo").
-    fn halo_width(&self, r: Radius) -> f64 {
-        HALO_FACTOR * r.get()
-    }
-
-    fn solid_refusal(&self) -> &'static str {
-        "hidden point removal sees points, and a solid region is none; give the walls as wall particles: they occlude and are never reported"
+    /// A uniform radius only; no solid (hidden point removal sees points, and a solid
+    /// region is none); a halo of `(5 + 4√3)·r`: a cavity viewpoint `r` from a particle whose
+    /// cell neighbourhood spans `4r` per axis, seeing a particle `4r` away (crate
+    /// documentation, "Halo").
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            radii: Support::Refused(NO_RADII),
+            half_spaces: Support::Refused(SOLID_REFUSAL),
+            halo_over_r: HALO_FACTOR,
+            ..Capabilities::DEFAULT
+        }
     }
 
     /// Classifies only the owned particles; viewpoints that see none of them are skipped.
-    fn detect_owned(
-        &self,
-        set: &AnyParticleSet,
-        owned: usize,
-        r: Radius,
-    ) -> Result<Detection, DetectError> {
-        DetectError::check_uniform("hpr", NO_RADII, set.radii())?;
-        DetectError::check_owned(METHOD, owned, set.len())?;
-        let (labels, _) = match set {
-            AnyParticleSet::D2(s) => self.detect_first(s, owned, r)?,
-            AnyParticleSet::D3(s) => self.detect_first(s, owned, r)?,
-        };
+    fn classify<const D: usize>(&self, job: Job<'_, D>) -> Result<Detection, DetectError>
+    where
+        Dim<D>: SupportedDim,
+    {
+        let (labels, _) = self.detect_first(job.set, job.owned, job.r)?;
         Ok(Detection {
             labels,
             margin: None,
@@ -567,19 +543,23 @@ impl BoundaryDetector for HprDetector {
     }
 }
 
+/// Why `hpr` refuses solid half-spaces.
+const SOLID_REFUSAL: &str = "hidden point removal sees points, and a solid region is none; give the walls as wall particles: they occlude and are never reported";
+
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 mod tests {
     use super::*;
+    use boundary_core::BoundaryDetector;
 
     #[test]
     fn parameters_are_checked_and_reported() {
         let d = HprDetector::default();
         assert_eq!(
-            d.params().to_string(),
+            BoundaryDetector::describe(&d).to_string(),
             "gamma=1.3, cavity=on, grids=1, protrusion=auto"
         );
-        assert_eq!(d.settings(), &HprParams::default());
+        assert_eq!(d.params(), &HprParams::default());
         assert_eq!(d.protrusion_for::<2>(), PROTRUSION_TOLERANCE_2D);
         assert_eq!(d.protrusion_for::<3>(), PROTRUSION_TOLERANCE_3D);
         let params = HprParams {
@@ -589,9 +569,9 @@ mod tests {
             protrusion: Protrusion::Value(1e-3),
         };
         let d = HprDetector::try_new(params.clone()).unwrap();
-        assert_eq!(d.settings(), &params);
+        assert_eq!(d.params(), &params);
         assert_eq!(
-            d.params().to_string(),
+            BoundaryDetector::describe(&d).to_string(),
             "gamma=1.75, cavity=off, grids=2, protrusion=0.001"
         );
         assert_eq!(d.protrusion_for::<3>(), 1e-3, "a set value holds in 3D too");

@@ -72,7 +72,7 @@
 //!
 //! # Solid regions
 //! With solid half-spaces ([`boundary_core::Solids`], through
-//! [`BoundaryDetector::detect_owned_in`] or a [`boundary_core::Domain`]), particle `i` is
+//! [`boundary_core::BoundaryDetector::detect_owned_in`] or a [`boundary_core::Domain`]), particle `i` is
 //! interior iff every point of `S_i` outside the closed solids is covered by the balls. In the
 //! frame of `p_i` a solid `x_a <= c` is `x_a <= h`, `h = (c − p_{i,a})/r_i`, and the part of a
 //! query box outside it is again a box: the box with its lower bound on axis `a` raised to `h`.
@@ -130,8 +130,8 @@
 //! ```
 
 use boundary_core::{
-    AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, NeighbourGrid, ParamError,
-    ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid, Solids,
+    Capabilities, DetectError, Detection, Dim, Job, Labels, Method, NeighbourGrid, ParamError,
+    ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid, Solids, Support, SupportedDim,
 };
 use rayon::prelude::*;
 
@@ -180,7 +180,7 @@ impl IaDetector {
     }
 
     /// The parameters.
-    pub fn settings(&self) -> &IaParams {
+    pub fn params(&self) -> &IaParams {
         &self.params
     }
 }
@@ -188,12 +188,10 @@ impl IaDetector {
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(IaDetector);
 
-impl BoundaryDetector for IaDetector {
-    fn name(&self) -> &'static str {
-        "ia"
-    }
+impl Method for IaDetector {
+    const NAME: &'static str = "ia";
 
-    fn params(&self) -> Params {
+    fn describe(&self) -> Params {
         Params(vec![ParamInfo {
             name: "depth",
             value: self.params.depth.to_string(),
@@ -203,55 +201,28 @@ impl BoundaryDetector for IaDetector {
         }])
     }
 
-    fn certified(&self) -> bool {
-        true
+    /// Certified; per-particle radii and the closed solid half-spaces (crate docs, "Solid
+    /// regions"); the ghosts serve as neighbours only.
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            certified: true,
+            radii: Support::Honoured,
+            half_spaces: Support::Honoured,
+            ..Capabilities::DEFAULT
+        }
     }
 
-    fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
+    fn classify<const D: usize>(&self, job: Job<'_, D>) -> Result<Detection, DetectError>
+    where
+        Dim<D>: SupportedDim,
+    {
         Ok(detect_with(
-            set,
-            set.len(),
-            r,
+            job.set,
+            job.owned,
+            job.r,
             self.params.depth,
-            &Solids::new(),
+            job.solids,
         )?)
-    }
-
-    fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        Ok(detect_with(
-            set,
-            set.len(),
-            r,
-            self.params.depth,
-            &Solids::new(),
-        )?)
-    }
-
-    /// Classifies only the owned particles; the ghosts serve as neighbours only.
-    fn detect_owned(
-        &self,
-        set: &AnyParticleSet,
-        owned: usize,
-        r: Radius,
-    ) -> Result<Detection, DetectError> {
-        self.detect_owned_in(set, owned, &Solids::new(), r)
-    }
-
-    /// Classifies the owned particles where the closed solid half-spaces cover too (crate
-    /// docs, "Solid regions").
-    fn detect_owned_in(
-        &self,
-        set: &AnyParticleSet,
-        owned: usize,
-        solids: &Solids,
-        r: Radius,
-    ) -> Result<Detection, DetectError> {
-        DetectError::check_owned("ia", owned, set.len())?;
-        solids.check_axes("ia", set.dim())?;
-        Ok(match set {
-            AnyParticleSet::D2(s) => detect_with(s, owned, r, self.params.depth, solids)?,
-            AnyParticleSet::D3(s) => detect_with(s, owned, r, self.params.depth, solids)?,
-        })
     }
 }
 

@@ -79,11 +79,11 @@ fn deep_trees_approach_the_exact_labels_on_jittered_lattices() {
 #[test]
 fn parameters_are_validated_never_clamped() {
     let d = IaDetector::default();
-    assert_eq!(d.params().to_string(), "depth=6");
-    assert_eq!(d.settings(), &IaParams::default());
+    assert_eq!(d.describe().to_string(), "depth=6");
+    assert_eq!(d.params(), &IaParams::default());
     let d = IaDetector::try_new(IaParams { depth: 3 }).unwrap();
     assert_eq!(
-        (d.settings().depth, d.params().to_string()),
+        (d.params().depth, d.describe().to_string()),
         (3, "depth=3".into())
     );
     for bad in [0, MAX_DEPTH + 1, u32::MAX] {

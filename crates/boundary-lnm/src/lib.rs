@@ -175,8 +175,8 @@ pub use layers::{
 pub use spokes::{spoke_directions, spoke_uncovered, SPOKE_RADIUS_OVER_R};
 
 use boundary_core::{
-    AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, NeighbourGrid, ParamError,
-    ParamInfo, Params, ParticleSet, Point, Radius,
+    Capabilities, DetectError, Detection, Dim, Job, Labels, Method, NeighbourGrid, ParamError,
+    ParamInfo, Params, ParticleSet, Point, Radius, Support, SupportedDim,
 };
 use rayon::prelude::*;
 
@@ -266,7 +266,7 @@ impl LnmDetector {
     }
 
     /// The parameters.
-    pub fn settings(&self) -> &LnmParams {
+    pub fn params(&self) -> &LnmParams {
         &self.params
     }
 
@@ -301,7 +301,6 @@ impl LnmDetector {
         count: usize,
         r: Radius,
     ) -> Result<Detection, DetectError> {
-        DetectError::check_uniform(METHOD, NO_RADII, set.radii())?;
         let layers = self.layers(set, count, r)?;
         let labels = Labels::new(match self.params.variant {
             LnmVariant::Fast => layers
@@ -375,12 +374,10 @@ fn cell_of<const D: usize>(p: &Point<D>, l: f64, i: usize) -> Result<[i64; D], D
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(LnmDetector);
 
-impl BoundaryDetector for LnmDetector {
-    fn name(&self) -> &'static str {
-        METHOD
-    }
+impl Method for LnmDetector {
+    const NAME: &'static str = METHOD;
 
-    fn params(&self) -> Params {
+    fn describe(&self) -> Params {
         Params(vec![
             ParamInfo {
                 name: "cell_over_r",
@@ -409,43 +406,35 @@ impl BoundaryDetector for LnmDetector {
         ])
     }
 
-    fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        self.detect_first(set, set.len(), r)
-    }
-
-    fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        self.detect_first(set, set.len(), r)
-    }
-
-    /// The label of a particle depends on the counts of the cells up to two cells away in
-    /// index: every point of them lies within `3l·√D`.
-    fn halo_width(&self, r: Radius) -> f64 {
-        3.0 * self.params.cell_over_r * r.get() * 3f64.sqrt()
-    }
-
-    fn solid_refusal(&self) -> &'static str {
-        "its layers count particles in voxel cells, and a cell inside a solid holds none; give the walls as wall particles, which fill cells"
+    /// A uniform radius only; no solid; the label of a particle depends on the counts of
+    /// the cells up to two cells away in index, every point of which lies within `3l·√D`
+    /// (the halo).
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            radii: Support::Refused(NO_RADII),
+            half_spaces: Support::Refused(SOLID_REFUSAL),
+            halo_over_r: 3.0 * self.params.cell_over_r * 3f64.sqrt(),
+            ..Capabilities::DEFAULT
+        }
     }
 
     /// Classifies only the owned particles; the ghosts fill cells.
-    fn detect_owned(
-        &self,
-        set: &AnyParticleSet,
-        owned: usize,
-        r: Radius,
-    ) -> Result<Detection, DetectError> {
-        DetectError::check_owned(METHOD, owned, set.len())?;
-        match set {
-            AnyParticleSet::D2(s) => self.detect_first(s, owned, r),
-            AnyParticleSet::D3(s) => self.detect_first(s, owned, r),
-        }
+    fn classify<const D: usize>(&self, job: Job<'_, D>) -> Result<Detection, DetectError>
+    where
+        Dim<D>: SupportedDim,
+    {
+        self.detect_first(job.set, job.owned, job.r)
     }
 }
+
+/// Why `lnm` refuses solid half-spaces.
+const SOLID_REFUSAL: &str = "its layers count particles in voxel cells, and a cell inside a solid holds none; give the walls as wall particles, which fill cells";
 
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 mod tests {
     use super::*;
+    use boundary_core::BoundaryDetector;
 
     #[test]
     fn cell_indices_are_the_floor_of_the_scaled_coordinates() {

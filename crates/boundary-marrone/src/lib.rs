@@ -227,7 +227,7 @@ impl MarroneDetector {
     }
 
     /// The parameters.
-    pub fn settings(&self) -> &MarroneParams {
+    pub fn params(&self) -> &MarroneParams {
         &self.params
     }
 }
@@ -356,10 +356,10 @@ mod tests {
     fn parameters_are_checked_and_reported() {
         let d = MarroneDetector::default();
         assert_eq!(
-            d.params().to_string(),
+            d.describe().to_string(),
             "lambda_surface=0.2, lambda_interior=0.75, cone_angle=45, kernel=wendland, h_over_r=1"
         );
-        assert_eq!(d.settings(), &MarroneParams::default());
+        assert_eq!(d.params(), &MarroneParams::default());
         let params = MarroneParams {
             lambda_surface: 0.1,
             lambda_interior: 0.9,
@@ -368,9 +368,9 @@ mod tests {
             h_over_r: 2.0,
         };
         let d = MarroneDetector::try_new(params.clone()).unwrap();
-        assert_eq!(d.settings(), &params);
+        assert_eq!(d.params(), &params);
         assert_eq!(
-            d.params().to_string(),
+            d.describe().to_string(),
             "lambda_surface=0.1, lambda_interior=0.9, cone_angle=30, kernel=cubic, h_over_r=2"
         );
         for (key, bad) in [

@@ -765,7 +765,7 @@ impl Run<'_> {
                 .collect();
             let object = json!({
                 "method": self.detector.name(),
-                "params": self.detector.params().to_string(),
+                "params": self.detector.describe().to_string(),
                 "n": n,
                 "dim": dim,
                 "radius": self.r.get(),

@@ -171,7 +171,7 @@ impl MullerDetector {
     }
 
     /// The parameters.
-    pub fn settings(&self) -> &MullerParams {
+    pub fn params(&self) -> &MullerParams {
         &self.params
     }
 
@@ -262,19 +262,19 @@ mod tests {
     fn parameters_are_checked_and_reported() {
         let d = MullerDetector::default();
         assert_eq!(
-            d.params().to_string(),
+            d.describe().to_string(),
             format!("threshold={DEFAULT_THRESHOLD}, kernel=wendland, h_over_r=1")
         );
-        assert_eq!(d.settings(), &MullerParams::default());
+        assert_eq!(d.params(), &MullerParams::default());
         let params = MullerParams {
             threshold: 0.45,
             kernel: Kernel::CubicSpline,
             h_over_r: 100.0,
         };
         let d = MullerDetector::try_new(params.clone()).unwrap();
-        assert_eq!(d.settings(), &params);
+        assert_eq!(d.params(), &params);
         assert_eq!(
-            d.params().to_string(),
+            d.describe().to_string(),
             "threshold=0.45, kernel=cubic, h_over_r=100"
         );
         for bad in [-1.0, f64::NAN, f64::INFINITY] {

@@ -21,7 +21,7 @@ fn check_ball<const D: usize>(d: &MullerDetector, set: &ParticleSet<D>, radius: 
 where
     boundary_core::Dim<D>: boundary_core::SupportedDim,
 {
-    let core = 2.0 * d.settings().h_over_r * r + 1.0;
+    let core = 2.0 * d.params().h_over_r * r + 1.0;
     against::check_ball(d, &ExactDetector::default(), set, radius, r, core, 0.85).unwrap();
 }
 

@@ -408,7 +408,7 @@ fn refuse_h_over_r(detector: &dyn BoundaryDetector, arg: Option<RadiusArg>) -> P
     let Some(RadiusArg::SmoothingLength(h)) = arg else {
         return Ok(());
     };
-    for p in detector.params().0 {
+    for p in detector.describe().0 {
         let one = p.value.trim().parse::<f64>().is_ok_and(|v| v == 1.0);
         if p.name == "h_over_r" && !one {
             return Err(value_error(format!(
@@ -837,7 +837,7 @@ impl Detector {
     /// (the listing `boundary methods` prints).
     fn settings(&self) -> Vec<(String, String)> {
         self.detector
-            .params()
+            .describe()
             .0
             .into_iter()
             .map(|p| (p.name.to_owned(), p.value))
@@ -1064,7 +1064,7 @@ fn methods(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
         entry.set_item("summary", summary(name).unwrap_or(""))?;
         entry.set_item("certified", d.certified())?;
         let params = PyList::empty(py);
-        for p in d.params().0 {
+        for p in d.describe().0 {
             let param = PyDict::new(py);
             param.set_item("name", p.name)?;
             param.set_item("default", p.default)?;

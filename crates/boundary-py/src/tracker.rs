@@ -77,7 +77,7 @@ impl PyTracker {
                 "Tracker: method '{method}' has no tracker; use method=\"exact\""
             )));
         }
-        if configured.params().0.iter().any(|p| p.value != p.default) {
+        if configured.describe().0.iter().any(|p| p.value != p.default) {
             return Err(value_error(format!(
                 "Tracker: {configured} is not supported: the tracker gives the exact labels \
                  (tie = 0)"

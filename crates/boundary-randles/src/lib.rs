@@ -204,7 +204,7 @@ impl RandlesDetector {
     }
 
     /// The parameters.
-    pub fn settings(&self) -> &RandlesParams {
+    pub fn params(&self) -> &RandlesParams {
         &self.params
     }
 

@@ -4,11 +4,12 @@
 //! A method crate holds only its criterion: a type implementing [`SphCriterion`] (its sums
 //! and thresholds, per particle) and [`SphMethod`] (its name, its parameter listing, why it
 //! refuses per-particle radii and solids). [`impl_sph_detector!`](crate::impl_sph_detector)
-//! then writes its [`BoundaryDetector`](boundary_core::BoundaryDetector) implementation: the 2D/3D dispatch, the radii refusal,
-//! the kernel and smoothing length from [`Smoothing`], the [`SphContext`] (grid and
-//! summation-density volumes), the parallel loop over the classified particles, the owned
-//! particles of [`BoundaryDetector::detect_owned`](boundary_core::BoundaryDetector::detect_owned) (so walls and periodic images of a
-//! [`boundary_core::Domain`] enter the sums as ghosts) and the halo of two kernel supports.
+//! then writes its [`Method`](boundary_core::Method) implementation, like any other method's:
+//! the capabilities ([`capabilities`]: the refusals, the halo of two kernel supports) and the
+//! classification ([`classify`]: the kernel and smoothing length from [`Smoothing`], the
+//! [`SphContext`] of grid and summation-density volumes, the parallel loop over the owned
+//! particles, so that walls and periodic images of a [`boundary_core::Domain`] enter the sums
+//! as ghosts). The dimension dispatch and the checks are the core face's, as for every method.
 //!
 //! The parameters the frame reads, `kernel` and `h_over_r`, are checked by
 //! [`Smoothing::try_new`] and listed by [`Smoothing::param_infos`], with the same rules and
@@ -17,8 +18,8 @@
 use crate::kernel::{Kernel, SphKernel, SUPPORT_FACTOR};
 use crate::sums::SphContext;
 use boundary_core::{
-    AnyParticleSet, CoreError, DetectError, Detection, Labels, ParamError, ParamInfo, Params,
-    ParticleSet, Radius,
+    Capabilities, CoreError, DetectError, Detection, Job, Labels, ParamError, ParamInfo, Params,
+    ParticleSet, Radius, Support,
 };
 use rayon::prelude::*;
 
@@ -74,7 +75,7 @@ impl Smoothing {
         }
     }
 
-    /// The listing of `kernel` and `h_over_r` for [`BoundaryDetector::params`](boundary_core::BoundaryDetector::params).
+    /// The listing of `kernel` and `h_over_r` for [`Method::describe`](boundary_core::Method::describe).
     pub fn param_infos(&self) -> [ParamInfo; 2] {
         [
             ParamInfo {
@@ -158,10 +159,10 @@ pub trait SphCriterion: Sync {
 pub trait SphMethod: SphCriterion + std::fmt::Debug + Send {
     /// Why the method rejects per-particle radii ([`DetectError::PerParticleRadii`]).
     const RADII_REFUSAL: &'static str;
-    /// Why it cannot honour solid half-spaces ([`BoundaryDetector::solid_refusal`](boundary_core::BoundaryDetector::solid_refusal)).
+    /// Why it cannot honour solid half-spaces ([`Capabilities::half_spaces`]).
     const SOLID_REFUSAL: &'static str;
 
-    /// The parameters with their current values ([`BoundaryDetector::params`](boundary_core::BoundaryDetector::params)).
+    /// The parameters with their current values ([`Method::describe`](boundary_core::Method::describe)).
     fn param_list(&self) -> Params;
 }
 
@@ -191,39 +192,27 @@ pub fn classify_first<C: SphCriterion, const D: usize>(
     })
 }
 
-/// [`BoundaryDetector::detect_2d`](boundary_core::BoundaryDetector::detect_2d) / `detect_3d` of an SPH method: refuses per-particle
-/// radii, classifies every particle.
-pub fn detect_all<M: SphMethod, const D: usize>(
-    method: &M,
-    set: &ParticleSet<D>,
-    r: Radius,
-) -> Result<Detection, DetectError> {
-    DetectError::check_uniform(M::METHOD, M::RADII_REFUSAL, set.radii())?;
-    Ok(classify_first(method, set, set.len(), r)?)
-}
-
-/// [`BoundaryDetector::detect_owned`](boundary_core::BoundaryDetector::detect_owned) of an SPH method: classifies the first `owned`
-/// particles; the others (ghosts: a halo, walls, periodic images) are neighbours and have
-/// volumes.
-pub fn detect_owned<M: SphMethod>(
-    method: &M,
-    set: &AnyParticleSet,
-    owned: usize,
-    r: Radius,
-) -> Result<Detection, DetectError> {
-    DetectError::check_uniform(M::METHOD, M::RADII_REFUSAL, set.radii())?;
-    DetectError::check_owned(M::METHOD, owned, set.len())?;
-    Ok(match set {
-        AnyParticleSet::D2(s) => classify_first(method, s, owned, r)?,
-        AnyParticleSet::D3(s) => classify_first(method, s, owned, r)?,
-    })
-}
-
-/// [`BoundaryDetector::halo_width`](boundary_core::BoundaryDetector::halo_width) of an SPH method: two kernel supports (the volumes of the
-/// neighbours within `2h` come from their own neighbours within `2h`), plus
+/// [`Method::capabilities`](boundary_core::Method::capabilities) of an SPH method: a uniform
+/// radius only, no solid (with the method's reasons), and a halo of two kernel supports (the
+/// volumes of the neighbours within `2h` come from their own neighbours within `2h`), plus
 /// [`SphCriterion::extra_reach_h`].
-pub fn halo_width<C: SphCriterion>(criterion: &C, r: Radius) -> f64 {
-    (2.0 * SUPPORT_FACTOR + criterion.extra_reach_h()) * criterion.smoothing().h_over_r * r.get()
+pub fn capabilities<M: SphMethod>(method: &M) -> Capabilities {
+    Capabilities {
+        radii: Support::Refused(M::RADII_REFUSAL),
+        half_spaces: Support::Refused(M::SOLID_REFUSAL),
+        halo_over_r: (2.0 * SUPPORT_FACTOR + method.extra_reach_h()) * method.smoothing().h_over_r,
+        ..Capabilities::DEFAULT
+    }
+}
+
+/// [`Method::classify`](boundary_core::Method::classify) of an SPH method: classifies the
+/// owned particles; the others (ghosts: a halo, walls, periodic images) are neighbours and
+/// have volumes.
+pub fn classify<M: SphMethod, const D: usize>(
+    method: &M,
+    job: Job<'_, D>,
+) -> Result<Detection, DetectError> {
+    Ok(classify_first(method, job.set, job.owned, job.r)?)
 }
 
 /// Flags every classified particle (`i < labels.len()`) within `reach` (closed) of a
@@ -249,55 +238,34 @@ pub fn spread_within<const D: usize>(ctx: &SphContext<'_, D>, reach: f64, labels
     labels.copy_from_slice(&spread);
 }
 
-/// Writes `Display` (the label `name (key=value, …)`) and the whole
-/// [`BoundaryDetector`](boundary_core::BoundaryDetector) implementation of a type that
-/// implements [`SphMethod`](crate::SphMethod), through the functions of
-/// [`frame`](crate::frame).
+/// Writes `Display` (the label `name (key=value, …)`) and the
+/// [`Method`](boundary_core::Method) implementation of a type that implements
+/// [`SphMethod`](crate::SphMethod), through [`frame::capabilities`](crate::frame::capabilities)
+/// and [`frame::classify`](crate::frame::classify).
 #[macro_export]
 macro_rules! impl_sph_detector {
     ($detector:ty) => {
         $crate::__core::impl_display_as_label!($detector);
 
-        impl $crate::__core::BoundaryDetector for $detector {
-            fn name(&self) -> &'static str {
-                <$detector as $crate::SphCriterion>::METHOD
-            }
+        impl $crate::__core::Method for $detector {
+            const NAME: &'static str = <$detector as $crate::SphCriterion>::METHOD;
 
-            fn params(&self) -> $crate::__core::Params {
+            fn describe(&self) -> $crate::__core::Params {
                 $crate::SphMethod::param_list(self)
             }
 
-            fn detect_2d(
+            fn capabilities(&self) -> $crate::__core::Capabilities {
+                $crate::frame::capabilities(self)
+            }
+
+            fn classify<const D: usize>(
                 &self,
-                set: &$crate::__core::ParticleSet<2>,
-                r: $crate::__core::Radius,
-            ) -> ::std::result::Result<$crate::__core::Detection, $crate::__core::DetectError> {
-                $crate::frame::detect_all(self, set, r)
-            }
-
-            fn detect_3d(
-                &self,
-                set: &$crate::__core::ParticleSet<3>,
-                r: $crate::__core::Radius,
-            ) -> ::std::result::Result<$crate::__core::Detection, $crate::__core::DetectError> {
-                $crate::frame::detect_all(self, set, r)
-            }
-
-            fn halo_width(&self, r: $crate::__core::Radius) -> f64 {
-                $crate::frame::halo_width(self, r)
-            }
-
-            fn solid_refusal(&self) -> &'static str {
-                <$detector as $crate::SphMethod>::SOLID_REFUSAL
-            }
-
-            fn detect_owned(
-                &self,
-                set: &$crate::__core::AnyParticleSet,
-                owned: usize,
-                r: $crate::__core::Radius,
-            ) -> ::std::result::Result<$crate::__core::Detection, $crate::__core::DetectError> {
-                $crate::frame::detect_owned(self, set, owned, r)
+                job: $crate::__core::Job<'_, D>,
+            ) -> ::std::result::Result<$crate::__core::Detection, $crate::__core::DetectError>
+            where
+                $crate::__core::Dim<D>: $crate::__core::SupportedDim,
+            {
+                $crate::frame::classify(self, job)
             }
         }
     };

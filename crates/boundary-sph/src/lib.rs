@@ -29,8 +29,8 @@
 //!   matrices, for the smallest eigenvalue of `B_i` and solves with it.
 //! - **The frame** ([`frame`]): what an SPH-sum detector shares with the others. A method
 //!   crate writes its criterion ([`SphCriterion`]: the verdict of one particle from the sums
-//!   of a [`SphContext`]) and its listing ([`SphMethod`]); [`impl_sph_detector!`] writes the
-//!   rest of its `BoundaryDetector`: 2D/3D dispatch, the refusal of per-particle radii, the
+//!   of a [`SphContext`]) and its listing ([`SphMethod`]); [`impl_sph_detector!`] writes its
+//!   `boundary_core::Method`, as every method has one: the refusal of per-particle radii, the
 //!   kernel at `h = h_over_r · r` ([`Smoothing`], whose `kernel` and `h_over_r` every method
 //!   checks and lists alike), the parallel loop, the owned particles of `detect_owned` (walls
 //!   and periodic images of a domain enter the sums as ghosts) and a halo of two supports.

@@ -97,6 +97,9 @@ pub const MARGIN_FLOOR: f64 = -0.25;
 /// One particle's features (see the module documentation for their order).
 pub type Features = [f64; N_FEATURES];
 
+/// [`feature_reach`] in units of `r` (the same number: a factor 2 scales exactly).
+pub const REACH_OVER_R: f64 = 2.0 * (1.0 + 1e-9);
+
 /// How far from a particle its features look: the influence radius `2r`, widened by a
 /// relative `1e-9` for the certificate (see [`particle_features`]).
 pub fn feature_reach(r: Radius) -> f64 {

@@ -189,10 +189,10 @@ pub use model::{
 };
 
 use boundary_core::{
-    AnyParticleSet, BoundaryDetector, DetectError, Detection, Labels, ParamError, ParamInfo,
-    Params, ParticleSet, Radius,
+    BoundaryDetector, Capabilities, DetectError, Detection, Labels, Method, ParamError, ParamInfo,
+    Params, ParticleSet, Radius, Solids, Support,
 };
-use boundary_core::{Dim, SupportedDim};
+use boundary_core::{Dim, Job, SupportedDim};
 use boundary_exact::ExactDetector;
 use boundary_ge::GeDetector;
 use std::sync::{Arc, OnceLock};
@@ -320,7 +320,7 @@ impl SvmDetector {
     }
 
     /// The parameters.
-    pub fn settings(&self) -> &SvmParams {
+    pub fn params(&self) -> &SvmParams {
         &self.params
     }
 
@@ -352,7 +352,6 @@ impl SvmDetector {
         r: Radius,
     ) -> Result<Vec<f64>, DetectError>
     where
-        AnyParticleSet: From<ParticleSet<D>>,
         Dim<D>: SupportedDim,
     {
         let model = self.model_for(D)?.packed();
@@ -384,7 +383,6 @@ impl SvmDetector {
         r: Radius,
     ) -> Result<Detection, DetectError>
     where
-        AnyParticleSet: From<ParticleSet<D>>,
         Dim<D>: SupportedDim,
     {
         let decisions = self.decisions(set, count, r)?;
@@ -418,7 +416,6 @@ fn refine_candidates<const D: usize>(
     r: Radius,
 ) -> Result<Vec<bool>, DetectError>
 where
-    AnyParticleSet: From<ParticleSet<D>>,
     Dim<D>: SupportedDim,
 {
     let positions = set.positions();
@@ -429,7 +426,13 @@ where
     }
     order.extend((0..positions.len()).filter(|&i| i >= candidates.len() || !candidates[i]));
     let reordered = ParticleSet::new(order.iter().map(|&i| positions[i]).collect())?;
-    let detection = refiner.detect_owned(&AnyParticleSet::from(reordered), owned, r)?;
+    let detection = Job {
+        set: &reordered,
+        owned,
+        solids: &Solids::new(),
+        r,
+    }
+    .run_on(refiner)?;
     let mut labels = vec![false; candidates.len()];
     for (k, &i) in order[..owned].iter().enumerate() {
         labels[i] = detection.labels.is_boundary(k);
@@ -440,12 +443,10 @@ where
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(SvmDetector);
 
-impl BoundaryDetector for SvmDetector {
-    fn name(&self) -> &'static str {
-        METHOD
-    }
+impl Method for SvmDetector {
+    const NAME: &'static str = METHOD;
 
-    fn params(&self) -> Params {
+    fn describe(&self) -> Params {
         Params(vec![
             ParamInfo {
                 name: "refine",
@@ -464,37 +465,25 @@ impl BoundaryDetector for SvmDetector {
         ])
     }
 
-    fn detect_2d(&self, set: &ParticleSet<2>, r: Radius) -> Result<Detection, DetectError> {
-        DetectError::check_uniform("svm", NO_RADII, set.radii())?;
-        self.detect_first(set, set.len(), r)
-    }
-
-    fn detect_3d(&self, set: &ParticleSet<3>, r: Radius) -> Result<Detection, DetectError> {
-        DetectError::check_uniform("svm", NO_RADII, set.radii())?;
-        self.detect_first(set, set.len(), r)
-    }
-
-    /// One kernel support (`2r`, plus `1e-9` relative): the features look no further.
-    fn halo_width(&self, r: Radius) -> f64 {
-        feature_reach(r)
-    }
-
-    fn solid_refusal(&self) -> &'static str {
-        "its features are sums over neighbour particles and its models were trained without solids; give the walls as wall particles, which enter the features"
+    /// A uniform radius only; no solid; a halo of one kernel support (`2r`, plus `1e-9`
+    /// relative, [`features::feature_reach`]): the features look no further.
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            radii: Support::Refused(NO_RADII),
+            half_spaces: Support::Refused(SOLID_REFUSAL),
+            halo_over_r: features::REACH_OVER_R,
+            ..Capabilities::DEFAULT
+        }
     }
 
     /// Classifies only the owned particles; the ghosts serve as neighbours and for volumes.
-    fn detect_owned(
-        &self,
-        set: &AnyParticleSet,
-        owned: usize,
-        r: Radius,
-    ) -> Result<Detection, DetectError> {
-        DetectError::check_uniform("svm", NO_RADII, set.radii())?;
-        DetectError::check_owned(METHOD, owned, set.len())?;
-        match set {
-            AnyParticleSet::D2(s) => self.detect_first(s, owned, r),
-            AnyParticleSet::D3(s) => self.detect_first(s, owned, r),
-        }
+    fn classify<const D: usize>(&self, job: Job<'_, D>) -> Result<Detection, DetectError>
+    where
+        Dim<D>: SupportedDim,
+    {
+        self.detect_first(job.set, job.owned, job.r)
     }
 }
+
+/// Why `svm` refuses solid half-spaces.
+const SOLID_REFUSAL: &str = "its features are sums over neighbour particles and its models were trained without solids; give the walls as wall particles, which enter the features";

@@ -75,8 +75,8 @@ fn model_file_round_trip() {
         ..SvmParams::default()
     })
     .unwrap();
-    assert_eq!(loaded.params().0[1].value, path.to_str().unwrap());
-    assert_eq!(loaded.settings().model.label(), path.to_str().unwrap());
+    assert_eq!(loaded.describe().0[1].value, path.to_str().unwrap());
+    assert_eq!(loaded.params().model.label(), path.to_str().unwrap());
     let again = loaded.detect_2d(&set, r).unwrap();
     assert_eq!(again, reference);
 }

@@ -527,7 +527,7 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(Progress<'_>)) -> Result<Out
                     c.m(),
                 );
             }
-            let params = detector.params().to_string();
+            let params = detector.describe().to_string();
             done += 1;
             progress(Progress {
                 done,

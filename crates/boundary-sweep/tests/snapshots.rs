@@ -80,7 +80,7 @@ fn labels_of_every_method_on_every_scene() {
             writeln!(
                 text,
                 "{name:<8} {}: boundary {:>6}  TP {:>6} TN {:>6} FP {:>6} FN {:>6}  labels {:016x}",
-                detector.params(),
+                detector.describe(),
                 labels.boundary_count(),
                 c.tp,
                 c.tn,

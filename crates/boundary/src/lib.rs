@@ -16,7 +16,8 @@
 //! [`implement`]. Any method's labels widen to a narrow band with [`Labels::widen`] (the
 //! command line's `--band K`: every particle within `K·r` of a boundary particle), and
 //! [`Tracker`] labels the successive time steps of a simulation as `exact` does, recomputing
-//! only the particles whose label may have changed.
+//! only the particles whose label may have changed. [`Cascade`] composes two methods: a
+//! certified one re-tests the boundary particles of another.
 //!
 //! # Typed parameters
 //! Each method has a parameter struct with public fields and the paper's defaults, and a
@@ -25,7 +26,7 @@
 //! use boundary::{BoundaryDetector, IaDetector, IaParams, ParticleSet, Radius};
 //!
 //! let ia = IaDetector::try_new(IaParams { depth: 4 }).unwrap();
-//! assert_eq!(ia.settings().depth, 4);
+//! assert_eq!(ia.params().depth, 4);
 //! assert!(IaDetector::try_new(IaParams { depth: 0 }).is_err());
 //! let set = ParticleSet::<2>::from_rows(&[[0.0, 0.0], [1.0, 0.0]]).unwrap();
 //! let labels = ia.detect_2d(&set, Radius::new(0.8).unwrap()).unwrap().labels;
@@ -52,7 +53,10 @@
 //! assert_eq!(score.recall(), 1.0);
 //! ```
 
+mod cascade;
 pub mod registry;
+
+pub use cascade::Cascade;
 
 pub use registry::{
     detector_by_name, detector_with_params, methods, parameters, parse_param, parse_param_list,
@@ -108,9 +112,14 @@ pub use boundary_sph::Kernel;
 #[cfg(feature = "svm")]
 pub use boundary_svm::{ModelChoice, Refine, SvmDetector, SvmModel, SvmParams};
 
-/// For writing a detector: what an implementation of [`BoundaryDetector`] uses beyond the
-/// types at the crate root. A user who runs the existing methods needs none of it.
+/// For writing a detector: what an implementation of [`Method`](implement::Method) uses beyond
+/// the types at the crate root. A user who runs the existing methods needs none of it
+/// (`docs/ADDING_A_METHOD.md` gives the steps).
 ///
+/// - [`Method`](implement::Method), [`Capabilities`](implement::Capabilities),
+///   [`Support`](implement::Support) and [`Job`](implement::Job): the trait a method
+///   implements, what it supports, and the job it classifies; every `Method` is a
+///   [`BoundaryDetector`] through the core's face, which checks each job once for all;
 /// - [`NeighbourGrid`](implement::NeighbourGrid) and [`RadiusGrid`](implement::RadiusGrid):
 ///   fixed-radius neighbour queries (uniform and per-particle radii), with
 ///   [`Neighbourhood`](implement::Neighbourhood);
@@ -123,8 +132,9 @@ pub use boundary_svm::{ModelChoice, Refine, SvmDetector, SvmModel, SvmParams};
 ///   [`impl_display_as_label!`](implement::impl_display_as_label): a detector's `Display`.
 pub mod implement {
     pub use boundary_core::{
-        decompose, domain, impl_display_as_label, radius_grid, solid_mesh, write_label,
-        NeighbourGrid, Neighbourhood, RadiusGrid,
+        decompose, detect, domain, impl_display_as_label, method, radius_grid, solid_mesh,
+        write_label, Capabilities, Job, JobByDim, Method, NeighbourGrid, Neighbourhood, RadiusGrid,
+        Support,
     };
     #[cfg(feature = "exact")]
     pub use boundary_exact::exact_cover;

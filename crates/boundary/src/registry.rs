@@ -210,7 +210,7 @@ pub fn detector_with_params<K: AsRef<str>, V: AsRef<str>>(
 /// The parameters of the method called `name`: its keys in order, each with its default
 /// (the current value of a default detector) and a one-line description.
 pub fn parameters(name: &str) -> Result<Params, RegistryError> {
-    Ok(detector_by_name(name)?.params())
+    Ok(detector_by_name(name)?.describe())
 }
 
 /// Splits a `key=value` command-line parameter; the error says what was expected.
@@ -570,7 +570,7 @@ where
         match set(&mut params, key, text) {
             Ok(Field::Set) => {}
             Ok(Field::Unknown) => {
-                let known = detector.params();
+                let known = detector.describe();
                 let known: Vec<&str> = known.0.iter().map(|p| p.name).collect();
                 return Err(ParamError::unknown(method, key, &known));
             }
@@ -656,7 +656,7 @@ mod tests {
             assert_eq!(detector.name(), name);
             assert!(summary(name).is_some());
             // The defaults reported by params() are accepted back by the string adapter.
-            let params = detector.params();
+            let params = detector.describe();
             assert_eq!(parameters(name), Ok(params.clone()));
             let pairs: Vec<(&str, &str)> = params
                 .0
@@ -664,7 +664,7 @@ mod tests {
                 .map(|p| (p.name, p.value.as_str()))
                 .collect();
             let again = detector_with_params(name, &pairs).expect("defaults round-trip");
-            assert_eq!(again.params(), params);
+            assert_eq!(again.describe(), params);
             for p in &params.0 {
                 assert_eq!(p.value, p.default, "{name}: {}", p.name);
             }
@@ -772,7 +772,7 @@ mod tests {
         let built = |name: &str, pairs: &[(&str, &str)]| {
             detector_with_params(name, pairs)
                 .unwrap()
-                .params()
+                .describe()
                 .to_string()
         };
         let divr = boundary_divr::DivrDetector::try_new(boundary_divr::DivrParams {
@@ -787,7 +787,7 @@ mod tests {
             ("layers", "1"),
             ("min_neighbours", "5"),
         ];
-        assert_eq!(built("divr", &pairs), divr.params().to_string());
+        assert_eq!(built("divr", &pairs), divr.describe().to_string());
         for name in Threshold::NAMED.map(|t| t.name()) {
             assert!(built("divr", &[("threshold", &name)]).contains(&name));
         }
@@ -805,7 +805,7 @@ mod tests {
             ("kernel", "cubic"),
             ("density_ratio", "0"),
         ];
-        assert_eq!(built("asymmetry", &pairs), asym.params().to_string());
+        assert_eq!(built("asymmetry", &pairs), asym.describe().to_string());
         let randles = boundary_randles::RandlesDetector::try_new(boundary_randles::RandlesParams {
             mu_3d: 0.3,
             ..Default::default()
@@ -813,7 +813,7 @@ mod tests {
         .unwrap();
         assert_eq!(
             built("randles", &[("mu_3d", "0.3")]),
-            randles.params().to_string()
+            randles.describe().to_string()
         );
         let lnm = boundary_lnm::LnmDetector::try_new(boundary_lnm::LnmParams {
             cell_over_r: 1.5,
@@ -822,7 +822,7 @@ mod tests {
         })
         .unwrap();
         let pairs = [("delta", "3"), ("cell_over_r", "1.5"), ("variant", "fast")];
-        assert_eq!(built("lnm", &pairs), lnm.params().to_string());
+        assert_eq!(built("lnm", &pairs), lnm.describe().to_string());
         assert!(built("lnm", &[("delta", "3"), ("delta", "auto")]).contains("delta=auto"));
         // Every bad value is refused, quoting the text as given; unknown keys list the known.
         for (name, key, bad) in [
@@ -878,12 +878,12 @@ mod tests {
         )
         .unwrap();
         assert_eq!(
-            d.params().to_string(),
+            d.describe().to_string(),
             "gamma=1.75, cavity=off, grids=2, protrusion=auto"
         );
         let d = detector_with_params("marrone", &[("kernel", "cubic"), ("h_over_r", "1.3")]);
         assert_eq!(
-            d.unwrap().params().to_string(),
+            d.unwrap().describe().to_string(),
             "lambda_surface=0.2, lambda_interior=0.75, cone_angle=45, kernel=cubic, h_over_r=1.3"
         );
         // The first failing pair is reported, even when a later one would fail too.
@@ -906,7 +906,7 @@ mod tests {
             "{text}"
         );
         let d = detector_with_params("svm", &[("refine", "ge"), ("model", "default")]).unwrap();
-        assert_eq!(d.params().to_string(), "refine=ge, model=default");
+        assert_eq!(d.describe().to_string(), "refine=ge, model=default");
     }
 
     #[test]

@@ -658,7 +658,7 @@ fn every_detector_displays_its_name_and_parameters() {
         let d = detector(name);
         let label = d.to_string();
         assert!(label.starts_with(name), "{label}");
-        for p in d.params().0 {
+        for p in d.describe().0 {
             assert!(
                 label.contains(&format!("{}={}", p.name, p.value)),
                 "{label}"

@@ -102,7 +102,7 @@ fn the_issue_example_below_the_tie_is_all_boundary_and_the_opt_in_tie_keeps_the_
 fn tie_parameter_is_validated_and_listed() {
     for (name, _) in METHODS {
         let d = detector_by_name(name).unwrap();
-        assert_eq!(d.params().to_string(), "tie=0", "{name}");
+        assert_eq!(d.describe().to_string(), "tie=0", "{name}");
         for bad in ["-1e-9", "NaN", "inf", "x"] {
             assert!(
                 detector_with_params(name, &[("tie", bad)]).is_err(),
@@ -114,12 +114,12 @@ fn tie_parameter_is_validated_and_listed() {
             "{name}"
         );
         let d = detector_with_params(name, &[("tie", "1e-9")]).unwrap();
-        assert_eq!(d.params().to_string(), "tie=0.000000001", "{name}");
+        assert_eq!(d.describe().to_string(), "tie=0.000000001", "{name}");
     }
     let exact = ExactDetector::try_new(ExactParams { tie: 1e-9 }).unwrap();
-    assert_eq!(exact.settings().tie, 1e-9);
+    assert_eq!(exact.params().tie, 1e-9);
     let dilts = DiltsDetector::try_new(DiltsParams { tie: 1e-9 }).unwrap();
-    assert_eq!(dilts.settings().tie, 1e-9);
+    assert_eq!(dilts.params().tie, 1e-9);
 }
 
 /// A centre at `c`, and neighbours `c + s·(u + jitter)` for the unit directions `u` of a

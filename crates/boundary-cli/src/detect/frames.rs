@@ -200,7 +200,7 @@ fn check_track(
     mode: &RadiusMode,
     domain: bool,
 ) -> Result<(), CliError> {
-    if detector.name() != "exact" || detector.params().0.iter().any(|p| p.value != p.default) {
+    if detector.name() != "exact" || detector.describe().0.iter().any(|p| p.value != p.default) {
         return Err(CliError::Usage(
             "--track gives the labels of exact at its default parameters: use --method exact \
              without --set",

@@ -222,7 +222,7 @@ impl RunReport<'_> {
             .collect();
         let object = json!({
             "method": self.detector.name(),
-            "params": self.detector.params().to_string(),
+            "params": self.detector.describe().to_string(),
             "input": self.pattern,
             "radius": match radius_mode {
                 RadiusMode::Uniform(arg) => arg.fixed().unwrap_or(f64::NAN),
@@ -283,7 +283,7 @@ pub(super) fn report_one(
         let resolved = outcome.resolved.as_ref();
         let object = json!({
             "method": detector.name(),
-            "params": detector.params().to_string(),
+            "params": detector.describe().to_string(),
             "input": args.input.input.display().to_string(),
             "n": outcome.n,
             "dim": outcome.dim,
