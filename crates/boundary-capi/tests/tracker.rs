@@ -397,7 +397,7 @@ fn tracker_in_a_domain_equals_the_detector_every_step() {
             "fixed, step {step}"
         );
         // The tank floor covers: the bottom row is interior.
-        assert!(labels[..20].iter().any(|&l| l == 0), "step {step}");
+        assert!(labels[..20].contains(&0), "step {step}");
         if step > 0 {
             saved += 300 - recomputed;
         }
@@ -445,7 +445,7 @@ fn tracker_in_a_domain_equals_the_detector_every_step() {
         let (labels, interface, _) = update(&xyz, None, Some(&phases), &mut err);
         let want = exact_in(&xyz, &walls, Some("x<0.5"), None, Some(&phases));
         assert_eq!((labels, interface), want, "phases, step {step}");
-        assert!(want.1.iter().any(|&l| l == 1), "no interface found");
+        assert!(want.1.contains(&1), "no interface found");
     }
     // A malformed solid is a domain error; the domain stays as it was.
     let bad = CString::new("w<1").unwrap();
