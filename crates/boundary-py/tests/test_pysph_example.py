@@ -34,6 +34,7 @@ def test_the_pysph_example_labels_every_step(tmp_path):
     )
     assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-3000:]
     assert "ratio" in out.stdout, out.stdout[-3000:]
+    assert "command:" in (tmp_path / "boundary_tracker_cost.txt").read_text()
     files = get_files(str(tmp_path))
     assert len(files) >= 2, files
     data = load(files[-1])
