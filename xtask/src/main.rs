@@ -948,6 +948,9 @@ fn python_package(python: &str) -> Result<(), String> {
             "-m",
             "pytest",
             "-q",
+            // The reasons of skipped tests (an optional solver that is not installed, and the
+            // command that installs it).
+            "-rs",
             "-p",
             "no:cacheprovider",
             &tests.to_string_lossy(),

@@ -529,6 +529,77 @@ int boundary_tracker_update_ids(struct boundary_tracker *handle,
                                 size_t err_len);
 
 /**
+ * The general update: as `boundary_tracker_update_ids` with `ids` NULL for none (the
+ * particles matched by their place, as `boundary_tracker_update`), `radii` NULL or `n`
+ * radius factors (`r_i = r * s_i`, as `boundary_detect_radii`), and `phases` NULL or `n`
+ * phase numbers, with which `out_interface` (`n` bytes, required with phases) receives the
+ * interface labels as `boundary_detector_detect_phases` writes them. The labels are those of
+ * `boundary_detector_detect_phases` with `"exact"` in the tracker's domain, bit for bit.
+ * Radii and phases are honoured by a full detection at every step. Nothing is written on
+ * error; `out_interface` without `phases` is `BOUNDARY_ERR_NULL`.
+ *
+ * # Safety
+ * As `boundary_tracker_update_ids`, with `ids` NULL allowed; `radii` NULL or valid for reads
+ * of `n` doubles; `phases` NULL or valid for reads of `n` `uint32_t`; `out_interface` NULL or
+ * valid for writes of `n` bytes.
+ */
+int boundary_tracker_update_domain(struct boundary_tracker *handle,
+                                   const double *xyz,
+                                   size_t n,
+                                   int dim,
+                                   const uint64_t *ids,
+                                   const double *radii,
+                                   const uint32_t *phases,
+                                   uint8_t *out_labels,
+                                   uint8_t *out_interface,
+                                   size_t *out_recomputed,
+                                   char *err,
+                                   size_t err_len);
+
+/**
+ * Sets the walls of the tracker: `m` covering-only particles at `xyz` (`m * dim` doubles),
+ * with `radii` NULL or `m` radius factors, as `boundary_detector_set_walls`. Call it once
+ * for fixed walls: walls that are never set again cost nothing per update after the first.
+ * Call it before an update to move them: walls equal to the current ones bit for bit change
+ * nothing (one comparison), moved walls keep the saving (their movement counts like the
+ * particles'), another `m` starts over; `m == 0` removes them.
+ *
+ * # Safety
+ * As `boundary_detector_set_walls`, with a handle from `boundary_tracker_new`.
+ */
+int boundary_tracker_set_walls(struct boundary_tracker *handle,
+                               const double *xyz,
+                               size_t m,
+                               int dim,
+                               const double *radii,
+                               char *err,
+                               size_t err_len);
+
+/**
+ * Adds a closed solid half-space to the tracker's domain (`"y<0"`), as
+ * `boundary_detector_add_solid`.
+ *
+ * # Safety
+ * As `boundary_detector_add_solid`, with a handle from `boundary_tracker_new`.
+ */
+int boundary_tracker_add_solid(struct boundary_tracker *handle,
+                               const char *text,
+                               char *err,
+                               size_t err_len);
+
+/**
+ * Adds a periodic axis to the tracker's domain (`"x:0:1.5"`), as
+ * `boundary_detector_add_periodic`.
+ *
+ * # Safety
+ * As `boundary_detector_add_periodic`, with a handle from `boundary_tracker_new`.
+ */
+int boundary_tracker_add_periodic(struct boundary_tracker *handle,
+                                  const char *text,
+                                  char *err,
+                                  size_t err_len);
+
+/**
  * Releases a tracker from `boundary_tracker_new`; NULL is ignored.
  *
  * # Safety

@@ -76,8 +76,9 @@ use std::sync::{Arc, Mutex};
 
 mod tracker;
 pub use tracker::{
-    boundary_tracker, boundary_tracker_free, boundary_tracker_new, boundary_tracker_update,
-    boundary_tracker_update_ids,
+    boundary_tracker, boundary_tracker_add_periodic, boundary_tracker_add_solid,
+    boundary_tracker_free, boundary_tracker_new, boundary_tracker_set_walls,
+    boundary_tracker_update, boundary_tracker_update_domain, boundary_tracker_update_ids,
 };
 
 /// Success.

@@ -123,9 +123,12 @@
 //!   measures it at 0.5 spacing per step).
 //! - Walls ([`Domain::with_walls`]) cover like particles: they may move
 //!   ([`Tracker::move_walls`]), and their movement counts in the step's largest displacement.
+//!   Walls that were not moved since the last update (never moved, or given again bit for bit)
+//!   cost nothing per step: their movement is known to be zero and is not computed.
 //! - Solids, periodic axes, phases, solid meshes and per-particle radii are honoured by a full
 //!   detection in the domain at every step ([`Tracker::recomputed`] then reports every
-//!   particle): labels as a single detection, without the saving.
+//!   particle): labels as a single detection, without the saving; with phases, the interface
+//!   labels too ([`Tracker::set_phases`], [`Tracker::interface`]).
 
 use crate::cell::{Clipper, ConvexCell, Polygon, Polyhedron};
 use crate::{cell_margin, classify, detect_with, Near, Neighbours, Scratch, NEAR_SLACK, U};
@@ -186,8 +189,12 @@ pub struct Tracker {
     domain: Domain,
     /// Walls as given (moved by [`Tracker::move_walls`]).
     walls: Option<AnyParticleSet>,
+    /// Whether the walls moved since the last update: fixed walls cost nothing per step.
+    walls_moved: bool,
     state: State,
     labels: Labels,
+    /// The interface labels of the last update, with phases.
+    interface: Option<Labels>,
     recomputed: usize,
     /// The ids of the last update, when it had them (and where each id was).
     ids: Option<Ids>,
@@ -289,8 +296,10 @@ impl Tracker {
             pool,
             domain,
             walls,
+            walls_moved: false,
             state: State::Empty,
             labels: Labels::new(Vec::new()),
+            interface: None,
             recomputed: 0,
             ids: None,
         })
@@ -306,13 +315,60 @@ impl Tracker {
         &self.labels
     }
 
+    /// The interface labels of the last update when its domain has phases
+    /// ([`Tracker::set_phases`]): as [`DomainDetection::interface`](boundary_core::DomainDetection).
+    pub fn interface(&self) -> Option<&Labels> {
+        self.interface.as_ref()
+    }
+
+    /// The domain the updates run in (walls, solids, periodic axes, phases).
+    pub fn domain(&self) -> &Domain {
+        &self.domain
+    }
+
     /// Moves the walls: the next update sees them at these positions. The same number of walls
     /// keeps the tracker's state (their movement counts like the particles'); another number
     /// starts over.
+    ///
+    /// Walls equal to the current ones, bit for bit (positions and radius factors), change
+    /// nothing: a solver may pass its walls at every step, and walls that did not move cost
+    /// one comparison. Walls that are never moved cost nothing per step after the first
+    /// update (their movement is not computed and they never trigger a re-evaluation).
     pub fn move_walls(&mut self, walls: AnyParticleSet) -> Result<(), DetectError> {
+        if self.walls.as_ref() == Some(&walls) {
+            return Ok(());
+        }
         self.domain = std::mem::take(&mut self.domain).with_walls(walls.clone());
         self.walls = Some(walls);
+        self.walls_moved = true;
         Ok(())
+    }
+
+    /// Replaces the domain: walls (as [`Tracker::move_walls`]: the same walls change nothing,
+    /// moved walls keep the saving), solids, periodic axes and phases. Removing the walls
+    /// starts over at the next update.
+    pub fn set_domain(&mut self, domain: Domain) -> Result<(), DetectError> {
+        match domain.walls() {
+            Some(walls) if !walls.is_empty() => self.move_walls(walls.clone())?,
+            _ => {
+                if self.walls.take().is_some() {
+                    self.state = State::Empty;
+                }
+            }
+        }
+        self.domain = domain;
+        Ok(())
+    }
+
+    /// The phase numbers of the particles of the next updates (one per particle, in the
+    /// order of [`Tracker::update`]'s set), or `None` for one phase. With phases, an update
+    /// also gives the interface labels ([`Tracker::interface`]), by a full detection in the
+    /// domain (module docs, "Fallbacks and scope").
+    pub fn set_phases(&mut self, phases: Option<Vec<u32>>) {
+        if phases.is_none() && self.domain.phases().is_none() {
+            return;
+        }
+        self.domain = rebuild_domain(&self.domain, self.walls.clone(), phases);
     }
 
     /// The labels of `set`, the particles' positions at this step (same order as before),
@@ -427,6 +483,7 @@ impl Tracker {
             self.state = State::Empty;
             self.recomputed = set.len();
             self.labels = detection.detection.labels;
+            self.interface = detection.interface;
             return Ok(&self.labels);
         }
         let r = self.r;
@@ -454,6 +511,7 @@ impl Tracker {
             Follow::Ids(map) => Some(map.as_slice()),
             _ => None,
         };
+        let moved = self.walls_moved;
         let run = |state: State| -> Result<(State, usize), DetectError> {
             Ok(match (set, walls) {
                 (AnyParticleSet::D2(s), w) => {
@@ -465,7 +523,7 @@ impl Tracker {
                         State::D2(t) => Some(t),
                         _ => None,
                     };
-                    let (t, n) = Track::<2>::step::<Polygon>(old, map, s.positions(), w, r)?;
+                    let (t, n) = Track::<2>::step::<Polygon>(old, map, s.positions(), w, moved, r)?;
                     (State::D2(t), n)
                 }
                 (AnyParticleSet::D3(s), w) => {
@@ -477,7 +535,8 @@ impl Tracker {
                         State::D3(t) => Some(t),
                         _ => None,
                     };
-                    let (t, n) = Track::<3>::step::<Polyhedron>(old, map, s.positions(), w, r)?;
+                    let (t, n) =
+                        Track::<3>::step::<Polyhedron>(old, map, s.positions(), w, moved, r)?;
                     (State::D3(t), n)
                 }
             })
@@ -493,8 +552,35 @@ impl Tracker {
         };
         self.state = state;
         self.recomputed = recomputed;
+        self.walls_moved = false;
+        self.interface = None;
         Ok(&self.labels)
     }
+}
+
+/// `domain` with `walls` (or none) and `phases` (or none) in place of its own.
+fn rebuild_domain(
+    domain: &Domain,
+    walls: Option<AnyParticleSet>,
+    phases: Option<Vec<u32>>,
+) -> Domain {
+    let mut out = Domain::new();
+    if let Some(walls) = walls {
+        out = out.with_walls(walls);
+    }
+    for &h in domain.solids().half_spaces() {
+        out = out.with_solid(h);
+    }
+    for mesh in domain.solids().meshes() {
+        out = out.with_solid_mesh(mesh.clone());
+    }
+    for &p in domain.periodic() {
+        out = out.with_periodic(p);
+    }
+    if let Some(phases) = phases {
+        out = out.with_phases(phases);
+    }
+    out
 }
 
 /// `|a − b|`.
@@ -510,6 +596,7 @@ impl<const D: usize> Track<D> {
         map: Option<&[u32]>,
         fluid: &[Point<D>],
         walls: &[Point<D>],
+        walls_moved: bool,
         r: Radius,
     ) -> Result<(Track<D>, usize), DetectError>
     where
@@ -571,16 +658,19 @@ impl<const D: usize> Track<D> {
         let set = in_slots(&track.input_of_slot)?;
         let now = &set.positions()[..count];
         // The step's movements, and the largest, rounded up (module docs, "Rounding").
-        let moves: Vec<Point<D>> = set
-            .positions()
+        // Walls that were not moved since the last update are where `prev` has them: their
+        // movement is zero, not computed.
+        let moving = if walls_moved { set.len() } else { count };
+        let moves: Vec<Point<D>> = set.positions()[..moving]
             .par_iter()
             .zip(&track.prev)
             .map(|(a, b)| a - b)
             .collect();
         let step = moves.par_iter().map(|m| m.norm()).reduce(|| 0.0, f64::max);
         track.sum = (track.sum + step * (1.0 + ROUNDING)) * (1.0 + 4.0 * U);
-        track.prev.clear();
-        track.prev.extend_from_slice(set.positions());
+        track.prev[..moving].copy_from_slice(&set.positions()[..moving]);
+        let still = Point::<D>::zeros();
+        let move_of = |j: u32| moves.get(j as usize).copied().unwrap_or(still);
         // Every particle that watches neighbours (its cell's, or its witness's): the largest
         // movement of one relative to it; `16u·step` covers the rounding of the differences.
         let slack = 16.0 * U * step;
@@ -592,10 +682,13 @@ impl<const D: usize> Track<D> {
             .for_each(|(i, (rel, cell))| {
                 if !cell.is_empty() {
                     let mi = moves[i];
+                    // The largest squared norm, then one square root: `sqrt` is correctly
+                    // rounded and monotone, so this is the largest of the norms, bit for bit.
                     let most = cell
                         .iter()
-                        .map(|&j| (moves[j as usize] - mi).norm())
-                        .fold(0.0, f64::max);
+                        .map(|&j| (move_of(j) - mi).norm_squared())
+                        .fold(0.0, f64::max)
+                        .sqrt();
                     *rel = (*rel + (most * (1.0 + ROUNDING) + slack)) * (1.0 + 4.0 * U);
                 }
             });

@@ -687,3 +687,74 @@ fn ids_beside_walls_match_full_detection() {
     }
     assert!(saved > 0, "nothing saved");
 }
+
+/// Fixed walls: set once (or given again bit for bit), the labels are those of a full
+/// detection with the walls at every step, and most particles are not recomputed; walls given
+/// again unchanged keep the saving, and `set_domain` with phases gives the interface labels.
+#[test]
+fn fixed_walls_and_phases_match_full_detection() {
+    let mut rng = Rng(17);
+    let base = jittered_square(14, 0.2, &mut rng);
+    let floor: Vec<[f64; 2]> = (0..2)
+        .flat_map(|layer| (0..18).map(move |k| [k as f64 - 2.0, -0.6 - 0.7 * layer as f64]))
+        .collect();
+    let walls = set2(&floor);
+    let domain = Domain::new().with_walls(walls.clone());
+    let r = Radius::new(0.8).unwrap();
+    let mut tracker = Tracker::new(r, Some(1), domain.clone()).unwrap();
+    let mut recomputed = vec![];
+    for s in 0..8 {
+        let rows: Vec<[f64; 2]> = base
+            .iter()
+            .map(|p| {
+                [
+                    p[0] * (1.0 + 0.002 * s as f64),
+                    p[1] * (1.0 - 0.001 * s as f64),
+                ]
+            })
+            .collect();
+        let set = set2(&rows);
+        if s % 2 == 1 {
+            // The same walls again, as a solver passing them every step: nothing changes.
+            tracker.move_walls(walls.clone()).unwrap();
+        }
+        let full = domain::detect_in(&ExactDetector::default(), &set, &domain, r).unwrap();
+        let labels = tracker.update(&set).unwrap().clone();
+        assert_eq!(
+            first_difference(&labels, &full.detection.labels),
+            None,
+            "step {s}"
+        );
+        recomputed.push(tracker.recomputed());
+        // The floor covers the bottom row: not all of it is boundary.
+        assert!((0..14).any(|i| !labels.is_boundary(i)), "step {s}");
+    }
+    assert_eq!(recomputed[0], base.len());
+    assert!(
+        recomputed[1..].iter().all(|&c| 3 * c < base.len()),
+        "{recomputed:?}"
+    );
+    // Phases through the domain: the interface labels of a full detection.
+    let phases: Vec<u32> = (0..base.len()).map(|i| u32::from(i % 14 >= 7)).collect();
+    let set = set2(&base);
+    tracker.set_phases(Some(phases.clone()));
+    let labels = tracker.update(&set).unwrap().clone();
+    let with_phases = domain.clone().with_phases(phases);
+    let full = domain::detect_in(&ExactDetector::default(), &set, &with_phases, r).unwrap();
+    assert_eq!(labels, full.detection.labels);
+    assert_eq!(tracker.interface(), full.interface.as_ref());
+    assert!(full.interface.as_ref().unwrap().boundary_count() > 0);
+    // Without phases again: no interface, the labels of the walls' domain.
+    tracker.set_phases(None);
+    let labels = tracker.update(&set).unwrap().clone();
+    assert_eq!(tracker.interface(), None);
+    let full = domain::detect_in(&ExactDetector::default(), &set, &domain, r).unwrap();
+    assert_eq!(labels, full.detection.labels);
+    // Removing the walls through set_domain: the labels of the bare cloud.
+    tracker.set_domain(Domain::new()).unwrap();
+    let labels = tracker.update(&set).unwrap().clone();
+    assert_eq!(
+        labels,
+        ExactDetector::default().detect(&set, r).unwrap().labels
+    );
+}

@@ -198,6 +198,22 @@ fn any_set(flat: &[f64], stride: usize) -> PyResult<AnyParticleSet> {
 /// message naming `dim=2` and the 2D slice; `Some(2)` drops the one constant axis of an
 /// `(n, 3)` array (z first, then y, then x); `Some(3)` keeps an `(n, 3)` array 3D as it is.
 fn read_points(points: &Bound<'_, PyAny>, dim: Option<usize>) -> PyResult<AnyParticleSet> {
+    read_points_in(points, dim).map(|(set, _)| set)
+}
+
+/// The plane of an `(n, 3)` array read with `dim=2`: the axis dropped and its one value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Plane {
+    axis: usize,
+    value: f64,
+}
+
+/// [`read_points`], and the plane it dropped when `dim=2` made an `(n, 3)` array 2D (the
+/// walls beside it are then read in the same plane).
+fn read_points_in(
+    points: &Bound<'_, PyAny>,
+    dim: Option<usize>,
+) -> PyResult<(AnyParticleSet, Option<Plane>)> {
     let array = float_array(points, "points", "an (n, 2) or (n, 3) array of reals")?;
     let readonly = array.readonly();
     let (stride, flat) = coordinates(&readonly)?;
@@ -221,18 +237,20 @@ fn read_points(points: &Bound<'_, PyAny>, dim: Option<usize>) -> PyResult<AnyPar
                     ))
                 }
             };
+            let axis = 3 - kept[0] - kept[1];
+            let plane = flat.get(axis).map(|&value| Plane { axis, value });
             return particle_set(flat, 3, kept)
-                .map(AnyParticleSet::from)
+                .map(|set| (AnyParticleSet::from(set), plane))
                 .map_err(value_error);
         }
         (Some(d), _) => return Err(value_error(format!("dim must be 2 or 3, got {d}"))),
     }
     let set = any_set(flat, stride)?;
     if dim == Some(3) {
-        return Ok(set);
+        return Ok((set, None));
     }
     match set.flatness() {
-        None => Ok(set),
+        None => Ok((set, None)),
         Some(flatness @ Flatness::Plane { axis, .. }) => {
             let slice = match axis {
                 2 => "points[:, :2] (x and y)",
@@ -597,47 +615,141 @@ fn whole_numbers(arg: &Bound<'_, PyAny>, name: &str, what: &str, max: u64) -> Py
 /// The domain of `detect`'s keyword arguments, for particles of dimension `dim` and scale
 /// `r`: walls (an `(m, dim)` array) with their optional radius factors, solid half-spaces and
 /// periodic axes as texts (`"y<0"`, `"x:0:1"`), phase numbers.
-fn domain(dim: usize, r: Radius, args: &DomainArgs<'_, '_>) -> PyResult<Domain> {
+fn domain(
+    dim: usize,
+    plane: Option<Plane>,
+    r: Radius,
+    args: &DomainArgs<'_, '_>,
+) -> PyResult<Domain> {
     let mut domain = Domain::new();
-    match (args.walls, args.wall_radii) {
-        (None, Some(_)) => return Err(value_error("wall_radii given without walls")),
-        (None, None) => {}
-        (Some(walls), wall_radii) => {
-            let array = float_array(walls, "walls", "an array of reals")?;
-            let readonly = array.readonly();
-            let shape = readonly.shape();
-            if shape.len() != 2 || shape[1] != dim {
-                return Err(value_error(format!(
-                    "walls must be an (m, {dim}) array like the points, got shape {}",
-                    shape_text(shape)
-                )));
-            }
-            let flat = readonly
-                .as_slice()
-                .map_err(|e| value_error(format!("walls: {e}")))?;
-            let mut set = any_set(flat, dim)
-                .map_err(|e| value_error(format!("walls: {}", e.value(walls.py()))))?;
-            if let Some(radii) = wall_radii {
-                let values = radius_factors(radii, "wall_radii", "wall particle")?;
-                set = attach_radii(set, values, r, "wall_radii")?;
-            }
-            domain = domain.with_walls(set);
-        }
+    if let Some(walls) = Walls::read(args.walls, args.wall_radii, Some(dim))? {
+        domain = domain.with_walls(walls.set(dim, plane, r)?);
     }
-    if let Some(solids) = args.solids {
-        for text in texts(solids, "solids", "y<0")? {
-            domain = domain.with_solid(HalfSpace::parse(&text).map_err(value_error)?);
-        }
+    for solid in solids(args.solids)? {
+        domain = domain.with_solid(solid);
     }
-    if let Some(periodic) = args.periodic {
-        for text in texts(periodic, "periodic", "x:0:1")? {
-            domain = domain.with_periodic(Periodic::parse(&text).map_err(value_error)?);
-        }
+    for axis in periodic_axes(args.periodic)? {
+        domain = domain.with_periodic(axis);
     }
     if let Some(phases) = args.phases {
         domain = domain.with_phases(phase_numbers(phases)?);
     }
     Ok(domain)
+}
+
+/// The solid half-spaces of a `solids` argument (`"y<0"`, or a sequence of such texts).
+fn solids(value: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<HalfSpace>> {
+    let Some(value) = value else {
+        return Ok(Vec::new());
+    };
+    texts(value, "solids", "y<0")?
+        .iter()
+        .map(|text| HalfSpace::parse(text).map_err(value_error))
+        .collect()
+}
+
+/// The periodic axes of a `periodic` argument (`"x:0:1"`, or a sequence of such texts).
+fn periodic_axes(value: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<Periodic>> {
+    let Some(value) = value else {
+        return Ok(Vec::new());
+    };
+    texts(value, "periodic", "x:0:1")?
+        .iter()
+        .map(|text| Periodic::parse(text).map_err(value_error))
+        .collect()
+}
+
+/// A `walls` argument (with its `wall_radii`), copied out of Python: the coordinates, their
+/// number of columns, and the radius factors. The particle set is made for the points beside
+/// it ([`Walls::set`]).
+#[derive(Debug, Clone, PartialEq)]
+struct Walls {
+    flat: Vec<f64>,
+    columns: usize,
+    radii: Option<Vec<f64>>,
+}
+
+impl Walls {
+    /// The walls of the arguments, or `None` without walls; `dim`, when known, is that of
+    /// the points (for the messages).
+    fn read(
+        walls: Option<&Bound<'_, PyAny>>,
+        wall_radii: Option<&Bound<'_, PyAny>>,
+        dim: Option<usize>,
+    ) -> PyResult<Option<Walls>> {
+        let walls = match (walls, wall_radii) {
+            (None, Some(_)) => return Err(value_error("wall_radii given without walls")),
+            (None, None) => return Ok(None),
+            (Some(walls), _) => walls,
+        };
+        let array = float_array(walls, "walls", "an array of reals")?;
+        let readonly = array.readonly();
+        let shape = readonly.shape();
+        if shape.len() != 2 || !(shape[1] == 2 || shape[1] == 3) {
+            let columns = dim.map_or("2 or 3".to_owned(), |d| d.to_string());
+            return Err(value_error(format!(
+                "walls must be an (m, {columns}) array like the points, got shape {}",
+                shape_text(shape)
+            )));
+        }
+        let flat = readonly
+            .as_slice()
+            .map_err(|e| value_error(format!("walls: {e}")))?
+            .to_vec();
+        let radii = wall_radii
+            .map(|radii| radius_factors(radii, "wall_radii", "wall particle"))
+            .transpose()?;
+        Ok(Some(Walls {
+            flat,
+            columns: shape[1],
+            radii,
+        }))
+    }
+
+    /// The walls as the particle set beside points of dimension `dim` at scale `r`: `(m, 3)`
+    /// walls beside `(n, 3)` points read with `dim=2` lie in the points' `plane`, which is
+    /// dropped from both.
+    fn set(&self, dim: usize, plane: Option<Plane>, r: Radius) -> PyResult<AnyParticleSet> {
+        let set = match (self.columns, dim, plane) {
+            (2, 2, _) => particle_set(&self.flat, 2, [0, 1]).map(AnyParticleSet::from),
+            (3, 3, _) => particle_set(&self.flat, 3, [0, 1, 2]).map(AnyParticleSet::from),
+            (3, 2, Some(plane)) => {
+                let axis_name = ["x", "y", "z"][plane.axis];
+                if let Some(k) = self
+                    .flat
+                    .chunks_exact(3)
+                    .position(|row| row[plane.axis] != plane.value)
+                {
+                    return Err(value_error(format!(
+                        "walls: wall particle {k} has {axis_name} = {}, off the plane                          {axis_name} = {} of the points (dim=2 drops {axis_name} from both)",
+                        self.flat[3 * k + plane.axis], plane.value
+                    )));
+                }
+                let kept = match plane.axis {
+                    2 => [0, 1],
+                    1 => [0, 2],
+                    _ => [1, 2],
+                };
+                particle_set(&self.flat, 3, kept).map(AnyParticleSet::from)
+            }
+            (columns, dim, _) => {
+                return Err(value_error(format!(
+                    "walls must be an (m, {dim}) array like the points, got shape ({}, {columns}){}",
+                    self.flat.len() / columns,
+                    if columns == 3 {
+                        ": pass dim=2 with (n, 3) points in the walls' plane, or walls[:, :2]"
+                    } else {
+                        ""
+                    }
+                )))
+            }
+        }
+        .map_err(|e| value_error(format!("walls: {e}")))?;
+        match &self.radii {
+            Some(values) => attach_radii(set, values.clone(), r, "wall_radii"),
+            None => Ok(set),
+        }
+    }
 }
 
 /// The domain arguments of `Detector.detect`, as given.
@@ -695,6 +807,13 @@ where
     T: Send + 'static,
     F: FnOnce() -> T + Send + 'static,
 {
+    let (token, pool) = interruptible_pool(threads)?;
+    run_on(py, &token, &pool, job)
+}
+
+/// A rayon pool of `threads` workers (all cores when `None`) that stop when its token is
+/// stopped ([`run_on`]).
+fn interruptible_pool(threads: Option<usize>) -> PyResult<(StopToken, rayon::ThreadPool)> {
     if threads == Some(0) {
         return Err(value_error("threads must be at least 1"));
     }
@@ -705,6 +824,17 @@ where
         .thread_name(|k| format!("boundary-{k}"))
         .build()
         .map_err(|e| PyRuntimeError::new_err(format!("cannot start worker threads: {e}")))?;
+    Ok((token, pool))
+}
+
+/// Runs `job` on `pool` (from [`interruptible_pool`], with its `token`) as
+/// [`run_interruptible`] does. After a signal the token stays stopped: the pool is not to be
+/// used again.
+fn run_on<T, F>(py: Python<'_>, token: &StopToken, pool: &rayon::ThreadPool, job: F) -> PyResult<T>
+where
+    T: Send + 'static,
+    F: FnOnce() -> T + Send + 'static,
+{
     let (sender, receiver) = mpsc::channel();
     pool.spawn(move || {
         let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(job))
@@ -879,7 +1009,7 @@ impl Detector {
         let arg = radius_input("detect", r, h, spacing)?;
         refuse_h_over_r(self.detector.as_ref(), arg)?;
         let check = checks_plausibility(arg, radii.is_some());
-        let set = read_points(points, dim)?;
+        let (set, plane) = read_points_in(points, dim)?;
         let (set, r) = with_radii("detect", set, arg, radii)?;
         let args = DomainArgs {
             walls,
@@ -888,7 +1018,7 @@ impl Detector {
             periodic,
             phases,
         };
-        let domain = domain(set.dim(), r, &args)?;
+        let domain = domain(set.dim(), plane, r, &args)?;
         let with_phases = domain.phases().is_some();
         let (found, _, concern) = detect_set(
             py,

@@ -1,41 +1,60 @@
 //! `boundary_particles.Tracker`: the library's incremental tracker (`boundary::Tracker`) for Python.
-//! Translation only: arguments checked and converted as `detect` does, the update run on a
-//! worker thread with the GIL released and Ctrl-C honoured.
+//! Translation only: arguments checked and converted as `detect` does, the update run on the
+//! tracker's own worker pool with the GIL released and Ctrl-C honoured.
 
 use super::{
-    bool_array, checks_plausibility, concern_of, detector, fixed_radius, param_pairs, radius_input,
-    read_points, refuse_h_over_r, run_interruptible, value_error, warn_concern, whole_numbers,
-    RadiusArg,
+    attach_radii, bool_array, checks_plausibility, concern_of, detector, fixed_radius,
+    interruptible_pool, param_pairs, periodic_axes, phase_numbers, radius_factors, radius_input,
+    read_points_in, refuse_h_over_r, resolve_radius, run_on, value_error, warn_concern,
+    whole_numbers, Plane, RadiusArg, Walls,
 };
-use boundary::{Domain, Radius, Tracker};
-use numpy::PyArray1;
+use boundary::stop::StopToken;
+use boundary::{Domain, HalfSpace, Periodic, Radius, Tracker};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 
-/// Labels the particles of successive time steps, each as `detect(points, r)` would, while
-/// recomputing only the particles whose label may have changed since the previous step.
+/// What to say when ids are missing or unusable: the solver's own stable id, or none.
+pub(crate) const IDS_GUIDANCE: &str = "ids are one unique whole number per particle that \
+    follows the particle when the solver reorders: the solver's own stable id, or an id \
+    property given to the particles when they are created (0 .. n-1), which the solver \
+    permutes with the others; without either (PySPH's serial gid is 4294967295 for every \
+    particle), pass no ids: the particles are then matched by their place in the array, right \
+    while the solver keeps their order, and a new count starts over";
+
+/// Labels the particles of successive time steps, each as `detect(points, r, ...)` would in
+/// the same domain, while recomputing only the particles whose label may have changed since
+/// the previous step.
 ///
-/// Tracker(r=None, method="exact", threads=None, *, h=None, spacing=None, **params): the
-/// resolution as one of r (> 0), h (the smoothing length, r = h) and spacing (the particle
-/// spacing, r = k * spacing); method: "exact" (the only method with a tracker); threads: worker
-/// threads (default: all cores); **params: the method's parameters (exact: tie must stay 0, the
-/// exact labels). An r implausible for the spacing of the first update's particles warns
-/// (`UserWarning`), once.
+/// Tracker(r=None, method="exact", threads=None, *, h=None, spacing=None, walls=None,
+/// wall_radii=None, solids=None, periodic=None, **params): the resolution as one of r (> 0 or
+/// "auto": measured at the first update, then kept), h and spacing (with radii at the updates
+/// it is their scale, default 1); the domain as `detect` takes it (the walls fixed until an
+/// update passes others).
 ///
-/// update(points, ids=None) -> bool array of length n (True = boundary): the labels of this
-/// step's positions, the same particles in the same order as before (another count starts
-/// over), or, with ids (one whole number per particle, unique), matched to the last update's
-/// particles by id: particles may come, go and reorder.
+/// update(points, ids=None, *, radii=None, walls=None, wall_radii=None, phases=None,
+/// dim=None) -> labels, or (labels, interface) with phases.
 /// recomputed: how many particles the last update recomputed.
 #[derive(Debug)]
 #[pyclass(name = "Tracker", module = "boundary_particles._native")]
 pub struct PyTracker {
-    r: Radius,
+    /// The resolution as given.
+    arg: RadiusArg,
+    /// The resolution, once known (at construction, or at the first update for `"auto"`).
+    r: Option<Radius>,
     threads: Option<usize>,
-    /// `None` after an interrupted update (the abandoned one keeps it): the next update starts
-    /// over with a new tracker.
+    /// The worker pool of the updates and its stop token, built at the first update and kept
+    /// (a new one after an interrupted update).
+    pool: Option<(StopToken, rayon::ThreadPool)>,
+    /// `None` before the first update and after an interrupted one (the abandoned one keeps
+    /// it): the next update starts over with a new tracker.
     tracker: Option<Tracker>,
+    /// The walls of the constructor, or of the last update that passed walls.
+    walls: Option<Walls>,
+    /// The dimension and plane the tracker's walls were made for.
+    walls_made_for: Option<(usize, Option<Plane>)>,
+    solids: Vec<HalfSpace>,
+    periodic: Vec<Periodic>,
     /// Whether `r` is still to be checked against the particles' spacing (at the first update).
     check: bool,
     /// How many particles the last update recomputed.
@@ -46,29 +65,31 @@ pub struct PyTracker {
 #[pymethods]
 impl PyTracker {
     #[new]
-    #[pyo3(signature = (r = None, method = "exact", threads = None, *, h = None, spacing = None, **params))]
+    #[pyo3(signature = (
+        r = None, method = "exact", threads = None, *, h = None, spacing = None, walls = None,
+        wall_radii = None, solids = None, periodic = None, **params
+    ))]
+    #[allow(clippy::too_many_arguments)] // the Python signature: keyword arguments with defaults
     fn new(
         r: Option<&Bound<'_, PyAny>>,
         method: &str,
         threads: Option<usize>,
         h: Option<&Bound<'_, PyAny>>,
         spacing: Option<&Bound<'_, PyAny>>,
+        walls: Option<&Bound<'_, PyAny>>,
+        wall_radii: Option<&Bound<'_, PyAny>>,
+        solids: Option<&Bound<'_, PyAny>>,
+        periodic: Option<&Bound<'_, PyAny>>,
         params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
-        let missing = || {
+        let arg = radius_input("Tracker", r, h, spacing)?.ok_or_else(|| {
             PyTypeError::new_err(
                 "Tracker() missing required argument 'r' (the resolution: give r, h (the \
-                 smoothing length, r = h) or spacing (the particle spacing))",
+                 smoothing length, r = h) or spacing (the particle spacing), or r=\"auto\"; with \
+                 radii at the updates, r is their scale, e.g. r=1)",
             )
-        };
-        let arg = radius_input("Tracker", r, h, spacing)?.ok_or_else(missing)?;
-        if matches!(arg, RadiusArg::Auto) {
-            return Err(value_error(
-                "Tracker: r=\"auto\" is not supported (the resolution must be the same at \
-                 every step): give r, h or spacing, e.g. r=bp.auto_radius(first_points)",
-            ));
-        }
-        let r = fixed_radius(arg)?.ok_or_else(missing)?;
+        })?;
+        let fixed = fixed_radius(arg)?;
         // Unknown methods and parameters fail with the registry's messages.
         let configured = detector(method, &param_pairs(params)?)?;
         refuse_h_over_r(configured.as_ref(), Some(arg))?;
@@ -87,34 +108,99 @@ impl PyTracker {
             return Err(value_error("threads must be at least 1"));
         }
         Ok(PyTracker {
-            r,
+            arg,
+            r: fixed,
             threads,
+            pool: None,
             tracker: None,
+            walls: Walls::read(walls, wall_radii, None)?,
+            walls_made_for: None,
+            solids: super::solids(solids)?,
+            periodic: periodic_axes(periodic)?,
             check: checks_plausibility(Some(arg), false),
             recomputed: 0,
         })
     }
 
     /// The labels of this step's positions (an (n, 2) or (n, 3) array-like of reals), the
-    /// particles matched by `ids` when given.
-    #[pyo3(signature = (points, ids = None))]
+    /// particles matched by `ids` when given, in the tracker's domain.
+    #[pyo3(signature = (
+        points, ids = None, *, radii = None, walls = None, wall_radii = None, phases = None,
+        dim = None
+    ))]
+    #[allow(clippy::too_many_arguments)] // the Python signature: keyword arguments with defaults
     fn update<'py>(
         &mut self,
         py: Python<'py>,
         points: &Bound<'py, PyAny>,
         ids: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let set = read_points(points, None)?;
+        radii: Option<&Bound<'py, PyAny>>,
+        walls: Option<&Bound<'py, PyAny>>,
+        wall_radii: Option<&Bound<'py, PyAny>>,
+        phases: Option<&Bound<'py, PyAny>>,
+        dim: Option<usize>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (set, plane) = read_points_in(points, dim)?;
         let ids = ids
             .map(|ids| whole_numbers(ids, "ids", "id", u64::MAX))
-            .transpose()?;
+            .transpose()
+            .map_err(|e| value_error(format!("{}; {IDS_GUIDANCE}", e.value(py))))?;
+        let phases = phases.map(phase_numbers).transpose()?;
+        let r = match (self.r, radii) {
+            (Some(r), _) => r,
+            (None, Some(_)) => {
+                return Err(value_error(
+                    "r=\"auto\" estimates one uniform resolution; with radii= give r as the \
+                     scale of the radius factors (e.g. r=1)",
+                ))
+            }
+            (None, None) => resolve_radius("Tracker", &set, Some(self.arg))?,
+        };
+        let set = match radii {
+            Some(radii) => {
+                attach_radii(set, radius_factors(radii, "radii", "particle")?, r, "radii")?
+            }
+            None => set,
+        };
+        let new_walls = Walls::read(walls, wall_radii, Some(set.dim()))?;
         let mut tracker = match self.tracker.take() {
             Some(t) => t,
-            // The update runs on the interruptible pool of `threads` workers.
-            None => Tracker::new(self.r, None, Domain::new()).map_err(value_error)?,
+            None => {
+                self.walls_made_for = None;
+                let mut domain = Domain::new();
+                for &solid in &self.solids {
+                    domain = domain.with_solid(solid);
+                }
+                for &axis in &self.periodic {
+                    domain = domain.with_periodic(axis);
+                }
+                // The update runs on the interruptible pool of `threads` workers.
+                Tracker::new(r, None, domain).map_err(value_error)?
+            }
         };
-        let (check, r) = (self.check, self.r);
-        let (tracker, outcome, concern) = run_interruptible(py, self.threads, move || {
+        // Walls given to this update replace the tracker's (the same walls change nothing);
+        // the walls are made again for points of another dimension or plane.
+        let made_for = (set.dim(), plane);
+        let changed = new_walls.is_some() && new_walls != self.walls;
+        if changed {
+            self.walls = new_walls;
+        }
+        if changed || self.walls_made_for != Some(made_for) {
+            if let Some(walls) = &self.walls {
+                tracker
+                    .move_walls(walls.set(set.dim(), plane, r)?)
+                    .map_err(value_error)?;
+            }
+            self.walls_made_for = Some(made_for);
+        }
+        let with_phases = phases.is_some();
+        tracker.set_phases(phases);
+        let (token, pool) = match self.pool.take() {
+            Some(pool) => pool,
+            None => interruptible_pool(self.threads)?,
+        };
+        let check = self.check && radii.is_none();
+        let (tracker, outcome, concern) = run_on(py, &token, &pool, move || {
             let concern = if check { concern_of(&set, r) } else { None };
             let outcome = match &ids {
                 Some(ids) => tracker.update_with_ids(&set, ids),
@@ -123,15 +209,49 @@ impl PyTracker {
             .map(|labels| labels.as_slice().to_vec());
             (tracker, outcome, concern)
         })?;
-        let labels = outcome.map_err(value_error)?;
+        if !token.is_stopped() {
+            self.pool = Some((token, pool));
+        }
         self.recomputed = tracker.recomputed();
+        let interface = tracker.interface().map(|i| i.as_slice().to_vec());
         self.tracker = Some(tracker);
+        let labels = outcome.map_err(|e| {
+            let text = e.to_string();
+            if ids_error(&e) {
+                value_error(format!("{text}; {IDS_GUIDANCE}"))
+            } else {
+                value_error(text)
+            }
+        })?;
+        self.r = Some(r);
         self.check = false;
         warn_concern(py, concern)?;
-        Ok(bool_array(py, labels))
+        let labels = bool_array(py, labels).into_any();
+        match (with_phases, interface) {
+            (false, _) => Ok(labels),
+            (true, Some(interface)) => {
+                Ok(PyTuple::new(py, [labels, bool_array(py, interface).into_any()])?.into_any())
+            }
+            (true, None) => Err(value_error(
+                "internal error (please report it): no interface labels with phases",
+            )),
+        }
     }
 
     fn __repr__(&self) -> String {
-        format!("Tracker(r={}, method=\"exact\")", self.r.get())
+        match self.r {
+            Some(r) => format!("Tracker(r={}, method=\"exact\")", r.get()),
+            None => "Tracker(method=\"exact\")".to_owned(),
+        }
     }
+}
+
+/// Whether `err` is about the ids (their count or a repeated id).
+fn ids_error(err: &boundary::DetectError) -> bool {
+    matches!(
+        err,
+        boundary::DetectError::Core(
+            boundary::CoreError::IdsLengthMismatch { .. } | boundary::CoreError::RepeatedId { .. }
+        )
+    )
 }

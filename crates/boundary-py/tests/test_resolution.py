@@ -150,9 +150,8 @@ def test_the_resolution_is_given_once_and_checked():
     for kwargs in [{"h": "0.03"}, {"h": True}, {"spacing": [DP]}, {"spacing": "auto"}]:
         with pytest.raises(TypeError, match=r"(h|spacing) must be a positive real"):
             bp.detect(points, **kwargs)
-    # The tracker keeps one r for every step: no estimate from the first one.
-    with pytest.raises(ValueError, match=r'r="auto" is not supported'):
-        bp.Tracker("auto")
+    # The tracker measures "auto" on its first update's particles, and keeps that r.
+    np.testing.assert_array_equal(bp.Tracker("auto").update(points), bp.detect(points, "auto"))
 
 
 def test_r_auto_is_k_times_the_bulk_spacing_and_close_to_the_documented_r():

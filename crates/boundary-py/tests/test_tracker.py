@@ -85,3 +85,135 @@ def test_tracker_refuses_bad_ids():
     # Ids up to 2^64 - 1 are taken.
     big = np.array([2**64 - 1, 0, 2**63], dtype=np.uint64)
     np.testing.assert_array_equal(tracker.update(points, ids=big), boundary.detect(points, 1.0))
+
+
+def tank(step: int):
+    """A water block in a tank of wall particles (floor and two sides, 3 layers), the water
+    stretched a little more at every step (spacing 1)."""
+    rng = np.random.default_rng(11)
+    k = np.arange(30 * 12)
+    water = np.column_stack([k % 30 + 0.5, k // 30 + 0.5]).astype(np.float64)
+    water += rng.uniform(-0.1, 0.1, water.shape)
+    water[:, 0] *= 1.0 + 0.004 * step
+    water[:, 1] *= 1.0 - 0.003 * step
+    floor = [[x + 0.5, -0.5 - layer] for layer in range(3) for x in range(-3, 36)]
+    sides = [
+        [x, y + 0.5] for layer in range(3) for x in (-0.5 - layer, 35.5 + layer) for y in range(20)
+    ]
+    return water, np.array(floor + sides, dtype=np.float64)
+
+
+def test_tracker_with_fixed_walls_gives_the_labels_of_detect():
+    tracker = boundary.Tracker(1.2, threads=1, walls=tank(0)[1])
+    counts = []
+    for step in range(6):
+        water, walls = tank(step)
+        labels = tracker.update(water)
+        np.testing.assert_array_equal(labels, boundary.detect(water, 1.2, walls=walls))
+        counts.append(tracker.recomputed)
+    # The floor covers the bottom row: not the free surface.
+    assert not labels[:30].all()
+    assert counts[0] == len(water)
+    assert all(c < len(water) // 3 for c in counts[1:]), counts
+
+
+def test_tracker_with_moving_walls_gives_the_labels_of_detect():
+    tracker = boundary.Tracker(h=1.2, threads=1)
+    saved = 0
+    for step in range(6):
+        water, walls = tank(step)
+        walls = walls + np.array([0.02 * step, 0.01 * (step % 2)])
+        labels = tracker.update(water, walls=walls)
+        np.testing.assert_array_equal(labels, boundary.detect(water, h=1.2, walls=walls))
+        if step > 0:
+            saved += len(water) - tracker.recomputed
+    assert saved > 0
+    # Walls that did not move, passed again: nothing changes.
+    labels = tracker.update(water, walls=walls)
+    np.testing.assert_array_equal(labels, boundary.detect(water, h=1.2, walls=walls))
+    assert tracker.recomputed < len(water) // 3
+    # Another count of walls starts over.
+    labels = tracker.update(water, walls=walls[:-5])
+    np.testing.assert_array_equal(labels, boundary.detect(water, h=1.2, walls=walls[:-5]))
+    assert tracker.recomputed == len(water)
+
+
+def test_tracker_takes_the_whole_domain_of_detect():
+    water, walls = tank(0)
+    factors = 1.0 + 0.1 * (np.arange(len(water)) % 3)
+    wall_factors = np.full(len(walls), 0.9)
+    phases = (water[:, 0] > 15).astype(np.uint32)
+    tracker = boundary.Tracker(
+        spacing=1.0, walls=walls, wall_radii=wall_factors, solids="x<2", periodic=None
+    )
+    for step in range(3):
+        water = tank(step)[0]
+        labels = tracker.update(water, radii=factors)
+        expected = boundary.detect(
+            water, spacing=1.0, radii=factors, walls=walls, wall_radii=wall_factors, solids="x<2"
+        )
+        np.testing.assert_array_equal(labels, expected)
+        labels, interface = tracker.update(water, phases=phases)
+        want, want_interface = boundary.detect(
+            water, spacing=1.0, walls=walls, wall_radii=wall_factors, solids="x<2", phases=phases
+        )
+        np.testing.assert_array_equal(labels, want)
+        np.testing.assert_array_equal(interface, want_interface)
+        assert interface.any()
+    # Periodic axes.
+    k = np.arange(400)
+    points = np.column_stack([k % 20 + 0.5, k // 20]).astype(np.float64)
+    points += np.random.default_rng(1).uniform(-0.1, 0.1, points.shape)
+    tracker = boundary.Tracker(0.9, periodic="x:0:20")
+    for step in range(3):
+        moved = points.copy()
+        moved[:, 1] *= 1.0 + 0.003 * step
+        np.testing.assert_array_equal(
+            tracker.update(moved), boundary.detect(moved, 0.9, periodic="x:0:20")
+        )
+
+
+def test_tracker_measures_auto_once():
+    water, walls = tank(0)
+    tracker = boundary.Tracker("auto", walls=walls)
+    np.testing.assert_array_equal(
+        tracker.update(water), boundary.detect(water, "auto", walls=walls)
+    )
+    r = boundary.auto_radius(water)
+    assert repr(tracker) == f'Tracker(r={r}, method="exact")'
+    # Later steps keep the first step's r, even where auto would measure another.
+    squeezed = water * 0.9
+    np.testing.assert_array_equal(
+        tracker.update(squeezed), boundary.detect(squeezed, r, walls=walls)
+    )
+
+
+def test_tracker_reads_a_flat_3d_array_with_dim_2():
+    water, walls = tank(0)
+    water3 = np.column_stack([water, np.full(len(water), 0.25)])
+    walls3 = np.column_stack([walls, np.full(len(walls), 0.25)])
+    with pytest.raises(ValueError, match="dim=2"):
+        boundary.Tracker(1.2).update(water3)
+    tracker = boundary.Tracker(1.2, walls=walls3)
+    expected = boundary.detect(water, 1.2, walls=walls)
+    np.testing.assert_array_equal(tracker.update(water3, dim=2), expected)
+    # detect takes the same flat walls beside flat points.
+    np.testing.assert_array_equal(boundary.detect(water3, 1.2, dim=2, walls=walls3), expected)
+    # Walls off the points' plane are refused, naming the wall particle.
+    off = walls3.copy()
+    off[4, 2] = 1.0
+    with pytest.raises(ValueError, match="wall particle 4 has z = 1"):
+        boundary.detect(water3, 1.2, dim=2, walls=off)
+    # 3D walls beside 2D points say what works.
+    with pytest.raises(ValueError, match="dim=2"):
+        boundary.detect(water, 1.2, walls=walls3)
+
+
+def test_ids_errors_say_what_to_pass_without_stable_ids():
+    water, walls = tank(0)
+    tracker = boundary.Tracker(1.2, walls=walls)
+    unset = np.full(len(water), 4294967295, dtype=np.uint32)
+    with pytest.raises(ValueError, match="pass no ids"):
+        tracker.update(water, ids=unset)
+    # Without ids the particles are matched by their place.
+    np.testing.assert_array_equal(tracker.update(water), boundary.detect(water, 1.2, walls=walls))

@@ -567,18 +567,28 @@ def detect(
 
 class Tracker:
     """Labels the successive time steps of one particle set, each exactly as
-    ``detect(points, r)`` would, recomputing only the particles whose label may have changed.
+    ``detect(points, r, ...)`` would in the same domain, recomputing only the particles whose
+    label may have changed.
 
     Between two solver steps a particle moves by a small fraction of the spacing; a particle
     far enough inside (or outside) the covering keeps its label, and the tracker proves it
     from the previous step's cells instead of recomputing them. The labels are those of a full
     ``exact`` detection, bit for bit, at every step.
 
+    The domain is that of :meth:`Detector.detect`. Walls given here are fixed: after the
+    first update they cost nothing per step. Walls that move are passed to each
+    :meth:`update` instead (``walls=``): walls equal to the last ones cost one comparison, and
+    moved walls keep the saving (their movement counts like the particles'). Solids, periodic
+    axes, phases and per-particle radii are honoured by a full detection at every step: the
+    labels of :func:`detect`, without the saving.
+
     Parameters
     ----------
-    r : float
-        The resolution (positive, finite), the same at every step. Give it once, as ``r``,
-        ``h`` or ``spacing``.
+    r : float or "auto", optional
+        The resolution (positive, finite), the same at every step; ``"auto"`` measures it on
+        the first update's particles (:func:`auto_radius`) and keeps it. Give it once, as
+        ``r``, ``h`` or ``spacing``. With ``radii`` at the updates, it is their scale
+        (default 1).
     method : str, default "exact"
         Only ``exact`` has a tracker.
     h : float, optional
@@ -586,7 +596,15 @@ class Tracker:
     spacing : float, optional
         The particle spacing: ``r = RADIUS_PER_SPACING * spacing``.
     threads : int, optional
-        Worker threads of each update (default: all cores).
+        Worker threads of each update (default: all cores), started once.
+    walls : array_like, shape (m, d), optional
+        Fixed covering-only particles (a solver's wall particles), as in :func:`detect`.
+        ``(m, 3)`` walls beside ``(n, 3)`` points updated with ``dim=2`` lie in the points'
+        plane, which is dropped from both.
+    wall_radii : array_like, shape (m,), optional
+        Radius factors of the walls (default 1 each).
+    solids, periodic : str or sequence of str, optional
+        Solid half-spaces (``"y<0"``) and periodic axes (``"x:0:1"``), as in :func:`detect`.
     **params : str, int, float or bool
         The method's parameters; ``exact``'s ``tie`` must stay 0 (the exact labels).
 
@@ -600,10 +618,7 @@ class Tracker:
     ------
     ValueError
         Another method, ``tie`` other than 0, ``r`` not positive and finite, more than one of
-        ``r``, ``h`` and ``spacing``, ``r="auto"`` (pass ``r=auto_radius(points)``),
-        ``threads=0``.
-    TypeError
-        None of ``r``, ``h`` and ``spacing``.
+        ``r``, ``h`` and ``spacing``, ``threads=0``, bad walls, solids or periodic axes.
 
     Examples
     --------
@@ -616,28 +631,90 @@ class Tracker:
     True
     >>> tracker.recomputed < len(points)
     True
+
+    A tank: the walls are set once, the water moves.
+
+    >>> k = np.arange(400)
+    >>> water = np.column_stack([k % 20, k // 20 + 1.0]) * 0.05
+    >>> floor = np.column_stack([np.arange(-5.0, 25.0) * 0.05, np.zeros(30)])
+    >>> tracker = bp.Tracker(h=0.06, walls=floor)
+    >>> labels = tracker.update(water)
+    >>> bool((labels == bp.detect(water, h=0.06, walls=floor)).all())
+    True
     """
 
     def __init__(
         self,
-        r: Optional[float] = None,
+        r: Optional[Radius] = None,
         method: str = "exact",
         *,
         h: Optional[float] = None,
         spacing: Optional[float] = None,
         threads: Optional[int] = None,
+        walls: Optional[ArrayLike] = None,
+        wall_radii: Optional[ArrayLike] = None,
+        solids: Optional[Texts] = None,
+        periodic: Optional[Texts] = None,
         **params: Param,
     ) -> None:
-        self._native = _native.Tracker(r, method, threads, h=h, spacing=spacing, **params)
+        self._native = _native.Tracker(
+            r,
+            method,
+            threads,
+            h=h,
+            spacing=spacing,
+            walls=walls,
+            wall_radii=wall_radii,
+            solids=solids,
+            periodic=periodic,
+            **params,
+        )
+
+    def __repr__(self) -> str:
+        return repr(self._native)
 
     @property
     def recomputed(self) -> int:
         """How many particles the last :meth:`update` recomputed (all of them at the first
-        step, after a change of the particle count without ``ids``, and on a step that fell
-        back to a full detection)."""
+        step, after a change of the particle count without ``ids``, on a step that fell
+        back to a full detection, and with solids, periodic axes, phases or radii)."""
         return self._native.recomputed
 
-    def update(self, points: ArrayLike, ids: Optional[ArrayLike] = None) -> Labels:
+    @overload
+    def update(
+        self,
+        points: ArrayLike,
+        ids: Optional[ArrayLike] = None,
+        *,
+        radii: Optional[ArrayLike] = None,
+        walls: Optional[ArrayLike] = None,
+        wall_radii: Optional[ArrayLike] = None,
+        phases: None = None,
+        dim: Optional[int] = None,
+    ) -> Labels: ...
+    @overload
+    def update(
+        self,
+        points: ArrayLike,
+        ids: Optional[ArrayLike] = None,
+        *,
+        radii: Optional[ArrayLike] = None,
+        walls: Optional[ArrayLike] = None,
+        wall_radii: Optional[ArrayLike] = None,
+        phases: ArrayLike,
+        dim: Optional[int] = None,
+    ) -> Tuple[Labels, Labels]: ...
+    def update(
+        self,
+        points: ArrayLike,
+        ids: Optional[ArrayLike] = None,
+        *,
+        radii: Optional[ArrayLike] = None,
+        walls: Optional[ArrayLike] = None,
+        wall_radii: Optional[ArrayLike] = None,
+        phases: Optional[ArrayLike] = None,
+        dim: Optional[int] = None,
+    ) -> Union[Labels, Tuple[Labels, Labels]]:
         """The labels of this step's positions.
 
         Parameters
@@ -646,20 +723,40 @@ class Tracker:
             Without ``ids``: the same particles in the same order as at the previous step;
             another count starts over with a full detection.
         ids : array_like of int, shape (n,), optional
-            A stable id per particle (whole numbers >= 0, unique), e.g. the solver's particle
-            id: particles are matched to the previous step's by id, so they may come (inflow),
-            go (outflow) and change order without the tracker starting over.
+            A stable id per particle (whole numbers >= 0, unique) that follows the particle
+            when the solver reorders, e.g. the solver's global particle id: particles are
+            matched to the previous step's by id, so they may come (inflow), go (outflow) and
+            change order without the tracker starting over. A solver without such ids (PySPH
+            run serially leaves ``gid`` at 4294967295 for every particle) passes none: the
+            particles are then matched by their place in ``points``, which is right while the
+            solver keeps their order (a new count starts over). A solver that reorders without
+            ids gets the right labels all the same, with less saving.
+        radii : array_like, shape (n,), optional
+            A radius factor per particle (``r_i = r * radii[i]``), as in :func:`detect`.
+        walls : array_like, shape (m, d), optional
+            The walls at this step, replacing the tracker's (for walls that move; fixed
+            walls are given once to :class:`Tracker`). Walls equal to the last ones change
+            nothing; another count starts over.
+        wall_radii : array_like, shape (m,), optional
+            Radius factors of ``walls``.
+        phases : array_like of int, shape (n,), optional
+            A phase number per particle: the interface labels are returned too.
+        dim : {2, 3}, optional
+            As :func:`detect`: ``2`` drops the constant axis of a flat ``(n, 3)`` array (and
+            of ``(m, 3)`` walls in the same plane).
 
         Returns
         -------
-        numpy.ndarray of bool, shape (n,)
-            True on the boundary.
+        labels : numpy.ndarray of bool, shape (n,)
+            True on the boundary; with ``phases``, ``(labels, interface)``.
 
         Raises
         ------
         ValueError
-            Positions that are not finite reals (naming the particle); ``ids`` of another
-            length than ``points``, negative, not integers or repeated (naming the particles).
+            Positions that are not finite reals (naming the particle), a flat ``(n, 3)``
+            array without ``dim=2``; ``ids`` of another length than ``points``, negative, not
+            integers or repeated (naming the particles, and saying what to pass instead);
+            bad walls, radii or phases.
         KeyboardInterrupt
             On Ctrl-C, after the workers have stopped; the next update starts over.
 
@@ -679,7 +776,16 @@ class Tracker:
         >>> tracker.recomputed < int(stay.sum())
         True
         """
-        return self._native.update(points, ids)
+        out: Any = self._native.update(
+            points,
+            ids,
+            radii=radii,
+            walls=walls,
+            wall_radii=wall_radii,
+            phases=phases,
+            dim=dim,
+        )
+        return out  # type: ignore[no-any-return]
 
 
 def auto_radius(points: ArrayLike, dim: Optional[int] = None) -> float:

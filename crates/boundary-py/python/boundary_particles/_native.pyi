@@ -65,17 +65,31 @@ class Detector:
 class Tracker:
     def __new__(
         cls,
-        r: Optional[float] = None,
+        r: Optional[Union[float, str]] = None,
         method: str = "exact",
         threads: Optional[int] = None,
         *,
         h: Any = None,
         spacing: Any = None,
+        walls: Any = None,
+        wall_radii: Any = None,
+        solids: Any = None,
+        periodic: Any = None,
         **params: Any,
     ) -> Tracker: ...
     @property
     def recomputed(self) -> int: ...
-    def update(self, points: Any, ids: Any = None) -> NDArray[np.bool_]: ...
+    def update(
+        self,
+        points: Any,
+        ids: Any = None,
+        *,
+        radii: Any = None,
+        walls: Any = None,
+        wall_radii: Any = None,
+        phases: Any = None,
+        dim: Optional[int] = None,
+    ) -> Any: ...
 
 def auto_radius_of(points: Any, dim: Optional[int] = None) -> float: ...
 def bulk_spacing_of(points: Any, dim: Optional[int] = None) -> float: ...
