@@ -747,10 +747,12 @@ fn detect_frames(args: &DetectArgs, detector: &dyn BoundaryDetector) -> Result<(
         })?;
         let mut taken = std::collections::HashMap::new();
         for path in &paths {
+            // A format that is only read (PySPH's) is written as .vtu.
             let format = args
                 .output_format
                 .or(args.input.format)
-                .or_else(|| Format::from_path(path));
+                .or_else(|| Format::from_path(path))
+                .map(|f| if f.can_write() { f } else { Format::Vtu });
             // `fluid_1.bgeo.gz` is named `fluid_1`, like `fluid_1.vtk`.
             let stem = path.file_stem().unwrap_or_default().to_string_lossy();
             let stem = match Format::from_path(path) {
@@ -1233,6 +1235,7 @@ fn domain_json(setup: Option<&DomainSetup>) -> serde_json::Value {
         None => serde_json::Value::Null,
         Some(d) => json!({
             "wall_attribute": d.wall_attribute(),
+            "wall_arrays": d.wall_arrays(),
             "solids": d.solids(),
             "solid_meshes": d.solid_meshes(),
             "periodic": d.periodic(),

@@ -1,4 +1,5 @@
-//! `detect`'s simulation options: wall particles (`--walls`, `--wall-attribute`), solid
+//! `detect`'s simulation options: wall particles (`--walls`, `--wall-attribute`,
+//! `--wall-array`), solid
 //! half-spaces (`--solid`), periodic axes (`--periodic`) and phases (`--phase-attribute`),
 //! turned into the core's [`Domain`] once per frame. The definition lives in the core
 //! (`boundary::domain`); this module only reads files and attributes.
@@ -28,6 +29,12 @@ pub(crate) struct DomainArgs {
     /// the summary counts the other particles only.
     #[arg(long, value_name = "NAME=V[,V...]", value_parser = parse_wall_attribute)]
     pub(crate) wall_attribute: Option<WallSelector>,
+    /// Wall particles from the particle array NAME of INPUT itself (repeatable): PySPH's
+    /// .hdf5 holds each array (`fluid`, `boundary`, `solid`, …) in one file, and INPUT is its
+    /// `fluid` array. Read from every frame, so moving walls move; like --walls they cover
+    /// and get no label.
+    #[arg(long = "wall-array", value_name = "NAME")]
+    pub(crate) wall_arrays: Vec<String>,
     /// A closed solid half-space that covers like the particles do (repeatable): an axis,
     /// `<` or `>`, a bound, e.g. 'y<0' (quoted) for a floor at y = 0. Not every method can
     /// honour it; those that cannot say so.
@@ -103,6 +110,10 @@ fn parse_periodic(text: &str) -> Result<Periodic, String> {
 pub(crate) struct DomainSetup {
     /// The `--walls` files joined, and the first file (named in messages).
     file_walls: Option<(AnyParticleSet, PathBuf)>,
+    /// `--wall-array`: particle arrays of each input file that are walls.
+    wall_arrays: Vec<String>,
+    /// The run's resolution, for the radii of the wall arrays.
+    mode: RadiusMode,
     selector: Option<WallSelector>,
     solids: Vec<HalfSpace>,
     /// The `--solid-mesh` files, read and validated once, with their paths.
@@ -157,6 +168,7 @@ impl DomainSetup {
     ) -> Result<Option<Self>, CliError> {
         let bare = args.walls.is_empty()
             && args.wall_attribute.is_none()
+            && args.wall_arrays.is_empty()
             && args.solids.is_empty()
             && args.solid_meshes.is_empty()
             && args.periodic.is_empty()
@@ -166,7 +178,11 @@ impl DomainSetup {
         }
         let mut sets: Vec<AnyParticleSet> = Vec::new();
         for path in &args.walls {
-            let set = read_wall_file(path, input, mode)?;
+            let options = ReadOptions {
+                dim: input.dim.map(usize::from),
+                format: Format::from_path(path).or(input.format),
+            };
+            let set = read_walls(path, None, &options, mode)?;
             if let Some(first) = sets.first() {
                 if first.dim() != set.dim() {
                     return Err(CliError::WallFile {
@@ -201,6 +217,8 @@ impl DomainSetup {
         }
         Ok(Some(DomainSetup {
             file_walls,
+            wall_arrays: args.wall_arrays.clone(),
+            mode: mode.clone(),
             selector: args.wall_attribute.clone(),
             solids: args.solids.clone(),
             meshes,
@@ -209,9 +227,9 @@ impl DomainSetup {
         }))
     }
 
-    /// Whether wall particles were asked for (`--walls`, `--wall-attribute`).
+    /// Whether wall particles were asked for (`--walls`, `--wall-attribute`, `--wall-array`).
     pub(crate) fn has_walls(&self) -> bool {
-        self.file_walls.is_some() || self.selector.is_some()
+        self.file_walls.is_some() || self.selector.is_some() || !self.wall_arrays.is_empty()
     }
 
     /// Whether each frame's point attributes are needed.
@@ -240,6 +258,11 @@ impl DomainSetup {
     /// The periodic axes as given (`x:0:1`).
     pub(crate) fn periodic(&self) -> Vec<String> {
         self.periodic.iter().map(ToString::to_string).collect()
+    }
+
+    /// The `--wall-array` names as given.
+    pub(crate) fn wall_arrays(&self) -> &[String] {
+        &self.wall_arrays
     }
 
     /// `--wall-attribute` as given.
@@ -291,9 +314,25 @@ impl DomainSetup {
                 )
             }
         };
-        // The input's walls first, then those of the files.
+        // The input's walls first (rows, then arrays), then those of the files.
+        let mut array_walls = Vec::with_capacity(self.wall_arrays.len());
+        for array in &self.wall_arrays {
+            let walls = read_walls(input, Some(array), options, &self.mode)?;
+            if walls.dim() != set.dim() {
+                return Err(CliError::WallFile {
+                    path: input.to_path_buf(),
+                    problem: format!(
+                        "its particle array {array:?} holds {}D particles, the input {}D",
+                        walls.dim(),
+                        set.dim()
+                    ),
+                });
+            }
+            array_walls.push(walls);
+        }
         let parts: Vec<&AnyParticleSet> = input_walls
             .iter()
+            .chain(&array_walls)
             .chain(self.file_walls.iter().map(|(w, _)| w))
             .filter(|w| !w.is_empty())
             .collect();
@@ -366,42 +405,53 @@ fn phases(
     }
 }
 
-/// Reads one `--walls` file in the dimension the options ask for, with its radii when
-/// `--radius-attribute` names an attribute it has. An empty file is an error.
-fn read_wall_file(
+/// Reads one `--walls` file (or, with `array`, that particle array of a PySPH file) with
+/// `options`, with its radii when `--radius-attribute` names an attribute it has. An empty
+/// file is an error.
+fn read_walls(
     path: &Path,
-    input: &InputArgs,
+    array: Option<&str>,
+    options: &ReadOptions,
     mode: &RadiusMode,
 ) -> Result<AnyParticleSet, CliError> {
-    let options = ReadOptions {
-        dim: input.dim.map(usize::from),
-        format: Format::from_path(path).or(input.format),
+    let what = match array {
+        Some(array) => format!("its particle array {array:?} holds no particle"),
+        None => "the file holds no particle".to_owned(),
     };
     // A file of no particle is named as the wall file it was meant to be.
     let no_particle = |error: boundary_io::IoError| match error {
         boundary_io::IoError::NoParticles { detail, .. } => CliError::WallFile {
             path: path.to_path_buf(),
-            problem: format!("the file holds no particle: {detail}"),
+            problem: format!("{what}: {detail}"),
         },
         other => other.into(),
     };
     let set = match mode {
         RadiusMode::PerParticle { attribute, scale } => {
-            let file = boundary_io::read_particle_file(path, &options).map_err(no_particle)?;
+            let file = match array {
+                Some(array) => boundary_io::read_particle_array(path, array, options),
+                None => boundary_io::read_particle_file(path, options),
+            }
+            .map_err(no_particle)?;
             if find_attribute(&file, attribute).is_some() {
-                attach_radii(file, attribute, *scale, path, &options)?.0.set
+                attach_radii(file, attribute, *scale, path, options)?.0.set
             } else {
                 file.set
             }
         }
-        RadiusMode::Uniform(_) => {
-            boundary_io::read_particles(path, &options).map_err(no_particle)?
-        }
+        RadiusMode::Uniform(_) => match array {
+            Some(array) => {
+                boundary_io::read_particle_array(path, array, options)
+                    .map_err(no_particle)?
+                    .set
+            }
+            None => boundary_io::read_particles(path, options).map_err(no_particle)?,
+        },
     };
     if set.is_empty() {
         return Err(CliError::WallFile {
             path: path.to_path_buf(),
-            problem: "the file holds no particle".to_owned(),
+            problem: what,
         });
     }
     Ok(set)

@@ -199,8 +199,8 @@ pub(crate) fn select(
             None if arrays.len() == 1 => 0,
             None => {
                 return Err(bad(format!(
-                    "no particle array {DEFAULT_ARRAY:?} and several others: name the one to \
-                     read (--array NAME); the file holds {}",
+                    "no particle array {DEFAULT_ARRAY:?} and several others, so which to read \
+                     is unclear (name one: read_particle_array); the file holds {}",
                     describe(&arrays)
                 )))
             }
