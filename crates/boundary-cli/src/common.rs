@@ -16,7 +16,7 @@ use std::time::Instant;
 #[derive(Debug, Args)]
 pub(crate) struct InputArgs {
     /// Particle file: .csv (header x,y[,z]), .xyz/.txt, .ply, .vtk (legacy), .vtu, .vtp,
-    /// .bgeo[.gz], PySPH's .hdf5 (its `fluid` array, or its only one).
+    /// .bgeo[.gz], PySPH's .hdf5 and .npz (its `fluid` array, or its only one).
     /// `detect` also takes a glob pattern of frames ('frames/fluid_*.vtu', quoted).
     pub(crate) input: PathBuf,
     /// Particle resolution r (positive, in the file's length unit), or `auto`: k times the

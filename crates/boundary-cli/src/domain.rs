@@ -30,7 +30,7 @@ pub(crate) struct DomainArgs {
     #[arg(long, value_name = "NAME=V[,V...]", value_parser = parse_wall_attribute)]
     pub(crate) wall_attribute: Option<WallSelector>,
     /// Wall particles from the particle array NAME of INPUT itself (repeatable): PySPH's
-    /// .hdf5 holds each array (`fluid`, `boundary`, `solid`, …) in one file, and INPUT is its
+    /// .hdf5 and .npz hold each array (`fluid`, `boundary`, `solid`, …) in one file, and INPUT is its
     /// `fluid` array. Read from every frame, so moving walls move; like --walls they cover
     /// and get no label.
     #[arg(long = "wall-array", value_name = "NAME")]

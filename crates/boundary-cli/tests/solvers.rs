@@ -424,6 +424,24 @@ fn pysph_hdf5_with_its_wall_array_labels_as_pysphs_loader_output() {
     assert_eq!(v["boundary"], expected["boundary"]);
     let labels = column(&from_hdf5, "boundary");
     assert_eq!(labels, column(&from_loader, "boundary"));
+    // PySPH's .npz of the same run (written without h5py) gives the same labels.
+    let npz = pysph_fixture("dam_break_2d_00010.npz");
+    let from_npz = dir.path().join("npz.csv");
+    let w = json(&[
+        "detect",
+        s(&npz),
+        "--smoothing-length",
+        "0.13",
+        "--wall-array",
+        "boundary",
+        "--output",
+        s(&from_npz),
+    ]);
+    assert_eq!(
+        (w["n"].clone(), w["walls"].clone()),
+        (v["n"].clone(), v["walls"].clone())
+    );
+    assert_eq!(column(&from_npz, "boundary"), labels);
     // The walls matter: the tank floor is not free surface with them.
     let alone = json(&["detect", s(&hdf5), "--smoothing-length", "0.13"]);
     assert!(

@@ -1,5 +1,5 @@
 //! Particle files: read positions from CSV, XYZ, PLY, legacy VTK, VTK XML (`.vtu`, `.vtp`),
-//! Houdini BGEO and PySPH's output (`.hdf5`)
+//! Houdini BGEO and PySPH's output (`.hdf5`, `.npz`)
 //! into an [`AnyParticleSet`], with the other point attributes where asked
 //! ([`read_particle_file`]), and write them back with per-particle columns such as the
 //! `boundary` label next to the attributes of the input.
@@ -15,7 +15,7 @@
 //! | VTK legacy | `.vtk` | `POINTS` (float or double) of POLYDATA, UNSTRUCTURED_GRID or STRUCTURED_GRID, ascii or binary | ascii POLYDATA: `POINTS`, `VERTICES`, `POINT_DATA` scalars |
 //! | BGEO | `.bgeo`, `.bgeo.gz` | Houdini classic BGEO 5 (partio, SPlisHSPlasH): points and point attributes, gzip detected by its magic | BGEO 5, 32-bit floats, gzip for `.gz` |
 //! | VTK XML | `.vtu`, `.vtp` | `Points` and every numeric `PointData` array of the first `Piece`; ascii, base64 binary, appended raw or base64; zlib; either byte order; `UInt32`/`UInt64` headers | base64 binary: `Points`, a vertex cell per particle, `PointData` (vectors joined, see below) |
-//! | PySPH | `.hdf5`, `.h5`, `.npz` | one particle array (`fluid` unless named, [`read_particle_array`]): `x`, `y`, `z` and every output property; `.npz` is an error naming the conversions | no (an error) |
+//! | PySPH | `.hdf5`, `.h5`, `.npz` | one particle array (`fluid` unless named, [`read_particle_array`]): `x`, `y`, `z` and every output property | no (an error) |
 //!
 //! # Reading
 //!
@@ -83,8 +83,9 @@
 //! [`particle_arrays`] lists them. PySPH keeps `z` = 0 in a 2D run: such a file reads as 2D
 //! (`dim = 3` keeps the zeros). Properties declared but not output (no value) are left out; a
 //! property of `k` values per particle becomes `name:0` … `name:k-1`. PySPH's `.npz` output
-//! (pickled Python dictionaries) is not read: the error says to run PySPH with h5py or to
-//! convert with `pysph dump_vtk`. Neither is written.
+//! (written without h5py: a NumPy zip whose `particles` entry is a pickled dictionary of the
+//! arrays, PySPH's output version 2) is read through `zip` and a small pickle stack machine
+//! that builds no Python object. Neither format is written.
 //!
 //! **BGEO** (hand-written from the format's public description; see the `bgeo` module): the
 //! classic binary geometry of Houdini, version 5, as partio writes it; the new Houdini 12+

@@ -10,8 +10,8 @@
 //!        /solver_data                           attributes t, dt, count (not read)
 //! ```
 //!
-//! The HDF5 file is read with the pure-Rust `hdf5-pure` crate (no HDF5 library needed). The
-//! `.npz` layout is read in the `npz` module.
+//! The HDF5 file is read with the pure-Rust `hdf5-pure` crate (no HDF5 library needed); the
+//! `.npz` layout in the `npz` module.
 //!
 //! One array is read at a time: the one asked for, else `fluid`, else the file's only array.
 //! Its positions are `x`, `y` and, when present, `z`; PySPH keeps `z` = 0 for a 2D run, so an

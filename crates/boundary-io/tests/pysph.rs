@@ -1,7 +1,7 @@
-//! PySPH's own output: `fixtures/pysph/dam_break_2d_00010.hdf5`, written by PySPH's 2D dam
-//! break, reads to what PySPH's own loader (`pysph.solver.utils.load`) gives for each particle
-//! array (`<array>_loaded.csv` beside it, written by `fixtures/pysph/make_pysph.py`): the
-//! same particles in the same order, bit for bit, 2D, with `h`, `m`, `rho` and `gid`.
+//! PySPH's own output: `fixtures/pysph/dam_break_2d_00010.hdf5` and `.npz`, written by PySPH's
+//! 2D dam break, read to what PySPH's own loader (`pysph.solver.utils.load`) gives for each
+//! particle array (`<array>_loaded.csv` beside them, written by `fixtures/pysph/make_pysph.py`):
+//! the same particles in the same order, bit for bit, 2D, with `h`, `m`, `rho` and `gid`.
 #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
 
 use boundary_io::{
@@ -17,6 +17,7 @@ fn fixture(name: &str) -> PathBuf {
 }
 
 const HDF5: &str = "dam_break_2d_00010.hdf5";
+const NPZ: &str = "dam_break_2d_00010.npz";
 
 /// What PySPH's loader gave for `array`, read as 2D (its z is 0).
 fn loaded(array: &str) -> ParticleFile {
@@ -56,8 +57,14 @@ fn assert_same(read: &ParticleFile, expected: &ParticleFile) {
 }
 
 #[test]
-fn hdf5_reads_as_pysphs_loader_does() {
-    let path = fixture(HDF5);
+fn hdf5_and_npz_read_as_pysphs_loader_does() {
+    for name in [HDF5, NPZ] {
+        reads_as_pysphs_loader_does(name);
+    }
+}
+
+fn reads_as_pysphs_loader_does(name: &str) {
+    let path = fixture(name);
     // Without a name: the array `fluid`.
     let fluid = read_particle_file(&path, &ReadOptions::default()).unwrap();
     assert_same(&fluid, &loaded("fluid"));
@@ -74,7 +81,9 @@ fn hdf5_reads_as_pysphs_loader_does() {
     let walls = read_particle_array(&path, "boundary", &ReadOptions::default()).unwrap();
     assert_same(&walls, &loaded("boundary"));
 
-    let listed = particle_arrays(&path, &ReadOptions::default()).unwrap();
+    // In file order: HDF5 groups sort by name, the .npz keeps PySPH's order.
+    let mut listed = particle_arrays(&path, &ReadOptions::default()).unwrap();
+    listed.sort();
     let expected: Vec<(String, usize)> = ["boundary", "fluid"]
         .iter()
         .map(|a| (a.to_string(), loaded(a).set.len()))
@@ -88,10 +97,12 @@ fn dim_3_keeps_the_zero_z() {
         dim: Some(3),
         format: None,
     };
-    let file = read_particle_file(&fixture(HDF5), &options).unwrap();
-    assert_eq!(file.set.dim(), 3);
-    assert!((0..file.set.len()).all(|i| file.set.coords(i)[2] == 0.0));
-    assert_eq!(file.set.len(), loaded("fluid").set.len());
+    for name in [HDF5, NPZ] {
+        let file = read_particle_file(&fixture(name), &options).unwrap();
+        assert_eq!(file.set.dim(), 3);
+        assert!((0..file.set.len()).all(|i| file.set.coords(i)[2] == 0.0));
+        assert_eq!(file.set.len(), loaded("fluid").set.len());
+    }
 }
 
 #[test]
@@ -130,14 +141,64 @@ fn errors_name_the_file_and_the_array() {
         Format::Hdf5,
         &ReadOptions::default(),
     );
-    let e = read_particle_file_from(
-        &b"x,y\n0,1\n"[..],
-        "text.hdf5",
-        Format::Hdf5,
-        &ReadOptions::default(),
-    )
-    .unwrap_err();
-    assert!(e.to_string().contains("text.hdf5"), "{e}");
+    for format in [Format::Hdf5, Format::Npz] {
+        let name = format!("text.{format}");
+        let e = read_particle_file_from(&b"x,y\n0,1\n"[..], &name, format, &ReadOptions::default())
+            .unwrap_err();
+        assert!(e.to_string().contains(&name), "{e}");
+    }
+}
+
+#[test]
+fn damaged_npz_files_are_errors_naming_the_file() {
+    let path = fixture(NPZ);
+    let e = read_particle_array(&path, "solid", &ReadOptions::default()).unwrap_err();
+    assert!(
+        e.to_string().contains(NPZ) && e.to_string().contains("fluid (231"),
+        "{e}"
+    );
+    let bytes = std::fs::read(&path).unwrap();
+    for cut in [0, 30, 1000, bytes.len() / 2, bytes.len() - 30] {
+        let e = read_particle_file_from(
+            &bytes[..cut],
+            "cut.npz",
+            Format::Npz,
+            &ReadOptions::default(),
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("cut.npz"), "{cut}: {e}");
+    }
+    // The pickle itself damaged, inside a valid archive: errors, never a panic.
+    let mut archive = zip::ZipArchive::new(std::io::Cursor::new(&bytes)).unwrap();
+    let mut entries = Vec::new();
+    for name in ["version.npy", "particles.npy", "solver_data.npy"] {
+        let mut data = Vec::new();
+        std::io::Read::read_to_end(&mut archive.by_name(name).unwrap(), &mut data).unwrap();
+        entries.push((name, data));
+    }
+    let pickle = entries[1].1.clone();
+    for k in (130..pickle.len()).step_by(pickle.len() / 40) {
+        for damage in [0u8, 0xff, b'.', b'h'] {
+            let mut bad = pickle.clone();
+            bad[k] = damage;
+            entries[1].1 = bad;
+            let mut out = std::io::Cursor::new(Vec::new());
+            let mut w = zip::ZipWriter::new(&mut out);
+            for (name, data) in &entries {
+                w.start_file(*name, zip::write::SimpleFileOptions::default())
+                    .unwrap();
+                std::io::Write::write_all(&mut w, data).unwrap();
+            }
+            w.finish().unwrap();
+            // Whatever it reads to, it returns.
+            let _ = read_particle_file_from(
+                out.get_ref().as_slice(),
+                "damaged.npz",
+                Format::Npz,
+                &ReadOptions::default(),
+            );
+        }
+    }
 }
 
 #[test]
