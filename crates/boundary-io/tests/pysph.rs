@@ -129,6 +129,7 @@ fn errors_name_the_file_and_the_array() {
         )
         .unwrap_err();
         assert!(e.to_string().contains("cut.hdf5"), "{cut}: {e}");
+        assert!(!e.to_string().contains('\n'), "one line: {e}");
     }
     let mut flipped = bytes.clone();
     for k in (0..flipped.len()).step_by(97) {
@@ -167,6 +168,7 @@ fn damaged_npz_files_are_errors_naming_the_file() {
         )
         .unwrap_err();
         assert!(e.to_string().contains("cut.npz"), "{cut}: {e}");
+        assert!(!e.to_string().contains('\n'), "one line: {e}");
     }
     // The pickle itself damaged, inside a valid archive: errors, never a panic.
     let mut archive = zip::ZipArchive::new(std::io::Cursor::new(&bytes)).unwrap();
