@@ -418,6 +418,24 @@ fn read_walls(
         Some(array) => format!("its particle array {array:?} holds no particle"),
         None => "the file holds no particle".to_owned(),
     };
+    // A PySPH file of several arrays (fluid and walls) as --walls would give its fluid.
+    if array.is_none() && matches!(options.format, Some(Format::Hdf5 | Format::Npz)) {
+        let arrays = boundary_io::particle_arrays(path, options)?;
+        if arrays.len() > 1 {
+            let names: Vec<String> = arrays
+                .iter()
+                .map(|(name, n)| format!("{name} ({n})"))
+                .collect();
+            return Err(CliError::WallFile {
+                path: path.to_path_buf(),
+                problem: format!(
+                    "it holds several particle arrays ({}), so which are walls is unclear: \
+                     name the wall array of the input's own file with --wall-array NAME",
+                    names.join(", ")
+                ),
+            });
+        }
+    }
     // A file of no particle is named as the wall file it was meant to be.
     let no_particle = |error: boundary_io::IoError| match error {
         boundary_io::IoError::NoParticles { detail, .. } => CliError::WallFile {

@@ -492,4 +492,19 @@ fn pysph_hdf5_with_its_wall_array_labels_as_pysphs_loader_output() {
         e.contains("dam_break_2d_00010.hdf5") && e.contains("\"solid\""),
         "{e}"
     );
+    // A PySPH file of several arrays as --walls would be its fluid: refused, naming the way.
+    let o = boundary(&[
+        "detect",
+        s(&hdf5),
+        "--smoothing-length",
+        "0.13",
+        "--walls",
+        s(&hdf5),
+    ]);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(
+        e.contains("--wall-array") && e.contains("boundary (532)"),
+        "{e}"
+    );
 }
