@@ -1,4 +1,5 @@
-//! Arbitrary bytes through every reader (CSV, XYZ, PLY, legacy VTK, VTU, VTP, BGEO) with every
+//! Arbitrary bytes through every reader (CSV, XYZ, PLY, legacy VTK, VTU, VTP, BGEO, PySPH's
+//! HDF5 and NPZ) with every
 //! dimension option, positions only or with the point attributes: `Ok` or `Err`, never a panic
 //! or an allocation sized by an unchecked header count; an error is one line naming the source;
 //! a set read with `dim` given has that dimension; every kept attribute has one value per
@@ -10,7 +11,7 @@ use boundary_io::{
 };
 use libfuzzer_sys::fuzz_target;
 
-const FORMATS: [Format; 7] = [
+const FORMATS: [Format; 9] = [
     Format::Csv,
     Format::Xyz,
     Format::Ply,
@@ -18,6 +19,8 @@ const FORMATS: [Format; 7] = [
     Format::Vtu,
     Format::Vtp,
     Format::Bgeo,
+    Format::Hdf5,
+    Format::Npz,
 ];
 
 fuzz_target!(|data: &[u8]| {

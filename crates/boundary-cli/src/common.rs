@@ -16,7 +16,7 @@ use std::time::Instant;
 #[derive(Debug, Args)]
 pub(crate) struct InputArgs {
     /// Particle file: .csv (header x,y[,z]), .xyz/.txt, .ply, .vtk (legacy), .vtu, .vtp,
-    /// .bgeo[.gz].
+    /// .bgeo[.gz], PySPH's .hdf5 and .npz (its `fluid` array, or its only one).
     /// `detect` also takes a glob pattern of frames ('frames/fluid_*.vtu', quoted).
     pub(crate) input: PathBuf,
     /// Particle resolution r (positive, in the file's length unit), or `auto`: k times the
@@ -575,7 +575,15 @@ pub(crate) fn radius(value: f64) -> Result<Radius, CliError> {
 
 /// The format of an output file, from its extension: checked before the work, not after it.
 pub(crate) fn output_format(path: &Path) -> Result<Format, CliError> {
-    Format::from_path(path).ok_or_else(|| CliError::UnknownOutputFormat(path.to_path_buf()))
+    match Format::from_path(path) {
+        None => Err(CliError::UnknownOutputFormat(path.to_path_buf())),
+        Some(format) if !format.can_write() => Err(boundary_io::IoError::ReadOnlyFormat {
+            file: path.display().to_string(),
+            format,
+        }
+        .into()),
+        Some(format) => Ok(format),
+    }
 }
 
 pub(crate) fn percent(part: usize, whole: usize) -> f64 {

@@ -1,4 +1,5 @@
-//! `detect`'s simulation options: wall particles (`--walls`, `--wall-attribute`), solid
+//! `detect`'s simulation options: wall particles (`--walls`, `--wall-attribute`,
+//! `--wall-array`), solid
 //! half-spaces (`--solid`), periodic axes (`--periodic`) and phases (`--phase-attribute`),
 //! turned into the core's [`Domain`] once per frame. The definition lives in the core
 //! (`boundary::domain`); this module only reads files and attributes.
@@ -28,6 +29,12 @@ pub(crate) struct DomainArgs {
     /// the summary counts the other particles only.
     #[arg(long, value_name = "NAME=V[,V...]", value_parser = parse_wall_attribute)]
     pub(crate) wall_attribute: Option<WallSelector>,
+    /// Wall particles from the particle array NAME of INPUT itself (repeatable): PySPH's
+    /// .hdf5 and .npz hold each array (`fluid`, `boundary`, `solid`, …) in one file, and INPUT is its
+    /// `fluid` array. Read from every frame, so moving walls move; like --walls they cover
+    /// and get no label.
+    #[arg(long = "wall-array", value_name = "NAME")]
+    pub(crate) wall_arrays: Vec<String>,
     /// A closed solid half-space that covers like the particles do (repeatable): an axis,
     /// `<` or `>`, a bound, e.g. 'y<0' (quoted) for a floor at y = 0. Not every method can
     /// honour it; those that cannot say so.
@@ -111,6 +118,13 @@ fn parse_periodic(text: &str) -> Result<Periodic, String> {
 pub(crate) struct DomainSetup {
     /// The `--walls` files joined, and the first file (named in messages).
     file_walls: Option<(AnyParticleSet, PathBuf)>,
+    /// `--wall-array`: particle arrays of each input file that are walls.
+    wall_arrays: Vec<String>,
+    /// The run's resolution, for the radii of the wall arrays.
+    mode: RadiusMode,
+    /// How the inputs are read (`--dim`, `--format`), for their wall arrays.
+    input_dim: Option<usize>,
+    input_format: Option<Format>,
     selector: Option<WallSelector>,
     solids: Vec<HalfSpace>,
     /// The `--solid-mesh` files, read and validated once, with their paths.
@@ -165,6 +179,7 @@ impl DomainSetup {
     ) -> Result<Option<Self>, CliError> {
         let bare = args.walls.is_empty()
             && args.wall_attribute.is_none()
+            && args.wall_arrays.is_empty()
             && args.solids.is_empty()
             && args.solid_meshes.is_empty()
             && args.periodic.is_empty()
@@ -174,7 +189,11 @@ impl DomainSetup {
         }
         let mut sets: Vec<AnyParticleSet> = Vec::new();
         for path in &args.walls {
-            let set = read_wall_file(path, input, mode)?;
+            let options = ReadOptions {
+                dim: input.dim.map(usize::from),
+                format: Format::from_path(path).or(input.format),
+            };
+            let set = read_walls(path, None, &options, mode)?;
             if let Some(first) = sets.first() {
                 if first.dim() != set.dim() {
                     return Err(CliError::WallFile {
@@ -209,6 +228,10 @@ impl DomainSetup {
         }
         Ok(Some(DomainSetup {
             file_walls,
+            wall_arrays: args.wall_arrays.clone(),
+            mode: mode.clone(),
+            input_dim: input.dim.map(usize::from),
+            input_format: input.format,
             selector: args.wall_attribute.clone(),
             solids: args.solids.clone(),
             meshes,
@@ -217,9 +240,9 @@ impl DomainSetup {
         }))
     }
 
-    /// Whether wall particles were asked for (`--walls`, `--wall-attribute`).
+    /// Whether wall particles were asked for (`--walls`, `--wall-attribute`, `--wall-array`).
     pub(crate) fn has_walls(&self) -> bool {
-        self.file_walls.is_some() || self.selector.is_some()
+        self.file_walls.is_some() || self.selector.is_some() || !self.wall_arrays.is_empty()
     }
 
     /// Whether the detection reports interfaces.
@@ -243,6 +266,11 @@ impl DomainSetup {
     /// The periodic axes as given (`x:0:1`).
     pub(crate) fn periodic(&self) -> Vec<String> {
         self.periodic.iter().map(ToString::to_string).collect()
+    }
+
+    /// The `--wall-array` names as given.
+    pub(crate) fn wall_arrays(&self) -> &[String] {
+        &self.wall_arrays
     }
 
     /// `--wall-attribute` as given.
@@ -285,9 +313,29 @@ impl DomainSetup {
                 )
             }
         };
-        // The input's walls first, then those of the files.
+        // The input's walls first (rows, then arrays), then those of the files.
+        let mut array_walls = Vec::with_capacity(self.wall_arrays.len());
+        let options = ReadOptions {
+            dim: self.input_dim,
+            format: self.input_format.or_else(|| Format::from_path(input)),
+        };
+        for array in &self.wall_arrays {
+            let walls = read_walls(input, Some(array), &options, &self.mode)?;
+            if walls.dim() != set.dim() {
+                return Err(CliError::WallFile {
+                    path: input.to_path_buf(),
+                    problem: format!(
+                        "its particle array {array:?} holds {}D particles, the input {}D",
+                        walls.dim(),
+                        set.dim()
+                    ),
+                });
+            }
+            array_walls.push(walls);
+        }
         let parts: Vec<&AnyParticleSet> = input_walls
             .iter()
+            .chain(&array_walls)
             .chain(self.file_walls.iter().map(|(w, _)| w))
             .filter(|w| !w.is_empty())
             .collect();
@@ -353,29 +401,49 @@ fn phases(frame: &Frame, name: &str, rows: Option<&[usize]>) -> Result<Vec<u32>,
     }
 }
 
-/// Reads one `--walls` file in the dimension the options ask for, with its radii when
-/// `--radius-attribute` names an attribute it has. An empty file is an error.
-fn read_wall_file(
+/// Reads one `--walls` file (or, with `array`, that particle array of a PySPH file) with
+/// `options`, with its radii when `--radius-attribute` names an attribute it has. An empty
+/// file is an error.
+fn read_walls(
     path: &Path,
-    input: &InputArgs,
+    array: Option<&str>,
+    options: &ReadOptions,
     mode: &RadiusMode,
 ) -> Result<AnyParticleSet, CliError> {
-    let options = ReadOptions {
-        dim: input.dim.map(usize::from),
-        format: Format::from_path(path).or(input.format),
+    let what = match array {
+        Some(array) => format!("its particle array {array:?} holds no particle"),
+        None => "the file holds no particle".to_owned(),
     };
+    // A PySPH file of several arrays (fluid and walls) as --walls would give its fluid.
+    if array.is_none() && matches!(options.format, Some(Format::Hdf5 | Format::Npz)) {
+        let arrays = boundary_io::particle_arrays(path, options)?;
+        if arrays.len() > 1 {
+            let names: Vec<String> = arrays
+                .iter()
+                .map(|(name, n)| format!("{name} ({n})"))
+                .collect();
+            return Err(CliError::WallFile {
+                path: path.to_path_buf(),
+                problem: format!(
+                    "it holds several particle arrays ({}), so which are walls is unclear: \
+                     name the wall array of the input's own file with --wall-array NAME",
+                    names.join(", ")
+                ),
+            });
+        }
+    }
     // A file of no particle is named as the wall file it was meant to be.
     let no_particle = |error: boundary_io::IoError| match error {
         boundary_io::IoError::NoParticles { detail, .. } => CliError::WallFile {
             path: path.to_path_buf(),
-            problem: format!("the file holds no particle: {detail}"),
+            problem: format!("{what}: {detail}"),
         },
         other => other.into(),
     };
     let set = match mode {
         RadiusMode::PerParticle { attribute, scale } => {
-            let frame =
-                read_frame(path, &options, FrameParts::WithAttributes).map_err(no_particle)?;
+            let frame = read_wall_frame(path, array, options, FrameParts::WithAttributes)
+                .map_err(no_particle)?;
             if frame.attribute(attribute).is_some() {
                 attach_radii(frame, attribute, *scale)?.0.set
             } else {
@@ -383,7 +451,7 @@ fn read_wall_file(
             }
         }
         RadiusMode::Uniform(_) => {
-            read_frame(path, &options, FrameParts::Positions)
+            read_wall_frame(path, array, options, FrameParts::Positions)
                 .map_err(no_particle)?
                 .set
         }
@@ -391,7 +459,7 @@ fn read_wall_file(
     if set.is_empty() {
         return Err(CliError::WallFile {
             path: path.to_path_buf(),
-            problem: "the file holds no particle".to_owned(),
+            problem: what,
         });
     }
     Ok(set)
@@ -493,5 +561,18 @@ mod tests {
         assert_eq!(joined.radii(), Some(&[1.0, 0.5, 2.0][..]));
         let plain = join(&[&a, &a]).unwrap_or_else(|e| panic!("{e}"));
         assert!(plain.radii().is_none());
+    }
+}
+
+/// The wall file at `path`, or the particle array `array` of it (a PySPH file), read once.
+fn read_wall_frame(
+    path: &Path,
+    array: Option<&str>,
+    options: &ReadOptions,
+    parts: FrameParts,
+) -> Result<Frame, boundary_io::IoError> {
+    match array {
+        Some(array) => boundary_io::read_array_frame(path, array, options, parts),
+        None => read_frame(path, options, parts),
     }
 }

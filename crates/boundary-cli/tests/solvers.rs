@@ -377,3 +377,134 @@ fn pysph_dam_break_gives_the_readme_count() {
     assert_eq!(v["n"], 15827);
     assert_eq!(v["boundary"], 4931);
 }
+
+// PySPH's own .hdf5 (fixtures/pysph, written by PySPH's 2D dam break): read as it is, the
+// walls from its `boundary` array, the labels equal those of the same particles as PySPH's
+// loader exported them (`<array>_loaded.csv`).
+
+fn pysph_fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures/pysph")
+        .join(name)
+}
+
+#[test]
+fn pysph_hdf5_with_its_wall_array_labels_as_pysphs_loader_output() {
+    let hdf5 = pysph_fixture("dam_break_2d_00010.hdf5");
+    let fluid = pysph_fixture("fluid_loaded.csv");
+    let walls = pysph_fixture("boundary_loaded.csv");
+    let dir = tempfile::tempdir().unwrap();
+    let from_hdf5 = dir.path().join("hdf5.csv");
+    let from_loader = dir.path().join("loader.csv");
+    let v = json(&[
+        "detect",
+        s(&hdf5),
+        "--smoothing-length",
+        "0.13",
+        "--wall-array",
+        "boundary",
+        "--output",
+        s(&from_hdf5),
+    ]);
+    let expected = json(&[
+        "detect",
+        s(&fluid),
+        "--dim",
+        "2",
+        "--smoothing-length",
+        "0.13",
+        "--walls",
+        s(&walls),
+        "--output",
+        s(&from_loader),
+    ]);
+    assert_eq!(v["dim"], 2);
+    assert_eq!(v["n"], csv_rows(&fluid).len());
+    assert_eq!(v["walls"], csv_rows(&walls).len());
+    assert_eq!(v["boundary"], expected["boundary"]);
+    let labels = column(&from_hdf5, "boundary");
+    assert_eq!(labels, column(&from_loader, "boundary"));
+    // PySPH's .npz of the same run (written without h5py) gives the same labels.
+    let npz = pysph_fixture("dam_break_2d_00010.npz");
+    let from_npz = dir.path().join("npz.csv");
+    let w = json(&[
+        "detect",
+        s(&npz),
+        "--smoothing-length",
+        "0.13",
+        "--wall-array",
+        "boundary",
+        "--output",
+        s(&from_npz),
+    ]);
+    assert_eq!(
+        (w["n"].clone(), w["walls"].clone()),
+        (v["n"].clone(), v["walls"].clone())
+    );
+    assert_eq!(column(&from_npz, "boundary"), labels);
+    // The walls matter: the tank floor is not free surface with them.
+    let alone = json(&["detect", s(&hdf5), "--smoothing-length", "0.13"]);
+    assert!(
+        alone["boundary"].as_u64() > v["boundary"].as_u64(),
+        "{alone} {v}"
+    );
+    // PySPH's properties are written back beside the labels.
+    assert_eq!(column(&from_hdf5, "gid"), column(&fluid, "gid"));
+
+    // A directory of frames is written as .vtu (PySPH's formats are read only).
+    let out = dir.path().join("labelled");
+    let v = json(&[
+        "detect",
+        s(&hdf5),
+        "--smoothing-length",
+        "0.13",
+        "--wall-array",
+        "boundary",
+        "--output-dir",
+        s(&out),
+    ]);
+    assert_eq!(v["frames"][0]["boundary"], expected["boundary"]);
+    assert_eq!(v["domain"]["wall_arrays"][0], "boundary");
+    assert!(out.join("dam_break_2d_00010.vtu").is_file());
+
+    // Refused before any work: writing PySPH's format, and an array the file lacks.
+    let o = boundary(&[
+        "detect",
+        s(&hdf5),
+        "--smoothing-length",
+        "0.13",
+        "--output",
+        s(&dir.path().join("out.hdf5")),
+    ]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("out.hdf5"), "{}", stderr(&o));
+    let o = boundary(&[
+        "detect",
+        s(&hdf5),
+        "--smoothing-length",
+        "0.13",
+        "--wall-array",
+        "solid",
+    ]);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(
+        e.contains("dam_break_2d_00010.hdf5") && e.contains("\"solid\""),
+        "{e}"
+    );
+    // A PySPH file of several arrays as --walls would be its fluid: refused, naming the way.
+    let o = boundary(&[
+        "detect",
+        s(&hdf5),
+        "--smoothing-length",
+        "0.13",
+        "--walls",
+        s(&hdf5),
+    ]);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(
+        e.contains("--wall-array") && e.contains("boundary (532)"),
+        "{e}"
+    );
+}

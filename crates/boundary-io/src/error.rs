@@ -67,7 +67,7 @@ pub enum IoError {
     },
     /// No format was given and the file's extension names none.
     #[error(
-        "unknown particle file format for {file}: expected extension .csv, .xyz, .txt, .ply, .vtk, .vtu, .vtp, .bgeo or .bgeo.gz, \
+        "unknown particle file format for {file}: expected extension .csv, .xyz, .txt, .ply, .vtk, .vtu, .vtp, .bgeo, .bgeo.gz, .hdf5 or .npz, \
          or name the format"
     )]
     UnknownFormat {
@@ -159,6 +159,17 @@ pub enum IoError {
     },
     /// The positions were read but do not form a valid particle set (for instance more than
     /// `u32::MAX` particles).
+    /// Writing a format that is only read (PySPH's `.hdf5` and `.npz`).
+    #[error(
+        "cannot write {file}: {format} files are read, not written; write .vtu (ParaView), \
+         .csv or another format"
+    )]
+    ReadOnlyFormat {
+        /// The destination.
+        file: String,
+        /// Its format.
+        format: crate::Format,
+    },
     #[error("invalid particle set in {file}: {source}")]
     Particles {
         /// The file.

@@ -1,5 +1,5 @@
-//! Particle files: read positions from CSV, XYZ, PLY, legacy VTK, VTK XML (`.vtu`, `.vtp`) and
-//! Houdini BGEO
+//! Particle files: read positions from CSV, XYZ, PLY, legacy VTK, VTK XML (`.vtu`, `.vtp`),
+//! Houdini BGEO and PySPH's output (`.hdf5`, `.npz`)
 //! into an [`AnyParticleSet`], with the other point attributes where asked
 //! ([`read_particle_file`]), and write them back with per-particle columns such as the
 //! `boundary` label next to the attributes of the input.
@@ -15,6 +15,7 @@
 //! | VTK legacy | `.vtk` | `POINTS` (float or double) of POLYDATA, UNSTRUCTURED_GRID or STRUCTURED_GRID, ascii or binary | ascii POLYDATA: `POINTS`, `VERTICES`, `POINT_DATA` scalars |
 //! | BGEO | `.bgeo`, `.bgeo.gz` | Houdini classic BGEO 5 (partio, SPlisHSPlasH): points and point attributes, gzip detected by its magic | BGEO 5, 32-bit floats, gzip for `.gz` |
 //! | VTK XML | `.vtu`, `.vtp` | `Points` and every numeric `PointData` array of the first `Piece`; ascii, base64 binary, appended raw or base64; zlib; either byte order; `UInt32`/`UInt64` headers | base64 binary: `Points`, a vertex cell per particle, `PointData` (vectors joined, see below) |
+//! | PySPH | `.hdf5`, `.h5`, `.npz` | one particle array (`fluid` unless named, [`read_particle_array`]): `x`, `y`, `z` and every output property | no (an error) |
 //!
 //! # Reading
 //!
@@ -75,6 +76,17 @@
 //! UnstructuredGrid (`.vtu`) and PolyData (`.vtp`) as VTK, ParaView and SPHinXsys write them.
 //! Files with several `Piece`s are an error; cells are not read.
 //!
+//! **PySPH** (`.hdf5` through the pure-Rust `hdf5-pure`, no HDF5 library needed): the layout
+//! PySPH's `HDFOutput` writes, `/particles/<array>/arrays/<property>`. A file holds several
+//! particle arrays; [`read_particle_file`] reads `fluid`, or the file's only array, and
+//! [`read_particle_array`] the one named (`boundary`, `solid`, … for walls);
+//! [`particle_arrays`] lists them. PySPH keeps `z` = 0 in a 2D run: such a file reads as 2D
+//! (`dim = 3` keeps the zeros). Properties declared but not output (no value) are left out; a
+//! property of `k` values per particle becomes `name:0` … `name:k-1`. PySPH's `.npz` output
+//! (written without h5py: a NumPy zip whose `particles` entry is a pickled dictionary of the
+//! arrays, PySPH's output version 2) is read through `zip` and a small pickle stack machine
+//! that builds no Python object. Neither format is written.
+//!
 //! **BGEO** (hand-written from the format's public description; see the `bgeo` module): the
 //! classic binary geometry of Houdini, version 5, as partio writes it; the new Houdini 12+
 //! format and Blosc `.bgeo.sc` are errors that say so. It stores 32-bit floats: a coordinate
@@ -93,7 +105,8 @@
 //! arrays: `SCALARS`, `VECTORS`, `NORMALS`, `TENSORS`,
 //! `TEXTURE_COORDINATES`, `COLOR_SCALARS`, `FIELD`, after cell sections of either the classic
 //! or the 5.1 `OFFSETS`/`CONNECTIVITY` layout; a damaged section after `POINTS` loses the
-//! attributes, reported in `skipped`, not the positions). XYZ keeps none yet. Names are made valid column names (a character a column name may
+//! attributes, reported in `skipped`, not the positions). PySPH files keep every property output (`h`, `m`, `rho`, `gid`, …).
+//! XYZ keeps none yet. Names are made valid column names (a character a column name may
 //! not hold becomes `_`); an attribute is skipped, with the reason in
 //! [`ParticleFile::skipped`], when a value is not a number, when its name would read back as a
 //! position (`px` beside `x`), or when it repeats a name. [`read_particles`] parses none of it.
@@ -115,7 +128,8 @@
 //! is, it is an error. A 3D file whose z is all zero is still read as 3D without `dim` (it is the
 //! user's file), with one exception: VTK files written by this crate from a 2D set carry
 //! `dim=2` in their title line (VTK XML: the comment `boundary-io dim=2`) and read back as 2D
-//! when their z is all zero. Such a flat 3D set is all boundary; the `boundary` command and the
+//! when their z is all zero; so do PySPH files whose `z` is all zero (PySPH's 2D runs). Such a
+//! flat 3D set is all boundary; the `boundary` command and the
 //! bindings refuse it unless asked for 3D (`boundary_core::ParticleSet::flatness`).
 //!
 //! # Writing
@@ -182,7 +196,9 @@ mod csv;
 mod error;
 mod frame;
 mod mesh;
+mod npz;
 mod ply;
+mod pysph;
 mod text;
 mod vtk;
 mod vtk_xml;
@@ -220,11 +236,15 @@ pub enum Format {
     Vtp,
     /// Houdini classic BGEO version 5 (`.bgeo`, gzip-compressed `.bgeo.gz`), as partio writes.
     Bgeo,
+    /// PySPH's HDF5 output (`.hdf5`, `.h5`): read only.
+    Hdf5,
+    /// PySPH's NumPy output (`.npz`): read only.
+    Npz,
 }
 
 impl Format {
     /// The format named by the extension of `path`, case-insensitive: `csv`; `xyz`, `txt`,
-    /// `dat`; `ply`; `vtk`; `vtu`; `vtp`; `bgeo`, and `gz` after `.bgeo`.
+    /// `dat`; `ply`; `vtk`; `vtu`; `vtp`; `bgeo`, and `gz` after `.bgeo`; `hdf5`, `h5`; `npz`.
     pub fn from_path(path: &Path) -> Option<Format> {
         let ext = path.extension()?.to_str()?.to_ascii_lowercase();
         if ext == "gz" {
@@ -239,12 +259,19 @@ impl Format {
             "vtu" => Some(Format::Vtu),
             "vtp" => Some(Format::Vtp),
             "bgeo" => Some(Format::Bgeo),
+            "hdf5" | "h5" => Some(Format::Hdf5),
+            "npz" => Some(Format::Npz),
             _ => None,
         }
     }
 
+    /// Whether particle files of this format can be written (PySPH's are read only).
+    pub fn can_write(self) -> bool {
+        !matches!(self, Format::Hdf5 | Format::Npz)
+    }
+
     /// The format's short name (and usual extension): `"csv"`, `"xyz"`, `"ply"`, `"vtk"`,
-    /// `"vtu"`, `"vtp"`.
+    /// `"vtu"`, `"vtp"`, `"bgeo"`, `"hdf5"`, `"npz"`.
     pub fn name(self) -> &'static str {
         match self {
             Format::Csv => "csv",
@@ -254,6 +281,8 @@ impl Format {
             Format::Vtu => "vtu",
             Format::Vtp => "vtp",
             Format::Bgeo => "bgeo",
+            Format::Hdf5 => "hdf5",
+            Format::Npz => "npz",
         }
     }
 }
@@ -268,7 +297,7 @@ impl FromStr for Format {
     type Err = String;
 
     /// Parses a format name, case-insensitive: `csv`, `xyz` (also `txt`, `dat`), `ply`, `vtk`,
-    /// `vtu`, `vtp`.
+    /// `vtu`, `vtp`, `bgeo`, `hdf5` (also `h5`), `npz`.
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s.trim().to_ascii_lowercase().as_str() {
             "csv" => Ok(Format::Csv),
@@ -278,8 +307,10 @@ impl FromStr for Format {
             "vtu" => Ok(Format::Vtu),
             "vtp" => Ok(Format::Vtp),
             "bgeo" => Ok(Format::Bgeo),
+            "hdf5" | "h5" => Ok(Format::Hdf5),
+            "npz" => Ok(Format::Npz),
             _ => Err(format!(
-                "unknown format {s:?} (expected csv, xyz, ply, vtk, vtu, vtp or bgeo)"
+                "unknown format {s:?} (expected csv, xyz, ply, vtk, vtu, vtp, bgeo, hdf5 or npz)"
             )),
         }
     }
@@ -616,7 +647,7 @@ pub fn read_particles_from(
     format: Format,
     options: &ReadOptions,
 ) -> Result<AnyParticleSet, IoError> {
-    read_any(reader, name, format, options, false).map(|(f, _)| f.set)
+    read_any(reader, name, format, options, false, None).map(|(f, _)| f.set)
 }
 
 /// Reads the particles of the file at `path` with their other point attributes (see the crate
@@ -633,7 +664,54 @@ pub fn read_particle_file_from(
     format: Format,
     options: &ReadOptions,
 ) -> Result<ParticleFile, IoError> {
-    read_any(reader, name, format, options, true).map(|(f, _)| f)
+    read_any(reader, name, format, options, true, None).map(|(f, _)| f)
+}
+
+/// Reads the particle array `array` (`"fluid"`, `"boundary"`, `"solid"`, …) of a PySPH file
+/// (`.hdf5` or `.npz`) with its attributes, as [`read_particle_file`] reads the default one
+/// (`fluid`, else the file's only array). Other formats hold no named arrays: asking one of
+/// them for an array is an error.
+pub fn read_particle_array(
+    path: &Path,
+    array: &str,
+    options: &ReadOptions,
+) -> Result<ParticleFile, IoError> {
+    let (file, name, format) = open_input(path, options)?;
+    if !matches!(format, Format::Hdf5 | Format::Npz) {
+        return Err(not_an_array_format(&name, array, format));
+    }
+    read_any(file, &name, format, options, true, Some(array)).map(|(f, _)| f)
+}
+
+/// The error of asking a format without named particle arrays for one.
+fn not_an_array_format(name: &str, array: &str, format: Format) -> IoError {
+    IoError::parse(
+        name,
+        Location::File,
+        format!(
+            "particle array {array:?} asked for, but only PySPH files (.hdf5, .npz) hold named \
+             particle arrays, not {format} files"
+        ),
+    )
+}
+
+/// The particle arrays of a PySPH file (`.hdf5` or `.npz`) with their particle counts, in
+/// file order; for another format, the file's one set, named `""`.
+pub fn particle_arrays(
+    path: &Path,
+    options: &ReadOptions,
+) -> Result<Vec<(String, usize)>, IoError> {
+    let (file, name, format) = open_input(path, options)?;
+    match format {
+        Format::Hdf5 | Format::Npz => {
+            let arrays = pysph::read_arrays(BufReader::new(file), &name, format == Format::Npz)?;
+            Ok(pysph::list(&arrays))
+        }
+        _ => {
+            let set = read_particles_from(file, &name, format, options)?;
+            Ok(vec![(String::new(), set.len())])
+        }
+    }
 }
 
 /// [`read_particle_file`] without the attributes: the particle set and the
@@ -641,7 +719,7 @@ pub fn read_particle_file_from(
 /// (nothing but the positions is parsed, as in [`read_particles`]).
 pub fn read_positions(path: &Path, options: &ReadOptions) -> Result<ParticleFile, IoError> {
     let (file, name, format) = open_input(path, options)?;
-    read_any(file, &name, format, options, false).map(|(f, _)| f)
+    read_any(file, &name, format, options, false, None).map(|(f, _)| f)
 }
 
 /// Reads the file at `path` once into a [`Frame`]: the particles, with `parts` the other
@@ -663,7 +741,25 @@ pub fn read_positions(path: &Path, options: &ReadOptions) -> Result<ParticleFile
 pub fn read_frame(path: &Path, options: &ReadOptions, parts: FrameParts) -> Result<Frame, IoError> {
     let (file, name, format) = open_input(path, options)?;
     let attributes = parts == FrameParts::WithAttributes;
-    let (file, lines) = read_any(file, &name, format, options, attributes)?;
+    let (file, lines) = read_any(file, &name, format, options, attributes, None)?;
+    Ok(Frame::new(path, file, lines))
+}
+
+/// [`read_frame`] of the particle array `array` (`"fluid"`, `"boundary"`, …) of a PySPH file
+/// (`.hdf5` or `.npz`), as [`read_particle_array`] reads it. Other formats hold no named
+/// arrays: asking one of them for an array is an error.
+pub fn read_array_frame(
+    path: &Path,
+    array: &str,
+    options: &ReadOptions,
+    parts: FrameParts,
+) -> Result<Frame, IoError> {
+    let (file, name, format) = open_input(path, options)?;
+    if !matches!(format, Format::Hdf5 | Format::Npz) {
+        return Err(not_an_array_format(&name, array, format));
+    }
+    let attributes = parts == FrameParts::WithAttributes;
+    let (file, lines) = read_any(file, &name, format, options, attributes, Some(array))?;
     Ok(Frame::new(path, file, lines))
 }
 
@@ -675,6 +771,7 @@ fn read_any(
     format: Format,
     options: &ReadOptions,
     attributes: bool,
+    array: Option<&str>,
 ) -> Result<(ParticleFile, LineIndex), IoError> {
     if let Some(d) = options.dim {
         if d != 2 && d != 3 {
@@ -693,6 +790,8 @@ fn read_any(
         Format::Vtu => vtk_xml::read(reader, name, vtk_xml::Kind::UnstructuredGrid, attributes)?,
         Format::Vtp => vtk_xml::read(reader, name, vtk_xml::Kind::PolyData, attributes)?,
         Format::Bgeo => bgeo::read(reader, name, attributes)?,
+        Format::Hdf5 => pysph::read(reader, name, false, array, attributes)?,
+        Format::Npz => pysph::read(reader, name, true, array, attributes)?,
     };
     let n = positions.coords.len() / positions.stride.max(1);
     if let Some(miss) = positions.near_miss.take() {
@@ -717,7 +816,8 @@ fn read_any(
             Format::Vtk => vec!["POINTS".to_owned()],
             Format::Bgeo => vec!["P".to_owned()],
             Format::Vtu | Format::Vtp => vec!["Points".to_owned()],
-            Format::Csv | Format::Xyz | Format::Ply => (1..=positions.stride)
+            Format::Csv | Format::Xyz | Format::Ply | Format::Hdf5 | Format::Npz => (1..=positions
+                .stride)
                 .map(|k| format!("column {k}"))
                 .collect(),
         };
@@ -737,6 +837,7 @@ fn read_any(
                     Format::Vtk => "its POINTS section holds 0 points",
                     Format::Vtu | Format::Vtp => "its <Piece> has NumberOfPoints=\"0\"",
                     Format::Bgeo => "its header declares 0 points",
+                    Format::Hdf5 | Format::Npz => "its particle array is empty",
                 }
                 .to_owned()
             }),
@@ -924,6 +1025,12 @@ fn check_columns(
         name: column.to_owned(),
         message,
     };
+    if !format.can_write() {
+        return Err(IoError::ReadOnlyFormat {
+            file: name.to_owned(),
+            format,
+        });
+    }
     if format == Format::Bgeo {
         // BGEO stores 32-bit floats: a coordinate beyond their range would become infinite.
         if let Some((i, axis)) = (0..set.len())
@@ -1023,6 +1130,11 @@ fn write_body(
         Format::Vtu => vtk_xml::write(out, set, columns, vtk_xml::Kind::UnstructuredGrid),
         Format::Vtp => vtk_xml::write(out, set, columns, vtk_xml::Kind::PolyData),
         Format::Bgeo => bgeo::write(out, set, columns),
+        // Refused by `check_columns` before any file is created.
+        Format::Hdf5 | Format::Npz => Err(std::io::Error::new(
+            std::io::ErrorKind::Unsupported,
+            format!("{format} files are read only"),
+        )),
     }
 }
 
@@ -1103,6 +1215,8 @@ mod tests {
             Format::Vtu,
             Format::Vtp,
             Format::Bgeo,
+            Format::Hdf5,
+            Format::Npz,
         ] {
             assert_eq!(f.name().parse::<Format>(), Ok(f));
             assert_eq!(f.to_string(), f.name());

@@ -8,7 +8,7 @@ use boundary_io::{read_particle_file_from, write_particles_to, Column, Format, R
 use common::{read_bytes, set2, set3};
 use proptest::prelude::*;
 
-const FORMATS: [Format; 7] = [
+const FORMATS: [Format; 9] = [
     Format::Csv,
     Format::Xyz,
     Format::Ply,
@@ -16,6 +16,8 @@ const FORMATS: [Format; 7] = [
     Format::Vtu,
     Format::Vtp,
     Format::Bgeo,
+    Format::Hdf5,
+    Format::Npz,
 ];
 
 /// Files written by VTK itself (see `data/make_vtk_xml.py`): every XML data mode and
@@ -79,6 +81,15 @@ fn samples() -> Vec<(Format, Vec<u8>)> {
     for (format, bytes) in VTK_XML {
         out.push((format, bytes.to_vec()));
     }
+    // PySPH's own output (fixtures/pysph): read only, so not made by the writers.
+    out.push((
+        Format::Hdf5,
+        include_bytes!("../../../fixtures/pysph/dam_break_2d_00010.hdf5").to_vec(),
+    ));
+    out.push((
+        Format::Npz,
+        include_bytes!("../../../fixtures/pysph/dam_break_2d_00010.npz").to_vec(),
+    ));
     out.push((Format::Xyz, b"3\nc\nH 0 0 0\nO 1 1 1\nN 2 2 2\n".to_vec()));
     out.push((
         Format::Csv,

@@ -107,10 +107,12 @@ fn plan_outputs(args: &DetectArgs, paths: &[PathBuf]) -> Result<Vec<Output>, Cli
     let mut outputs = Vec::with_capacity(paths.len());
     let mut taken = std::collections::HashMap::new();
     for path in paths {
+        // A format that is only read (PySPH's) is written as .vtu.
         let format = args
             .output_format
             .or(args.input.format)
-            .or_else(|| Format::from_path(path));
+            .or_else(|| Format::from_path(path))
+            .map(|f| if f.can_write() { f } else { Format::Vtu });
         // `fluid_1.bgeo.gz` is named `fluid_1`, like `fluid_1.vtk`.
         let stem = path.file_stem().unwrap_or_default().to_string_lossy();
         let stem = match Format::from_path(path) {

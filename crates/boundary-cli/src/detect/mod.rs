@@ -149,6 +149,7 @@ pub(super) fn domain_json(setup: Option<&DomainSetup>) -> serde_json::Value {
         None => serde_json::Value::Null,
         Some(d) => json!({
             "wall_attribute": d.wall_attribute(),
+            "wall_arrays": d.wall_arrays(),
             "solids": d.solids(),
             "solid_meshes": d.solid_meshes(),
             "periodic": d.periodic(),
