@@ -73,7 +73,7 @@ fn main() {
         recomputed += tracker.recomputed();
     }
     let set = ParticleSet::new(fluid.clone()).unwrap().to_any();
-    let full = boundary_core::domain::detect_in(&ExactDetector::default(), &set, &domain, r)
+    let full = boundary_core::detect_in(&ExactDetector::default(), &set, &domain, r)
         .unwrap()
         .detection
         .labels;

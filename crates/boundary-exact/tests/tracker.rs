@@ -718,7 +718,7 @@ fn fixed_walls_and_phases_match_full_detection() {
             // The same walls again, as a solver passing them every step: nothing changes.
             tracker.move_walls(walls.clone()).unwrap();
         }
-        let full = domain::detect_in(&ExactDetector::default(), &set, &domain, r).unwrap();
+        let full = boundary_core::detect_in(&ExactDetector::default(), &set, &domain, r).unwrap();
         let labels = tracker.update(&set).unwrap().clone();
         assert_eq!(
             first_difference(&labels, &full.detection.labels),
@@ -740,7 +740,7 @@ fn fixed_walls_and_phases_match_full_detection() {
     tracker.set_phases(Some(phases.clone()));
     let labels = tracker.update(&set).unwrap().clone();
     let with_phases = domain.clone().with_phases(phases);
-    let full = domain::detect_in(&ExactDetector::default(), &set, &with_phases, r).unwrap();
+    let full = boundary_core::detect_in(&ExactDetector::default(), &set, &with_phases, r).unwrap();
     assert_eq!(labels, full.detection.labels);
     assert_eq!(tracker.interface(), full.interface.as_ref());
     assert!(full.interface.as_ref().unwrap().boundary_count() > 0);
@@ -748,7 +748,7 @@ fn fixed_walls_and_phases_match_full_detection() {
     tracker.set_phases(None);
     let labels = tracker.update(&set).unwrap().clone();
     assert_eq!(tracker.interface(), None);
-    let full = domain::detect_in(&ExactDetector::default(), &set, &domain, r).unwrap();
+    let full = boundary_core::detect_in(&ExactDetector::default(), &set, &domain, r).unwrap();
     assert_eq!(labels, full.detection.labels);
     // Removing the walls through set_domain: the labels of the bare cloud.
     tracker.set_domain(Domain::new()).unwrap();
