@@ -525,6 +525,19 @@ fn join_any(parts: &[&AnyParticleSet]) -> Result<AnyParticleSet, CliError> {
     }
 }
 
+/// The wall file at `path`, or the particle array `array` of it (a PySPH file), read once.
+fn read_wall_frame(
+    path: &Path,
+    array: Option<&str>,
+    options: &ReadOptions,
+    parts: FrameParts,
+) -> Result<Frame, boundary_io::IoError> {
+    match array {
+        Some(array) => boundary_io::read_array_frame(path, array, options, parts),
+        None => read_frame(path, options, parts),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -561,18 +574,5 @@ mod tests {
         assert_eq!(joined.radii(), Some(&[1.0, 0.5, 2.0][..]));
         let plain = join(&[&a, &a]).unwrap_or_else(|e| panic!("{e}"));
         assert!(plain.radii().is_none());
-    }
-}
-
-/// The wall file at `path`, or the particle array `array` of it (a PySPH file), read once.
-fn read_wall_frame(
-    path: &Path,
-    array: Option<&str>,
-    options: &ReadOptions,
-    parts: FrameParts,
-) -> Result<Frame, boundary_io::IoError> {
-    match array {
-        Some(array) => boundary_io::read_array_frame(path, array, options, parts),
-        None => read_frame(path, options, parts),
     }
 }
