@@ -302,7 +302,7 @@ pub use tracker::Tracker;
 
 use boundary_core::{
     AnyParticleSet, Capabilities, DetectError, Detection, Dim, HalfSpace, Job, JobByDim, Labels,
-    Method, NeighbourGrid, ParamError, ParamInfo, Params, ParticleSet, Point, Radius, Solids,
+    Method, NeighbourGrid, ParamError, ParamSet, Params, ParticleSet, Point, Radius, Solids,
     Support, SupportedDim,
 };
 use cell::{Clipper, ConvexCell, Polygon, Polyhedron};
@@ -339,19 +339,17 @@ const GRID_CELL: f64 = 1.1;
 /// Unit roundoff of `f64`.
 const U: f64 = f64::EPSILON / 2.0;
 
-/// The parameters of `exact` (string form: `--set tie=…`, see `boundary::registry`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ExactParams {
-    /// Opt-in tie tolerance, in units of `r`: a particle is boundary iff its float margin
-    /// exceeds `tie·r`, margins within `±tie·r` count as ties (interior) and the exact
-    /// fallback is not used. `0` (the default) gives the exact labels; [`TIE_TOLERANCE`]
-    /// (`1e-9`) the labels of release 0.1. Finite, `>= 0`.
-    pub tie: f64,
-}
-
-impl Default for ExactParams {
-    fn default() -> Self {
-        ExactParams { tie: 0.0 }
+boundary_core::declare_params! {
+    /// The parameters of `exact` (string form: `--set tie=…`, see `boundary::registry`).
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct ExactParams for "exact" {
+        /// Opt-in tie tolerance, in units of `r`: a particle is boundary iff its float margin
+        /// exceeds `tie·r`, margins within `±tie·r` count as ties (interior) and the exact
+        /// fallback is not used. `0` (the default) gives the exact labels; [`TIE_TOLERANCE`]
+        /// (`1e-9`) the labels of release 0.1. Finite, `>= 0`.
+        pub tie: f64 = 0.0, check::non_negative().because("a finite number >= 0"),
+            "tie tolerance: boundary iff the float margin exceeds tie·r (e.g. 1e-9 treats \
+             lattice round-off as ties); 0 = exact labels (definition, JCP Sec. 2)";
     }
 }
 
@@ -366,17 +364,8 @@ impl ExactDetector {
     /// The detector with `params`, checked: `tie` must be finite and `>= 0` (else
     /// [`ParamError::Invalid`] naming `tie`).
     pub fn try_new(params: ExactParams) -> Result<Self, ParamError> {
-        let tie = params.tie;
-        if tie.is_finite() && tie >= 0.0 {
-            Ok(ExactDetector { params })
-        } else {
-            Err(ParamError::invalid(
-                "exact",
-                "tie",
-                &tie.to_string(),
-                "a finite number >= 0",
-            ))
-        }
+        params.check()?;
+        Ok(ExactDetector { params })
     }
 
     /// The parameters.
@@ -400,18 +389,14 @@ impl ExactDetector {
 
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(ExactDetector);
+// The registry builds it from `key=value` text through its declared parameters.
+boundary_core::impl_configurable!(ExactDetector, ExactParams);
 
 impl Method for ExactDetector {
     const NAME: &'static str = "exact";
 
     fn describe(&self) -> Params {
-        Params(vec![ParamInfo {
-            name: "tie",
-            value: self.params.tie.to_string(),
-            default: "0".to_owned(),
-            description: "tie tolerance: boundary iff the float margin exceeds tie·r (e.g. 1e-9 \
-                          treats lattice round-off as ties); 0 = exact labels (definition, JCP Sec. 2)",
-        }])
+        self.params.listing()
     }
 
     /// Certified; per-particle radii (power cells), solid half-spaces exactly, like every

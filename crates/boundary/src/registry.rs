@@ -54,7 +54,7 @@
 //! assert_eq!(parameters("ge").unwrap().0[0].default, "6");
 //! ```
 
-use boundary_core::{BoundaryDetector, ParamError, Params};
+use boundary_core::{BoundaryDetector, Configurable, ParamError, ParamSet, Params};
 use thiserror::Error;
 
 /// Why the registry could not build a detector.
@@ -87,44 +87,18 @@ struct Entry {
 /// Every compiled-in method, in the order the reports list them (references first).
 const REGISTRY: &[Entry] = &[
     #[cfg(feature = "exact")]
-    Entry {
-        name: "exact",
-        summary: "restricted Voronoi cell of each particle reaches beyond r: the reference labels",
-        build: adapters::exact,
-    },
+    method::<boundary_exact::ExactDetector>("restricted Voronoi cell of each particle reaches beyond r: the reference labels"),
     #[cfg(feature = "dilts")]
-    Entry {
-        name: "dilts",
-        summary:
-            "explicit covering of S_i by arcs (2D, Dilts 2000) or caps (3D, Haque & Dilts 2007)",
-        build: adapters::dilts,
-    },
+    method::<boundary_dilts::DiltsDetector>("explicit covering of S_i by arcs (2D, Dilts 2000) or caps (3D, Haque & Dilts 2007)"),
     #[cfg(feature = "ia")]
-    Entry {
-        name: "ia",
-        summary: "interval-arithmetic quadtree/octree over S_i, rules R1-R4 (JCP 2020 Sec. 3.1)",
-        build: adapters::ia,
-    },
+    method::<boundary_ia::IaDetector>("interval-arithmetic quadtree/octree over S_i, rules R1-R4 (JCP 2020 Sec. 3.1)"),
     #[cfg(feature = "ge")]
-    Entry {
-        name: "ge",
-        summary: "geometric-enclosure slabs on a mesh of S_i, rules R1-R4 (JCP 2020 Sec. 3.2)",
-        build: adapters::ge,
-    },
+    method::<boundary_ge::GeDetector>("geometric-enclosure slabs on a mesh of S_i, rules R1-R4 (JCP 2020 Sec. 3.2)"),
     #[cfg(feature = "marrone")]
-    Entry {
-        name: "marrone",
-        summary: "SPH renormalisation-matrix eigenvalue, then a scan cone along the normal \
-                  (Marrone et al., JCP 2010)",
-        build: adapters::marrone,
-    },
+    method::<boundary_marrone::MarroneDetector>("SPH renormalisation-matrix eigenvalue, then a scan cone along the normal \
+                  (Marrone et al., JCP 2010)"),
     #[cfg(feature = "muller")]
-    Entry {
-        name: "muller",
-        summary:
-            "SPH colour-field gradient |grad c| h above a threshold (Mueller et al., SCA 2003)",
-        build: adapters::muller,
-    },
+    method::<boundary_muller::MullerDetector>("SPH colour-field gradient |grad c| h above a threshold (Mueller et al., SCA 2003)"),
     #[cfg(feature = "divr")]
     Entry {
         name: "divr",
@@ -133,19 +107,11 @@ const REGISTRY: &[Entry] = &[
         build: adapters::divr,
     },
     #[cfg(feature = "asymmetry")]
-    Entry {
-        name: "asymmetry",
-        summary: "distance to the kernel-weighted mean of the neighbourhood, or a low density \
-                  (He et al., ACM TOG 2012)",
-        build: adapters::asymmetry,
-    },
+    method::<boundary_asymmetry::AsymmetryDetector>("distance to the kernel-weighted mean of the neighbourhood, or a low density \
+                  (He et al., ACM TOG 2012)"),
     #[cfg(feature = "randles")]
-    Entry {
-        name: "randles",
-        summary: "smallest eigenvalue of the SPH renormalisation matrix at most mu \
-                  (Randles-Doring; Marrone et al., JCP 2010, first step)",
-        build: adapters::randles,
-    },
+    method::<boundary_randles::RandlesDetector>("smallest eigenvalue of the SPH renormalisation matrix at most mu \
+                  (Randles-Doring; Marrone et al., JCP 2010, first step)"),
     #[cfg(feature = "lnm")]
     Entry {
         name: "lnm",
@@ -168,6 +134,26 @@ const REGISTRY: &[Entry] = &[
         build: adapters::svm,
     },
 ];
+
+/// The entry of a method whose parameters are declared once
+/// ([`boundary_core::declare_params!`]): its name, and its string adapter from the
+/// declaration.
+#[allow(dead_code)] // unused when no method is compiled in
+const fn method<M: Configurable>(summary: &'static str) -> Entry {
+    Entry {
+        name: M::NAME,
+        summary,
+        build: configured::<M>,
+    }
+}
+
+/// Builds `M` from `(key, value)` pairs applied in order to its declared parameters.
+#[allow(dead_code)]
+fn configured<M: Configurable>(
+    pairs: &[(&str, &str)],
+) -> Result<Box<dyn BoundaryDetector>, ParamError> {
+    Ok(Box::new(M::from_params(M::Params::from_pairs(pairs)?)?))
+}
 
 fn entry(name: &str) -> Result<&'static Entry, RegistryError> {
     REGISTRY
@@ -237,70 +223,12 @@ pub fn parse_param_list(text: &str) -> Result<Vec<(String, String)>, String> {
 /// parameter struct and leaves the checks to the method's `try_new`.
 mod adapters {
     #[allow(unused_imports)] // which helpers are used depends on the features
-    use super::{adapt, integer, number, Field};
+    use super::{adapt, number, Field};
     #[allow(unused_imports)]
     use boundary_core::{BoundaryDetector, ParamError};
 
-    #[cfg(feature = "exact")]
-    pub(super) fn exact(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_exact::{ExactDetector, ExactParams};
-        adapt(
-            pairs,
-            ExactDetector::try_new,
-            |p: &mut ExactParams, key, text| {
-                Ok(match key {
-                    "tie" => number(&mut p.tie, text),
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "dilts")]
-    pub(super) fn dilts(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_dilts::{DiltsDetector, DiltsParams};
-        adapt(
-            pairs,
-            DiltsDetector::try_new,
-            |p: &mut DiltsParams, key, text| {
-                Ok(match key {
-                    "tie" => number(&mut p.tie, text),
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "ia")]
-    pub(super) fn ia(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_ia::{IaDetector, IaParams};
-        adapt(pairs, IaDetector::try_new, |p: &mut IaParams, key, text| {
-            Ok(match key {
-                "depth" => integer(&mut p.depth, text),
-                _ => Field::Unknown,
-            })
-        })
-    }
-
-    #[cfg(feature = "ge")]
-    pub(super) fn ge(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_ge::{GeDetector, GeParams};
-        adapt(pairs, GeDetector::try_new, |p: &mut GeParams, key, text| {
-            Ok(match key {
-                "depth" => integer(&mut p.depth, text),
-                _ => Field::Unknown,
-            })
-        })
-    }
-
     /// `kernel=wendland|cubic` (the kernel's own parser, which names the kernels).
-    #[cfg(any(
-        feature = "marrone",
-        feature = "muller",
-        feature = "divr",
-        feature = "asymmetry",
-        feature = "randles"
-    ))]
+    #[cfg(feature = "divr")]
     fn kernel(field: &mut crate::Kernel, text: &str) -> Result<Field, String> {
         *field = text.parse::<crate::Kernel>().map_err(|e| e.to_string())?;
         Ok(Field::Set)
@@ -349,44 +277,6 @@ mod adapters {
         )
     }
 
-    #[cfg(feature = "asymmetry")]
-    pub(super) fn asymmetry(
-        pairs: &[(&str, &str)],
-    ) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_asymmetry::{AsymmetryDetector, AsymmetryParams};
-        adapt(
-            pairs,
-            AsymmetryDetector::try_new,
-            |p: &mut AsymmetryParams, key, text| {
-                Ok(match key {
-                    "threshold" => number(&mut p.threshold, text),
-                    "density_ratio" => number(&mut p.density_ratio, text),
-                    "kernel" => kernel(&mut p.kernel, text)?,
-                    "h_over_r" => number(&mut p.h_over_r, text),
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "randles")]
-    pub(super) fn randles(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_randles::{RandlesDetector, RandlesParams};
-        adapt(
-            pairs,
-            RandlesDetector::try_new,
-            |p: &mut RandlesParams, key, text| {
-                Ok(match key {
-                    "mu_2d" => number(&mut p.mu_2d, text),
-                    "mu_3d" => number(&mut p.mu_3d, text),
-                    "kernel" => kernel(&mut p.kernel, text)?,
-                    "h_over_r" => number(&mut p.h_over_r, text),
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
     #[cfg(feature = "lnm")]
     pub(super) fn lnm(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
         use boundary_lnm::{LnmDetector, LnmParams, LnmVariant};
@@ -411,42 +301,6 @@ mod adapters {
                             .ok_or_else(|| "must be refined or fast".to_owned())?;
                         Field::Set
                     }
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "marrone")]
-    pub(super) fn marrone(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_marrone::{MarroneDetector, MarroneParams};
-        adapt(
-            pairs,
-            MarroneDetector::try_new,
-            |p: &mut MarroneParams, key, text| {
-                Ok(match key {
-                    "lambda_surface" => number(&mut p.lambda_surface, text),
-                    "lambda_interior" => number(&mut p.lambda_interior, text),
-                    "cone_angle" => number(&mut p.cone_angle, text),
-                    "kernel" => kernel(&mut p.kernel, text)?,
-                    "h_over_r" => number(&mut p.h_over_r, text),
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "muller")]
-    pub(super) fn muller(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_muller::{MullerDetector, MullerParams};
-        adapt(
-            pairs,
-            MullerDetector::try_new,
-            |p: &mut MullerParams, key, text| {
-                Ok(match key {
-                    "threshold" => number(&mut p.threshold, text),
-                    "kernel" => kernel(&mut p.kernel, text)?,
-                    "h_over_r" => number(&mut p.h_over_r, text),
                     _ => Field::Unknown,
                 })
             },
@@ -539,14 +393,6 @@ enum Field {
 #[allow(dead_code)]
 fn number(field: &mut f64, text: &str) -> Field {
     *field = text.trim().parse().unwrap_or(f64::NAN);
-    Field::Set
-}
-
-/// Sets a depth from `text`. A text that is not an unsigned integer sets 0, which every depth
-/// refuses, so that `try_new` reports it with the field's own reason.
-#[allow(dead_code)]
-fn integer(field: &mut u32, text: &str) -> Field {
-    *field = text.trim().parse().unwrap_or(0);
     Field::Set
 }
 
