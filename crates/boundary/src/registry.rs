@@ -87,52 +87,60 @@ struct Entry {
 /// Every compiled-in method, in the order the reports list them (references first).
 const REGISTRY: &[Entry] = &[
     #[cfg(feature = "exact")]
-    method::<boundary_exact::ExactDetector>("restricted Voronoi cell of each particle reaches beyond r: the reference labels"),
+    method::<boundary_exact::ExactDetector>(
+        "restricted Voronoi cell of each particle reaches beyond r: the reference labels",
+    ),
     #[cfg(feature = "dilts")]
-    method::<boundary_dilts::DiltsDetector>("explicit covering of S_i by arcs (2D, Dilts 2000) or caps (3D, Haque & Dilts 2007)"),
+    method::<boundary_dilts::DiltsDetector>(
+        "explicit covering of S_i by arcs (2D, Dilts 2000) or caps (3D, Haque & Dilts 2007)",
+    ),
     #[cfg(feature = "ia")]
-    method::<boundary_ia::IaDetector>("interval-arithmetic quadtree/octree over S_i, rules R1-R4 (JCP 2020 Sec. 3.1)"),
+    method::<boundary_ia::IaDetector>(
+        "interval-arithmetic quadtree/octree over S_i, rules R1-R4 (JCP 2020 Sec. 3.1)",
+    ),
     #[cfg(feature = "ge")]
-    method::<boundary_ge::GeDetector>("geometric-enclosure slabs on a mesh of S_i, rules R1-R4 (JCP 2020 Sec. 3.2)"),
+    method::<boundary_ge::GeDetector>(
+        "geometric-enclosure slabs on a mesh of S_i, rules R1-R4 (JCP 2020 Sec. 3.2)",
+    ),
     #[cfg(feature = "marrone")]
-    method::<boundary_marrone::MarroneDetector>("SPH renormalisation-matrix eigenvalue, then a scan cone along the normal \
-                  (Marrone et al., JCP 2010)"),
+    method::<boundary_marrone::MarroneDetector>(
+        "SPH renormalisation-matrix eigenvalue, then a scan cone along the normal \
+                  (Marrone et al., JCP 2010)",
+    ),
     #[cfg(feature = "muller")]
-    method::<boundary_muller::MullerDetector>("SPH colour-field gradient |grad c| h above a threshold (Mueller et al., SCA 2003)"),
+    method::<boundary_muller::MullerDetector>(
+        "SPH colour-field gradient |grad c| h above a threshold (Mueller et al., SCA 2003)",
+    ),
     #[cfg(feature = "divr")]
-    Entry {
-        name: "divr",
-        summary: "SPH divergence of position below a threshold: DualSPHysics, SPHinXsys or \
+    method::<boundary_divr::DivrDetector>(
+        "SPH divergence of position below a threshold: DualSPHysics, SPHinXsys or \
                   Chrono::FSI's value by name (Lind et al., JCP 2012)",
-        build: adapters::divr,
-    },
+    ),
     #[cfg(feature = "asymmetry")]
-    method::<boundary_asymmetry::AsymmetryDetector>("distance to the kernel-weighted mean of the neighbourhood, or a low density \
-                  (He et al., ACM TOG 2012)"),
+    method::<boundary_asymmetry::AsymmetryDetector>(
+        "distance to the kernel-weighted mean of the neighbourhood, or a low density \
+                  (He et al., ACM TOG 2012)",
+    ),
     #[cfg(feature = "randles")]
-    method::<boundary_randles::RandlesDetector>("smallest eigenvalue of the SPH renormalisation matrix at most mu \
-                  (Randles-Doring; Marrone et al., JCP 2010, first step)"),
+    method::<boundary_randles::RandlesDetector>(
+        "smallest eigenvalue of the SPH renormalisation matrix at most mu \
+                  (Randles-Doring; Marrone et al., JCP 2010, first step)",
+    ),
     #[cfg(feature = "lnm")]
-    Entry {
-        name: "lnm",
-        summary: "layered neighbourhood cells: cells beside empty or sparse cells are boundary, \
+    method::<boundary_lnm::LnmDetector>(
+        "layered neighbourhood cells: cells beside empty or sparse cells are boundary, \
                   a narrow band (Oliveira & Paiva, CGF 2022)",
-        build: adapters::lnm,
-    },
+    ),
     #[cfg(feature = "hpr")]
-    Entry {
-        name: "hpr",
-        summary: "visibility: hidden point removal with exponential flipping from grid and \
+    method::<boundary_hpr::HprDetector>(
+        "visibility: hidden point removal with exponential flipping from grid and \
                   cavity viewpoints (Sandim 2020, ch. 2, Alg. 1)",
-        build: adapters::hpr,
-    },
+    ),
     #[cfg(feature = "svm")]
-    Entry {
-        name: "svm",
-        summary: "polynomial-kernel support vector machine on six SPH features, trained on exact labels; \
+    method::<boundary_svm::SvmDetector>(
+        "polynomial-kernel support vector machine on six SPH features, trained on exact labels; \
                   refine=exact|ge re-tests its boundary particles (Sandim 2020, ch. 3)",
-        build: adapters::svm,
-    },
+    ),
 ];
 
 /// The entry of a method whose parameters are declared once
@@ -217,222 +225,6 @@ pub fn parse_param_list(text: &str) -> Result<Vec<(String, String)>, String> {
         .filter(|item| !item.trim().is_empty())
         .map(parse_param)
         .collect()
-}
-
-/// The string adapters, one per method: each parses a value into its field of the method's
-/// parameter struct and leaves the checks to the method's `try_new`.
-mod adapters {
-    #[allow(unused_imports)] // which helpers are used depends on the features
-    use super::{adapt, number, Field};
-    #[allow(unused_imports)]
-    use boundary_core::{BoundaryDetector, ParamError};
-
-    /// `kernel=wendland|cubic` (the kernel's own parser, which names the kernels).
-    #[cfg(feature = "divr")]
-    fn kernel(field: &mut crate::Kernel, text: &str) -> Result<Field, String> {
-        *field = text.parse::<crate::Kernel>().map_err(|e| e.to_string())?;
-        Ok(Field::Set)
-    }
-
-    #[cfg(feature = "divr")]
-    pub(super) fn divr(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_divr::{DivrDetector, DivrParams, Threshold};
-        adapt(
-            pairs,
-            DivrDetector::try_new,
-            |p: &mut DivrParams, key, text| {
-                Ok(match key {
-                    "threshold" => {
-                        p.threshold = match text.trim() {
-                            "dualsphysics" => Threshold::DualSphysics,
-                            "sphinxsys" => Threshold::Sphinxsys,
-                            "chrono" => Threshold::Chrono,
-                            number => Threshold::Value(number.parse().map_err(|_| {
-                                "must be a number > 0 or dualsphysics, sphinxsys, chrono".to_owned()
-                            })?),
-                        };
-                        Field::Set
-                    }
-                    "kernel" => kernel(&mut p.kernel, text)?,
-                    "h_over_r" => number(&mut p.h_over_r, text),
-                    "layers" => {
-                        p.layers = text
-                            .trim()
-                            .parse()
-                            .map_err(|_| "must be 0 or 1".to_owned())?;
-                        Field::Set
-                    }
-                    "min_neighbours" => {
-                        p.min_neighbours = match text.trim() {
-                            "auto" => None,
-                            count => Some(count.parse().map_err(|_| {
-                                "must be auto or a whole number in [0, 1000]".to_owned()
-                            })?),
-                        };
-                        Field::Set
-                    }
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "lnm")]
-    pub(super) fn lnm(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_lnm::{LnmDetector, LnmParams, LnmVariant};
-        adapt(
-            pairs,
-            LnmDetector::try_new,
-            |p: &mut LnmParams, key, text| {
-                Ok(match key {
-                    "cell_over_r" => number(&mut p.cell_over_r, text),
-                    "delta" => {
-                        p.delta =
-                            match text.trim() {
-                                "auto" => None,
-                                count => Some(count.parse().map_err(|_| {
-                                    "must be auto or a whole number >= 0".to_owned()
-                                })?),
-                            };
-                        Field::Set
-                    }
-                    "variant" => {
-                        p.variant = LnmVariant::from_name(text.trim())
-                            .ok_or_else(|| "must be refined or fast".to_owned())?;
-                        Field::Set
-                    }
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "hpr")]
-    pub(super) fn hpr(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_hpr::{Grids, HprDetector, HprParams, Protrusion};
-        adapt(
-            pairs,
-            HprDetector::try_new,
-            |p: &mut HprParams, key, text| {
-                Ok(match key {
-                    "gamma" => number(&mut p.gamma, text),
-                    "cavity" => {
-                        p.cavity = match text.trim() {
-                            "on" | "true" | "1" | "yes" => true,
-                            "off" | "false" | "0" | "no" => false,
-                            _ => return Err("must be on or off".to_owned()),
-                        };
-                        Field::Set
-                    }
-                    "grids" => {
-                        p.grids = match text.trim().parse::<usize>() {
-                            Ok(1) => Grids::One,
-                            Ok(2) => Grids::Two,
-                            _ => return Err("must be 1 or 2".to_owned()),
-                        };
-                        Field::Set
-                    }
-                    "protrusion" => {
-                        p.protrusion = if text.trim() == "auto" {
-                            Protrusion::Auto
-                        } else {
-                            let mut t = 0.0;
-                            number(&mut t, text);
-                            Protrusion::Value(t)
-                        };
-                        Field::Set
-                    }
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "svm")]
-    pub(super) fn svm(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_svm::{ModelChoice, Refine, SvmDetector, SvmParams};
-        adapt(
-            pairs,
-            SvmDetector::try_new,
-            |p: &mut SvmParams, key, text| {
-                Ok(match key {
-                    "refine" => {
-                        p.refine = match text.trim() {
-                            "none" => Refine::None,
-                            "exact" => Refine::Exact,
-                            "ge" => Refine::Ge,
-                            _ => return Err("must be none, exact or ge".to_owned()),
-                        };
-                        Field::Set
-                    }
-                    "model" => {
-                        p.model = match text.trim() {
-                            "default" => ModelChoice::Shipped,
-                            path => ModelChoice::from_file(path).map_err(|e| e.0)?,
-                        };
-                        Field::Set
-                    }
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-}
-
-/// Whether a key named a field of the parameter struct.
-#[allow(dead_code)] // unused when no method is compiled in
-enum Field {
-    /// The field was set from the text.
-    Set,
-    /// The method has no such key.
-    Unknown,
-}
-
-/// Sets a number field from `text`. A text that is not a number sets NaN, which every
-/// numeric parameter refuses, so that `try_new` reports it with the field's own reason.
-#[allow(dead_code)]
-fn number(field: &mut f64, text: &str) -> Field {
-    *field = text.trim().parse().unwrap_or(f64::NAN);
-    Field::Set
-}
-
-/// Applies `pairs` in order to the default parameters with `set` (which returns the reason
-/// when a text cannot be a value of the field at all), checking each step with `make`; the
-/// error names the first pair that fails and quotes its value as given.
-#[allow(dead_code)]
-fn adapt<P, D>(
-    pairs: &[(&str, &str)],
-    make: fn(P) -> Result<D, ParamError>,
-    set: fn(&mut P, &str, &str) -> Result<Field, String>,
-) -> Result<Box<dyn BoundaryDetector>, ParamError>
-where
-    P: Default + Clone,
-    D: BoundaryDetector + Default + 'static,
-{
-    let mut detector = D::default();
-    let method = detector.name();
-    let mut params = P::default();
-    for &(key, text) in pairs {
-        match set(&mut params, key, text) {
-            Ok(Field::Set) => {}
-            Ok(Field::Unknown) => {
-                let known = detector.describe();
-                let known: Vec<&str> = known.0.iter().map(|p| p.name).collect();
-                return Err(ParamError::unknown(method, key, &known));
-            }
-            Err(reason) => return Err(ParamError::invalid(method, key, text, reason)),
-        }
-        detector = make(params.clone()).map_err(|e| match e {
-            ParamError::Invalid {
-                method,
-                key: named,
-                reason,
-                ..
-            } if named == key => ParamError::invalid(method, key, text, reason),
-            other => other,
-        })?;
-    }
-    Ok(Box::new(detector))
 }
 
 #[cfg(test)]
