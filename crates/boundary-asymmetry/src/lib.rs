@@ -127,7 +127,7 @@ mod criterion;
 
 pub use criterion::{AsymmetrySums, AsymmetryValue};
 
-use boundary_core::{CoreError, ParamError, ParamSet, Params, ParticleSet, Point, Radius};
+use boundary_core::{CoreError, ParamSet, Params, ParticleSet, Point, Radius};
 use boundary_sph::frame::{
     h_over_r_check, kernel_check, DEFAULT_H_OVER_R, H_OVER_R_DOC, KERNEL_DOC,
 };
@@ -170,18 +170,6 @@ pub struct AsymmetryDetector {
 }
 
 impl AsymmetryDetector {
-    /// The detector with `params`, each checked (`threshold` finite and `>= 0`,
-    /// `density_ratio` in `[0, 1]`, `h_over_r` in `(0, 100]`); never clamped.
-    pub fn try_new(params: AsymmetryParams) -> Result<Self, ParamError> {
-        params.check()?;
-        Ok(AsymmetryDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &AsymmetryParams {
-        &self.params
-    }
-
     /// The asymmetry value, relative density and isolation of every particle, in input order:
     /// what the thresholds apply to (for inspection, plots and tuning).
     pub fn values<const D: usize>(
@@ -253,5 +241,5 @@ impl SphMethod for AsymmetryDetector {
 }
 
 boundary_sph::impl_sph_detector!(AsymmetryDetector);
-// The registry builds it from `key=value` text through its declared parameters.
-boundary_core::impl_configurable!(AsymmetryDetector, AsymmetryParams);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(AsymmetryDetector, AsymmetryParams);

@@ -349,6 +349,31 @@ macro_rules! impl_configurable {
     };
 }
 
+/// Writes, for a detector whose only field is `params` (its declared parameters), the
+/// checked constructor `try_new`, the accessor `params()` and [`Configurable`]. A detector
+/// with a check across fields writes its `try_new` itself and uses
+/// [`impl_configurable!`](crate::impl_configurable).
+#[macro_export]
+macro_rules! impl_detector_params {
+    ($detector:ident, $params:ty) => {
+        impl $detector {
+            /// The detector with `params`, each checked as declared (a value is never
+            /// clamped); the error names the first field that fails and says what it must be.
+            pub fn try_new(params: $params) -> ::core::result::Result<Self, $crate::ParamError> {
+                $crate::params::ParamSet::check(&params)?;
+                Ok($detector { params })
+            }
+
+            /// The parameters.
+            pub fn params(&self) -> &$params {
+                &self.params
+            }
+        }
+
+        $crate::impl_configurable!($detector, $params);
+    };
+}
+
 #[cfg(test)]
 #[allow(clippy::unwrap_used)]
 mod tests {

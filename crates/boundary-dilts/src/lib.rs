@@ -231,8 +231,8 @@ mod caps;
 
 use boundary_core::{
     AnyParticleSet, Capabilities, DetectError, Detection, Dim, HalfSpace, Job, JobByDim, Labels,
-    Method, NeighbourGrid, ParamError, ParamSet, Params, ParticleSet, Point, Radius, RadiusGrid,
-    Solids, Support, SupportedDim,
+    Method, NeighbourGrid, ParamSet, Params, ParticleSet, Point, Radius, RadiusGrid, Solids,
+    Support, SupportedDim,
 };
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -274,18 +274,6 @@ pub struct DiltsDetector {
 }
 
 impl DiltsDetector {
-    /// The detector with `params`, checked: `tie` must be finite and `>= 0` (else
-    /// [`ParamError::Invalid`] naming `tie`).
-    pub fn try_new(params: DiltsParams) -> Result<Self, ParamError> {
-        params.check()?;
-        Ok(DiltsDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &DiltsParams {
-        &self.params
-    }
-
     /// Like [`boundary_core::BoundaryDetector::detect`], also returning how many particles the exact
     /// predicate decided (those the float covering test could not decide within its bound).
     pub fn detect_counting_fallbacks(
@@ -302,8 +290,8 @@ impl DiltsDetector {
 
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(DiltsDetector);
-// The registry builds it from `key=value` text through its declared parameters.
-boundary_core::impl_configurable!(DiltsDetector, DiltsParams);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(DiltsDetector, DiltsParams);
 
 impl Method for DiltsDetector {
     const NAME: &'static str = "dilts";

@@ -119,8 +119,8 @@
 
 use boundary_core::params::Check;
 use boundary_core::{
-    AnyParticleSet, DetectError, Detection, Labels, ParamError, ParamSet, ParamValue, Params,
-    ParticleSet, Radius,
+    AnyParticleSet, DetectError, Detection, Labels, ParamSet, ParamValue, Params, ParticleSet,
+    Radius,
 };
 use boundary_sph::frame::{
     self, h_over_r_check, kernel_check, spread_within, H_OVER_R_DOC, KERNEL_DOC,
@@ -252,18 +252,6 @@ pub struct DivrAnalysis {
 }
 
 impl DivrDetector {
-    /// The detector with `params`, checked: a numeric threshold finite and `> 0`, `h_over_r`
-    /// in `(0, 100]`, `layers` 0 or 1, `min_neighbours` at most 1000.
-    pub fn try_new(params: DivrParams) -> Result<Self, ParamError> {
-        params.check()?;
-        Ok(DivrDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &DivrParams {
-        &self.params
-    }
-
     /// The fewest neighbours of a particle that is not isolated, in dimension `dim`.
     fn min_neighbours(&self, dim: usize) -> usize {
         self.params.min_neighbours.unwrap_or(dim + 1)
@@ -429,8 +417,8 @@ impl SphMethod for DivrDetector {
 // `Display` and `BoundaryDetector` (dispatch, radii refusal, owned particles with walls and
 // periodic images as ghosts, halo of two kernel supports) from the SPH frame.
 boundary_sph::impl_sph_detector!(DivrDetector);
-// The registry builds it from `key=value` text through its declared parameters.
-boundary_core::impl_configurable!(DivrDetector, DivrParams);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(DivrDetector, DivrParams);
 
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test

@@ -302,8 +302,8 @@ pub use tracker::Tracker;
 
 use boundary_core::{
     AnyParticleSet, Capabilities, DetectError, Detection, Dim, HalfSpace, Job, JobByDim, Labels,
-    Method, NeighbourGrid, ParamError, ParamSet, Params, ParticleSet, Point, Radius, Solids,
-    Support, SupportedDim,
+    Method, NeighbourGrid, ParamSet, Params, ParticleSet, Point, Radius, Solids, Support,
+    SupportedDim,
 };
 use cell::{Clipper, ConvexCell, Polygon, Polyhedron};
 use rayon::prelude::*;
@@ -361,18 +361,6 @@ pub struct ExactDetector {
 }
 
 impl ExactDetector {
-    /// The detector with `params`, checked: `tie` must be finite and `>= 0` (else
-    /// [`ParamError::Invalid`] naming `tie`).
-    pub fn try_new(params: ExactParams) -> Result<Self, ParamError> {
-        params.check()?;
-        Ok(ExactDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &ExactParams {
-        &self.params
-    }
-
     /// Like [`boundary_core::BoundaryDetector::detect`], also returning how many particles the exact
     /// fallback decided (those whose float decision fell inside its error bound).
     pub fn detect_counting_fallbacks(
@@ -389,8 +377,8 @@ impl ExactDetector {
 
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(ExactDetector);
-// The registry builds it from `key=value` text through its declared parameters.
-boundary_core::impl_configurable!(ExactDetector, ExactParams);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(ExactDetector, ExactParams);
 
 impl Method for ExactDetector {
     const NAME: &'static str = "exact";
@@ -1271,7 +1259,7 @@ mod tests {
         for bad in [-1e-9, f64::NAN, f64::INFINITY] {
             let err = ExactDetector::try_new(ExactParams { tie: bad }).unwrap_err();
             assert!(
-                matches!(&err, ParamError::Invalid { key, .. } if key == "tie"),
+                matches!(&err, boundary_core::ParamError::Invalid { key, .. } if key == "tie"),
                 "{err}"
             );
         }

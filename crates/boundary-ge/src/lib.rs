@@ -163,8 +163,8 @@ mod slab;
 
 use boundary_core::{
     Capabilities, CoreError, DetectError, Detection, Dim, Job, JobByDim, Labels, Method,
-    NeighbourGrid, ParamError, ParamSet, Params, ParticleSet, Point, Radius, RadiusGrid, Solids,
-    Support, SupportedDim,
+    NeighbourGrid, ParamSet, Params, ParticleSet, Point, Radius, RadiusGrid, Solids, Support,
+    SupportedDim,
 };
 use rayon::prelude::*;
 use slab::{Arc, Element, Triangle};
@@ -224,24 +224,10 @@ pub struct GeDetector {
     params: GeParams,
 }
 
-impl GeDetector {
-    /// The detector with `params`, checked: `depth` must lie in `1..=`[`MAX_DEPTH`] (else
-    /// [`ParamError::Invalid`] naming `depth`; a depth is never clamped).
-    pub fn try_new(params: GeParams) -> Result<Self, ParamError> {
-        params.check()?;
-        Ok(GeDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &GeParams {
-        &self.params
-    }
-}
-
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(GeDetector);
-// The registry builds it from `key=value` text through its declared parameters.
-boundary_core::impl_configurable!(GeDetector, GeParams);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(GeDetector, GeParams);
 
 impl Method for GeDetector {
     const NAME: &'static str = "ge";

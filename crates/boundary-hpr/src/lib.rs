@@ -183,7 +183,7 @@ pub mod visibility;
 use boundary_core::params::Check;
 use boundary_core::{
     Capabilities, CoreError, DetectError, Detection, Dim, Job, Labels, Method, NeighbourGrid,
-    ParamError, ParamSet, ParamValue, Params, ParticleSet, Point, Radius, Support, SupportedDim,
+    ParamSet, ParamValue, Params, ParticleSet, Point, Radius, Support, SupportedDim,
 };
 use rayon::prelude::*;
 use viewpoint::{place_viewpoints, ViewpointKind};
@@ -360,19 +360,6 @@ impl HprStats {
 }
 
 impl HprDetector {
-    /// The detector with `params`, checked (`gamma` finite in `(1, 10]`, a
-    /// [`Protrusion::Value`] finite within [`PROTRUSION_RANGE`]); the error
-    /// ([`ParamError::Invalid`]) names the first field that fails.
-    pub fn try_new(params: HprParams) -> Result<Self, ParamError> {
-        params.check()?;
-        Ok(HprDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &HprParams {
-        &self.params
-    }
-
     /// The protrusion tolerance used in dimension `D`.
     fn protrusion_for<const D: usize>(&self) -> f64 {
         match self.params.protrusion {
@@ -490,8 +477,8 @@ impl HprDetector {
 
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(HprDetector);
-// The registry builds it from `key=value` text through its declared parameters.
-boundary_core::impl_configurable!(HprDetector, HprParams);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(HprDetector, HprParams);
 
 impl Method for HprDetector {
     const NAME: &'static str = METHOD;
@@ -570,7 +557,7 @@ mod tests {
             })
             .unwrap_err();
             assert!(
-                matches!(&err, ParamError::Invalid { key, .. } if key == "gamma"),
+                matches!(&err, boundary_core::ParamError::Invalid { key, .. } if key == "gamma"),
                 "{err}"
             );
         }
@@ -581,7 +568,7 @@ mod tests {
             })
             .unwrap_err();
             assert!(
-                matches!(&err, ParamError::Invalid { key, .. } if key == "protrusion"),
+                matches!(&err, boundary_core::ParamError::Invalid { key, .. } if key == "protrusion"),
                 "{err}"
             );
         }

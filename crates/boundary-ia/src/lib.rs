@@ -130,8 +130,8 @@
 //! ```
 
 use boundary_core::{
-    Capabilities, DetectError, Detection, Dim, Job, Labels, Method, NeighbourGrid, ParamError,
-    ParamSet, Params, ParticleSet, Point, Radius, RadiusGrid, Solids, Support, SupportedDim,
+    Capabilities, DetectError, Detection, Dim, Job, Labels, Method, NeighbourGrid, ParamSet,
+    Params, ParticleSet, Point, Radius, RadiusGrid, Solids, Support, SupportedDim,
 };
 use rayon::prelude::*;
 
@@ -159,24 +159,10 @@ pub struct IaDetector {
     params: IaParams,
 }
 
-impl IaDetector {
-    /// The detector with `params`, checked: `depth` must lie in `1..=`[`MAX_DEPTH`] (else
-    /// [`ParamError::Invalid`] naming `depth`; a depth is never clamped).
-    pub fn try_new(params: IaParams) -> Result<Self, ParamError> {
-        params.check()?;
-        Ok(IaDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &IaParams {
-        &self.params
-    }
-}
-
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(IaDetector);
-// The registry builds it from `key=value` text through its declared parameters.
-boundary_core::impl_configurable!(IaDetector, IaParams);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(IaDetector, IaParams);
 
 impl Method for IaDetector {
     const NAME: &'static str = "ia";

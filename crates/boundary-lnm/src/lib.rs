@@ -175,8 +175,8 @@ pub use layers::{
 pub use spokes::{spoke_directions, spoke_uncovered, SPOKE_RADIUS_OVER_R};
 
 use boundary_core::{
-    Capabilities, DetectError, Detection, Dim, Job, Labels, Method, NeighbourGrid, ParamError,
-    ParamSet, ParamValue, Params, ParticleSet, Point, Radius, Support, SupportedDim,
+    Capabilities, DetectError, Detection, Dim, Job, Labels, Method, NeighbourGrid, ParamSet,
+    ParamValue, Params, ParticleSet, Point, Radius, Support, SupportedDim,
 };
 use rayon::prelude::*;
 
@@ -254,17 +254,6 @@ pub struct LnmDetector {
 }
 
 impl LnmDetector {
-    /// The detector with `params` (`cell_over_r` finite, in `[0.5, 16]`); never clamped.
-    pub fn try_new(params: LnmParams) -> Result<Self, ParamError> {
-        params.check()?;
-        Ok(LnmDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &LnmParams {
-        &self.params
-    }
-
     /// `δ` for `dim`-dimensional sets.
     pub fn delta(&self, dim: usize) -> u32 {
         self.params
@@ -368,8 +357,8 @@ fn cell_of<const D: usize>(p: &Point<D>, l: f64, i: usize) -> Result<[i64; D], D
 
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(LnmDetector);
-// The registry builds it from `key=value` text through its declared parameters.
-boundary_core::impl_configurable!(LnmDetector, LnmParams);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(LnmDetector, LnmParams);
 
 impl Method for LnmDetector {
     const NAME: &'static str = METHOD;

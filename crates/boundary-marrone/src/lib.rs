@@ -109,7 +109,7 @@
 
 mod scan;
 
-use boundary_core::{CoreError, ParamError, ParamSet, Params, ParticleSet, Radius};
+use boundary_core::{CoreError, ParamSet, Params, ParticleSet, Radius};
 use boundary_sph::frame::{
     h_over_r_check, kernel_check, DEFAULT_H_OVER_R as FRAME_H_OVER_R, H_OVER_R_DOC, KERNEL_DOC,
 };
@@ -170,21 +170,6 @@ pub struct MarroneDetector {
     params: MarroneParams,
 }
 
-impl MarroneDetector {
-    /// The detector with `params`, each checked (`lambda_surface`, `lambda_interior` finite
-    /// and `>= 0`, `cone_angle` in `(0, 90)`, `h_over_r` in `(0, 100]`); the error
-    /// ([`ParamError::Invalid`]) names the first field that fails.
-    pub fn try_new(params: MarroneParams) -> Result<Self, ParamError> {
-        params.check()?;
-        Ok(MarroneDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &MarroneParams {
-        &self.params
-    }
-}
-
 /// The criterion: (M2) the smallest eigenvalue of `B_i`, then for a candidate (M3–M4) the
 /// scan region around its normal.
 impl SphCriterion for MarroneDetector {
@@ -216,8 +201,8 @@ impl SphMethod for MarroneDetector {
 // `Display` and `BoundaryDetector` (dispatch, radii refusal, owned particles, halo of two
 // kernel supports) from the SPH frame.
 boundary_sph::impl_sph_detector!(MarroneDetector);
-// The registry builds it from `key=value` text through its declared parameters.
-boundary_core::impl_configurable!(MarroneDetector, MarroneParams);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(MarroneDetector, MarroneParams);
 
 impl MarroneDetector {
     /// The smallest eigenvalue `λ_i` of the renormalisation matrix (M1–M2) of every particle,
@@ -321,7 +306,7 @@ mod tests {
                 _ => p.h_over_r = bad,
             }
             let err = MarroneDetector::try_new(p).unwrap_err();
-            let ParamError::Invalid {
+            let boundary_core::ParamError::Invalid {
                 key: named, value, ..
             } = &err
             else {

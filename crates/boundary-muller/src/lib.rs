@@ -110,7 +110,7 @@
 //! }
 //! ```
 
-use boundary_core::{CoreError, ParamError, ParamSet, Params, ParticleSet, Radius};
+use boundary_core::{CoreError, ParamSet, Params, ParticleSet, Radius};
 use boundary_sph::frame::{
     h_over_r_check, kernel_check, DEFAULT_H_OVER_R as FRAME_H_OVER_R, H_OVER_R_DOC, KERNEL_DOC,
 };
@@ -154,18 +154,6 @@ pub struct MullerDetector {
 }
 
 impl MullerDetector {
-    /// The detector with `params`, checked (`threshold` finite and `>= 0`, `h_over_r` in
-    /// `(0, 100]`); the error ([`ParamError::Invalid`]) names the first field that fails.
-    pub fn try_new(params: MullerParams) -> Result<Self, ParamError> {
-        params.check()?;
-        Ok(MullerDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &MullerParams {
-        &self.params
-    }
-
     /// The dimensionless colour-field gradient magnitude `|∇c_i|·h` of every particle, in
     /// input order.
     pub fn gradient_magnitudes<const D: usize>(
@@ -220,8 +208,8 @@ impl SphMethod for MullerDetector {
 // `Display` and `BoundaryDetector` (dispatch, radii refusal, owned particles, halo of two
 // kernel supports) from the SPH frame.
 boundary_sph::impl_sph_detector!(MullerDetector);
-// The registry builds it from `key=value` text through its declared parameters.
-boundary_core::impl_configurable!(MullerDetector, MullerParams);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(MullerDetector, MullerParams);
 
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
@@ -268,7 +256,7 @@ mod tests {
             })
             .unwrap_err();
             assert!(
-                matches!(&err, ParamError::Invalid { key, .. } if key == "h_over_r"),
+                matches!(&err, boundary_core::ParamError::Invalid { key, .. } if key == "h_over_r"),
                 "{err}"
             );
         }

@@ -116,7 +116,7 @@
 //! ```
 
 use boundary_core::nalgebra::SMatrix;
-use boundary_core::{CoreError, ParamError, ParamSet, Params, ParticleSet, Radius};
+use boundary_core::{CoreError, ParamSet, Params, ParticleSet, Radius};
 use boundary_sph::frame::{
     h_over_r_check, kernel_check, DEFAULT_H_OVER_R, H_OVER_R_DOC, KERNEL_DOC,
 };
@@ -177,18 +177,6 @@ pub struct RandlesDetector {
 }
 
 impl RandlesDetector {
-    /// The detector with `params`, each checked (`mu_2d`, `mu_3d` finite and `>= 0`,
-    /// `h_over_r` in `(0, 100]`); never clamped.
-    pub fn try_new(params: RandlesParams) -> Result<Self, ParamError> {
-        params.check()?;
-        Ok(RandlesDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &RandlesParams {
-        &self.params
-    }
-
     /// The threshold for `D`-dimensional sets.
     pub fn mu(&self, dim: usize) -> f64 {
         if dim == 2 {
@@ -294,8 +282,8 @@ impl SphMethod for RandlesDetector {
 }
 
 boundary_sph::impl_sph_detector!(RandlesDetector);
-// The registry builds it from `key=value` text through its declared parameters.
-boundary_core::impl_configurable!(RandlesDetector, RandlesParams);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(RandlesDetector, RandlesParams);
 
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test

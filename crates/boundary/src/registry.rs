@@ -34,7 +34,10 @@
 //! [`parameters`] lists a method's keys with their defaults and descriptions, as
 //! `boundary methods` prints them.
 //!
-//! Pairs are applied in order, each checked at once by the method's `try_new`, so the error
+//! Each method's entry is one line: its parameters' parsing, checks and listing come from
+//! their declaration in the method crate (`boundary_core::declare_params!`).
+//!
+//! Pairs are applied in order, each checked at once by the declared checks, so the error
 //! names the first pair that fails: an unknown key lists the method's keys, an invalid value
 //! says what the parameter must be, quoting the value as given. A number that does not parse
 //! is reported like an out-of-range one.
