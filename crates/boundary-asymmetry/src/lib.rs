@@ -127,7 +127,10 @@ mod criterion;
 
 pub use criterion::{AsymmetrySums, AsymmetryValue};
 
-use boundary_core::{CoreError, ParamError, ParamInfo, Params, ParticleSet, Point, Radius};
+use boundary_core::{CoreError, ParamSet, Params, ParticleSet, Point, Radius};
+use boundary_sph::frame::{
+    h_over_r_check, kernel_check, DEFAULT_H_OVER_R, H_OVER_R_DOC, KERNEL_DOC,
+};
 use boundary_sph::{
     Kernel, Smoothing, SphContext, SphCriterion, SphMethod, Verdict, SUPPORT_FACTOR,
 };
@@ -141,48 +144,24 @@ pub const DEFAULT_DENSITY_RATIO: f64 = 0.7;
 
 const METHOD: &str = "asymmetry";
 
-/// The parameters of `asymmetry` (see the crate documentation).
-#[derive(Debug, Clone, PartialEq)]
-pub struct AsymmetryParams {
-    /// Boundary iff the asymmetry `a_i` (units of `h`) exceeds it; finite, `>= 0`.
-    pub threshold: f64,
-    /// Boundary iff `n_i / n_ref,i` is below it; in `[0, 1]` (0: no density test).
-    pub density_ratio: f64,
-    /// Kernel shape (support `2h`).
-    pub kernel: Kernel,
-    /// `h / r`, in `(0, 100]`.
-    pub h_over_r: f64,
-}
-
-impl Default for AsymmetryParams {
-    fn default() -> Self {
-        let s = Smoothing::default();
-        AsymmetryParams {
-            threshold: DEFAULT_THRESHOLD,
-            density_ratio: DEFAULT_DENSITY_RATIO,
-            kernel: s.kernel,
-            h_over_r: s.h_over_r,
-        }
+boundary_core::declare_params! {
+    /// The parameters of `asymmetry` (see the crate documentation).
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct AsymmetryParams for "asymmetry" {
+        /// Boundary iff the asymmetry `a_i` (units of `h`) exceeds it; finite, `>= 0`.
+        pub threshold: f64 = DEFAULT_THRESHOLD, check::non_negative(),
+            "boundary iff the distance from the particle to the kernel-weighted mean of its \
+             neighbourhood, in units of h, exceeds it (He et al. 2012)";
+        /// Boundary iff `n_i / n_ref,i` is below it; in `[0, 1]` (0: no density test).
+        pub density_ratio: f64 = DEFAULT_DENSITY_RATIO, check::closed(0.0, 1.0),
+            "boundary iff the number density is below this fraction of the largest within the \
+             support; 0 turns the density test off";
+        /// Kernel shape (support `2h`).
+        pub kernel: Kernel = Kernel::WendlandC2, kernel_check(), KERNEL_DOC;
+        /// `h / r`, in `(0, 100]`.
+        pub h_over_r: f64 = DEFAULT_H_OVER_R, h_over_r_check(), H_OVER_R_DOC;
     }
 }
-
-/// `v` if finite and `ok`, else the error naming `key` and the value as `shown`.
-fn check(key: &str, v: f64, shown: &str, rule: Rule) -> Result<f64, ParamError> {
-    if v.is_finite() && (rule.0)(v) {
-        Ok(v)
-    } else {
-        Err(ParamError::invalid(
-            METHOD,
-            key,
-            shown,
-            format!("must be {}", rule.1),
-        ))
-    }
-}
-
-type Rule = (fn(f64) -> bool, &'static str);
-const THRESHOLD_RULE: Rule = (|v| v >= 0.0, "a number >= 0");
-const RATIO_RULE: Rule = (|v| (0.0..=1.0).contains(&v), "in [0, 1]");
 
 /// The asymmetry detector (`asymmetry`). See the crate documentation.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -191,31 +170,6 @@ pub struct AsymmetryDetector {
 }
 
 impl AsymmetryDetector {
-    /// The detector with `params`, each checked (`threshold` finite and `>= 0`,
-    /// `density_ratio` in `[0, 1]`, `h_over_r` in `(0, 100]`); never clamped.
-    pub fn try_new(params: AsymmetryParams) -> Result<Self, ParamError> {
-        let shown = |v: f64| v.to_string();
-        check(
-            "threshold",
-            params.threshold,
-            &shown(params.threshold),
-            THRESHOLD_RULE,
-        )?;
-        check(
-            "density_ratio",
-            params.density_ratio,
-            &shown(params.density_ratio),
-            RATIO_RULE,
-        )?;
-        Smoothing::try_new(METHOD, params.kernel, params.h_over_r)?;
-        Ok(AsymmetryDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &AsymmetryParams {
-        &self.params
-    }
-
     /// The asymmetry value, relative density and isolation of every particle, in input order:
     /// what the thresholds apply to (for inspection, plots and tuning).
     pub fn values<const D: usize>(
@@ -282,27 +236,10 @@ impl SphMethod for AsymmetryDetector {
     const SOLID_REFUSAL: &'static str = "its density and weighted mean are kernel sums over particles, and a half-space is no particle; give the walls as wall particles, which enter the sums";
 
     fn param_list(&self) -> Params {
-        let p = &self.params;
-        let mut list = vec![
-            ParamInfo {
-                name: "threshold",
-                value: p.threshold.to_string(),
-                default: DEFAULT_THRESHOLD.to_string(),
-                description:
-                    "boundary iff the distance from the particle to the kernel-weighted \
-                              mean of its neighbourhood, in units of h, exceeds it (He et al. 2012)",
-            },
-            ParamInfo {
-                name: "density_ratio",
-                value: p.density_ratio.to_string(),
-                default: DEFAULT_DENSITY_RATIO.to_string(),
-                description: "boundary iff the number density is below this fraction of the \
-                              largest within the support; 0 turns the density test off",
-            },
-        ];
-        list.extend(self.smoothing().param_infos());
-        Params(list)
+        self.params.listing()
     }
 }
 
 boundary_sph::impl_sph_detector!(AsymmetryDetector);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(AsymmetryDetector, AsymmetryParams);

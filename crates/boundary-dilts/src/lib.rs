@@ -231,8 +231,8 @@ mod caps;
 
 use boundary_core::{
     AnyParticleSet, Capabilities, DetectError, Detection, Dim, HalfSpace, Job, JobByDim, Labels,
-    Method, NeighbourGrid, ParamError, ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid,
-    Solids, Support, SupportedDim,
+    Method, NeighbourGrid, ParamSet, Params, ParticleSet, Point, Radius, RadiusGrid, Solids,
+    Support, SupportedDim,
 };
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -253,18 +253,16 @@ pub const TANGENT_TOLERANCE: f64 = 1e-12;
 /// Unit roundoff of `f64`.
 pub(crate) const U: f64 = f64::EPSILON / 2.0;
 
-/// The parameters of `dilts` (string form: `--set tie=…`, see `boundary::registry`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct DiltsParams {
-    /// Opt-in covering tolerance: a point `x` of `S_i` counts as covered by neighbour `j` iff
-    /// `x·u_j >= d_j/2 − tie` (near-ties interior). `0` (the default) gives the exact labels;
-    /// [`COVER_TOLERANCE`] (`1e-12`) the labels of release 0.1. Finite, `>= 0`.
-    pub tie: f64,
-}
-
-impl Default for DiltsParams {
-    fn default() -> Self {
-        DiltsParams { tie: 0.0 }
+boundary_core::declare_params! {
+    /// The parameters of `dilts` (string form: `--set tie=…`, see `boundary::registry`).
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct DiltsParams for "dilts" {
+        /// Opt-in covering tolerance: a point `x` of `S_i` counts as covered by neighbour `j`
+        /// iff `x·u_j >= d_j/2 − tie` (near-ties interior). `0` (the default) gives the exact
+        /// labels; [`COVER_TOLERANCE`] (`1e-12`) the labels of release 0.1. Finite, `>= 0`.
+        pub tie: f64 = 0.0, check::non_negative().because("a finite number >= 0"),
+            "covering tolerance: x on S_i is covered by j iff x·u_j >= d_j/2 − tie (e.g. \
+             1e-12 treats lattice round-off as ties); 0 = exact labels";
     }
 }
 
@@ -276,27 +274,6 @@ pub struct DiltsDetector {
 }
 
 impl DiltsDetector {
-    /// The detector with `params`, checked: `tie` must be finite and `>= 0` (else
-    /// [`ParamError::Invalid`] naming `tie`).
-    pub fn try_new(params: DiltsParams) -> Result<Self, ParamError> {
-        let tie = params.tie;
-        if tie.is_finite() && tie >= 0.0 {
-            Ok(DiltsDetector { params })
-        } else {
-            Err(ParamError::invalid(
-                "dilts",
-                "tie",
-                &tie.to_string(),
-                "a finite number >= 0",
-            ))
-        }
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &DiltsParams {
-        &self.params
-    }
-
     /// Like [`boundary_core::BoundaryDetector::detect`], also returning how many particles the exact
     /// predicate decided (those the float covering test could not decide within its bound).
     pub fn detect_counting_fallbacks(
@@ -313,18 +290,14 @@ impl DiltsDetector {
 
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(DiltsDetector);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(DiltsDetector, DiltsParams);
 
 impl Method for DiltsDetector {
     const NAME: &'static str = "dilts";
 
     fn describe(&self) -> Params {
-        Params(vec![ParamInfo {
-            name: "tie",
-            value: self.params.tie.to_string(),
-            default: "0".to_owned(),
-            description: "covering tolerance: x on S_i is covered by j iff x·u_j >= d_j/2 − tie \
-                          (e.g. 1e-12 treats lattice round-off as ties); 0 = exact labels",
-        }])
+        self.params.listing()
     }
 
     /// Exact (so certified): the float covering test decides the clear cases, the exact

@@ -117,11 +117,14 @@
 //! }
 //! ```
 
+use boundary_core::params::Check;
 use boundary_core::{
-    AnyParticleSet, DetectError, Detection, Labels, ParamError, ParamInfo, Params, ParticleSet,
+    AnyParticleSet, DetectError, Detection, Labels, ParamSet, ParamValue, Params, ParticleSet,
     Radius,
 };
-use boundary_sph::frame::{self, spread_within};
+use boundary_sph::frame::{
+    self, h_over_r_check, kernel_check, spread_within, H_OVER_R_DOC, KERNEL_DOC,
+};
 use boundary_sph::{Kernel, Smoothing, SphContext, SphCriterion, SphMethod, Verdict};
 use rayon::prelude::*;
 use std::fmt;
@@ -177,30 +180,55 @@ impl fmt::Display for Threshold {
     }
 }
 
-/// The parameters of `divr` (see the crate documentation).
-#[derive(Debug, Clone, PartialEq)]
-pub struct DivrParams {
-    /// Boundary iff `∇·r` is below it.
-    pub threshold: Threshold,
-    /// Kernel shape (support `2h`).
-    pub kernel: Kernel,
-    /// `h / r`, in `(0, 100]`.
-    pub h_over_r: f64,
-    /// 0, or 1: flag every particle within `h` of a flagged one too.
-    pub layers: u8,
-    /// Isolated (and boundary) below this many other particles within `2h`; `None`: `d + 1`.
-    pub min_neighbours: Option<usize>,
+boundary_core::declare_params! {
+    /// The parameters of `divr` (see the crate documentation).
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct DivrParams for "divr" {
+        /// Boundary iff `∇·r` is below it.
+        pub threshold: Threshold = Threshold::DualSphysics, threshold_check(),
+            "boundary iff the divergence of position is below it: a number or dualsphysics \
+             (1.5 2D, 2.75 3D; Lind et al. 2012), sphinxsys (0.75 d), chrono (2.0)";
+        /// Kernel shape (support `2h`).
+        pub kernel: Kernel = Kernel::WendlandC2, kernel_check(), KERNEL_DOC;
+        /// `h / r`, in `(0, 100]`.
+        pub h_over_r: f64 = frame::DEFAULT_H_OVER_R, h_over_r_check(), H_OVER_R_DOC;
+        /// 0, or 1: flag every particle within `h` of a flagged one too.
+        pub layers: u8 = 0, check::at_most(1, "must be 0 or 1"),
+            "1: every particle within h of a flagged one is flagged too (SPHinXsys)";
+        /// Isolated (and boundary) below this many other particles within `2h`; `None`:
+        /// `d + 1`.
+        pub min_neighbours: Option<usize> = None,
+            check::auto_or(
+                check::at_most(1000, ""),
+                "must be auto or a whole number in [0, 1000]",
+            ),
+            "fewer other particles within 2h: isolated and boundary (auto: d + 1)";
+    }
 }
 
-impl Default for DivrParams {
-    fn default() -> Self {
-        DivrParams {
-            threshold: Threshold::DualSphysics,
-            kernel: Kernel::WendlandC2,
-            h_over_r: frame::DEFAULT_H_OVER_R,
-            layers: 0,
-            min_neighbours: None,
+/// The check of `threshold`: a number finite and `> 0`, or a named one.
+fn threshold_check() -> Check<Threshold> {
+    Check::new(
+        |t: &Threshold| match *t {
+            Threshold::Value(v) => v.is_finite() && v > 0.0,
+            _ => true,
+        },
+        "must be a number > 0 or dualsphysics, sphinxsys, chrono",
+    )
+}
+
+/// The text form of `threshold`: a number or a published value's name.
+impl ParamValue for Threshold {
+    fn from_text(text: &str) -> Result<Self, Option<String>> {
+        match text.trim() {
+            "dualsphysics" => Ok(Threshold::DualSphysics),
+            "sphinxsys" => Ok(Threshold::Sphinxsys),
+            "chrono" => Ok(Threshold::Chrono),
+            number => number.parse().map(Threshold::Value).map_err(|_| None),
         }
+    }
+    fn to_text(&self) -> String {
+        self.name()
     }
 }
 
@@ -224,25 +252,6 @@ pub struct DivrAnalysis {
 }
 
 impl DivrDetector {
-    /// The detector with `params`, checked: a numeric threshold finite and `> 0`, `h_over_r`
-    /// in `(0, 100]`, `layers` 0 or 1, `min_neighbours` at most 1000.
-    pub fn try_new(params: DivrParams) -> Result<Self, ParamError> {
-        if let Threshold::Value(v) = params.threshold {
-            check_threshold(v, &v.to_string())?;
-        }
-        Smoothing::try_new(METHOD, params.kernel, params.h_over_r)?;
-        check_layers(params.layers, &params.layers.to_string())?;
-        if let Some(n) = params.min_neighbours {
-            check_min_neighbours(n, &n.to_string())?;
-        }
-        Ok(DivrDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &DivrParams {
-        &self.params
-    }
-
     /// The fewest neighbours of a particle that is not isolated, in dimension `dim`.
     fn min_neighbours(&self, dim: usize) -> usize {
         self.params.min_neighbours.unwrap_or(dim + 1)
@@ -401,81 +410,15 @@ impl SphMethod for DivrDetector {
     const SOLID_REFUSAL: &'static str = "the divergence of position is a kernel sum over particles, and a half-space is no particle; give the walls as wall particles, which enter the sums as in DualSPHysics";
 
     fn param_list(&self) -> Params {
-        let defaults = DivrParams::default();
-        let mut list = vec![ParamInfo {
-            name: "threshold",
-            value: self.params.threshold.name(),
-            default: defaults.threshold.name(),
-            description: "boundary iff the divergence of position is below it: a number or \
-                          dualsphysics (1.5 2D, 2.75 3D; Lind et al. 2012), sphinxsys (0.75 d), \
-                          chrono (2.0)",
-        }];
-        list.extend(self.smoothing().param_infos());
-        list.push(ParamInfo {
-            name: "layers",
-            value: self.params.layers.to_string(),
-            default: defaults.layers.to_string(),
-            description: "1: every particle within h of a flagged one is flagged too \
-                          (SPHinXsys)",
-        });
-        list.push(ParamInfo {
-            name: "min_neighbours",
-            value: self
-                .params
-                .min_neighbours
-                .map_or_else(|| "auto".to_owned(), |n| n.to_string()),
-            default: "auto".to_owned(),
-            description: "fewer other particles within 2h: isolated and boundary (auto: d + 1)",
-        });
-        Params(list)
+        self.params.listing()
     }
 }
 
 // `Display` and `BoundaryDetector` (dispatch, radii refusal, owned particles with walls and
 // periodic images as ghosts, halo of two kernel supports) from the SPH frame.
 boundary_sph::impl_sph_detector!(DivrDetector);
-
-fn check_threshold(v: f64, shown: &str) -> Result<f64, ParamError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(ParamError::invalid(
-            METHOD,
-            "threshold",
-            shown,
-            "must be a number > 0 or dualsphysics, sphinxsys, chrono",
-        ))
-    }
-}
-
-fn layers_error(shown: &str) -> ParamError {
-    ParamError::invalid(METHOD, "layers", shown, "must be 0 or 1")
-}
-
-fn check_layers(n: u8, shown: &str) -> Result<u8, ParamError> {
-    if n <= 1 {
-        Ok(n)
-    } else {
-        Err(layers_error(shown))
-    }
-}
-
-fn min_neighbours_error(shown: &str) -> ParamError {
-    ParamError::invalid(
-        METHOD,
-        "min_neighbours",
-        shown,
-        "must be auto or a whole number in [0, 1000]",
-    )
-}
-
-fn check_min_neighbours(n: usize, shown: &str) -> Result<usize, ParamError> {
-    if n <= 1000 {
-        Ok(n)
-    } else {
-        Err(min_neighbours_error(shown))
-    }
-}
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(DivrDetector, DivrParams);
 
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test

@@ -302,8 +302,8 @@ pub use tracker::Tracker;
 
 use boundary_core::{
     AnyParticleSet, Capabilities, DetectError, Detection, Dim, HalfSpace, Job, JobByDim, Labels,
-    Method, NeighbourGrid, ParamError, ParamInfo, Params, ParticleSet, Point, Radius, Solids,
-    Support, SupportedDim,
+    Method, NeighbourGrid, ParamSet, Params, ParticleSet, Point, Radius, Solids, Support,
+    SupportedDim,
 };
 use cell::{Clipper, ConvexCell, Polygon, Polyhedron};
 use rayon::prelude::*;
@@ -339,19 +339,17 @@ const GRID_CELL: f64 = 1.1;
 /// Unit roundoff of `f64`.
 const U: f64 = f64::EPSILON / 2.0;
 
-/// The parameters of `exact` (string form: `--set tie=…`, see `boundary::registry`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ExactParams {
-    /// Opt-in tie tolerance, in units of `r`: a particle is boundary iff its float margin
-    /// exceeds `tie·r`, margins within `±tie·r` count as ties (interior) and the exact
-    /// fallback is not used. `0` (the default) gives the exact labels; [`TIE_TOLERANCE`]
-    /// (`1e-9`) the labels of release 0.1. Finite, `>= 0`.
-    pub tie: f64,
-}
-
-impl Default for ExactParams {
-    fn default() -> Self {
-        ExactParams { tie: 0.0 }
+boundary_core::declare_params! {
+    /// The parameters of `exact` (string form: `--set tie=…`, see `boundary::registry`).
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct ExactParams for "exact" {
+        /// Opt-in tie tolerance, in units of `r`: a particle is boundary iff its float margin
+        /// exceeds `tie·r`, margins within `±tie·r` count as ties (interior) and the exact
+        /// fallback is not used. `0` (the default) gives the exact labels; [`TIE_TOLERANCE`]
+        /// (`1e-9`) the labels of release 0.1. Finite, `>= 0`.
+        pub tie: f64 = 0.0, check::non_negative().because("a finite number >= 0"),
+            "tie tolerance: boundary iff the float margin exceeds tie·r (e.g. 1e-9 treats \
+             lattice round-off as ties); 0 = exact labels (definition, JCP Sec. 2)";
     }
 }
 
@@ -363,27 +361,6 @@ pub struct ExactDetector {
 }
 
 impl ExactDetector {
-    /// The detector with `params`, checked: `tie` must be finite and `>= 0` (else
-    /// [`ParamError::Invalid`] naming `tie`).
-    pub fn try_new(params: ExactParams) -> Result<Self, ParamError> {
-        let tie = params.tie;
-        if tie.is_finite() && tie >= 0.0 {
-            Ok(ExactDetector { params })
-        } else {
-            Err(ParamError::invalid(
-                "exact",
-                "tie",
-                &tie.to_string(),
-                "a finite number >= 0",
-            ))
-        }
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &ExactParams {
-        &self.params
-    }
-
     /// Like [`boundary_core::BoundaryDetector::detect`], also returning how many particles the exact
     /// fallback decided (those whose float decision fell inside its error bound).
     pub fn detect_counting_fallbacks(
@@ -400,18 +377,14 @@ impl ExactDetector {
 
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(ExactDetector);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(ExactDetector, ExactParams);
 
 impl Method for ExactDetector {
     const NAME: &'static str = "exact";
 
     fn describe(&self) -> Params {
-        Params(vec![ParamInfo {
-            name: "tie",
-            value: self.params.tie.to_string(),
-            default: "0".to_owned(),
-            description: "tie tolerance: boundary iff the float margin exceeds tie·r (e.g. 1e-9 \
-                          treats lattice round-off as ties); 0 = exact labels (definition, JCP Sec. 2)",
-        }])
+        self.params.listing()
     }
 
     /// Certified; per-particle radii (power cells), solid half-spaces exactly, like every
@@ -1286,7 +1259,7 @@ mod tests {
         for bad in [-1e-9, f64::NAN, f64::INFINITY] {
             let err = ExactDetector::try_new(ExactParams { tie: bad }).unwrap_err();
             assert!(
-                matches!(&err, ParamError::Invalid { key, .. } if key == "tie"),
+                matches!(&err, boundary_core::ParamError::Invalid { key, .. } if key == "tie"),
                 "{err}"
             );
         }

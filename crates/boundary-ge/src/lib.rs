@@ -163,8 +163,8 @@ mod slab;
 
 use boundary_core::{
     Capabilities, CoreError, DetectError, Detection, Dim, Job, JobByDim, Labels, Method,
-    NeighbourGrid, ParamError, ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid, Solids,
-    Support, SupportedDim,
+    NeighbourGrid, ParamSet, Params, ParticleSet, Point, Radius, RadiusGrid, Solids, Support,
+    SupportedDim,
 };
 use rayon::prelude::*;
 use slab::{Arc, Element, Triangle};
@@ -206,19 +206,15 @@ const SHELLS: usize = 16;
 /// about 1.08; in 2D the first level has reach 0.56 and is filtered).
 const WIDE_REACH: f64 = 1.0;
 
-/// The parameters of `ge` (string form: `--set depth=…`, see `boundary::registry`).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct GeParams {
-    /// Maximum subdivision depth, in `1..=`[`MAX_DEPTH`]; default [`DEFAULT_DEPTH`]. Deeper:
-    /// fewer false positives, slower.
-    pub depth: u32,
-}
-
-impl Default for GeParams {
-    fn default() -> Self {
-        GeParams {
-            depth: DEFAULT_DEPTH,
-        }
+boundary_core::declare_params! {
+    /// The parameters of `ge` (string form: `--set depth=…`, see `boundary::registry`).
+    #[derive(Debug, Clone, PartialEq, Eq)]
+    pub struct GeParams for "ge" {
+        /// Maximum subdivision depth, in `1..=`[`MAX_DEPTH`]; default [`DEFAULT_DEPTH`].
+        /// Deeper: fewer false positives, slower.
+        pub depth: u32 = DEFAULT_DEPTH, check::int_in(1, MAX_DEPTH),
+            "maximum refinement depth of the slab mesh on S_i (JCP 2020 Sec. 3.2, rules \
+             R1-R4); deeper: fewer false positives, slower";
     }
 }
 
@@ -228,42 +224,16 @@ pub struct GeDetector {
     params: GeParams,
 }
 
-impl GeDetector {
-    /// The detector with `params`, checked: `depth` must lie in `1..=`[`MAX_DEPTH`] (else
-    /// [`ParamError::Invalid`] naming `depth`; a depth is never clamped).
-    pub fn try_new(params: GeParams) -> Result<Self, ParamError> {
-        if (1..=MAX_DEPTH).contains(&params.depth) {
-            Ok(GeDetector { params })
-        } else {
-            Err(ParamError::invalid(
-                "ge",
-                "depth",
-                &params.depth.to_string(),
-                format!("must be an integer in 1..={MAX_DEPTH}"),
-            ))
-        }
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &GeParams {
-        &self.params
-    }
-}
-
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(GeDetector);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(GeDetector, GeParams);
 
 impl Method for GeDetector {
     const NAME: &'static str = "ge";
 
     fn describe(&self) -> Params {
-        Params(vec![ParamInfo {
-            name: "depth",
-            value: self.params.depth.to_string(),
-            default: DEFAULT_DEPTH.to_string(),
-            description: "maximum refinement depth of the slab mesh on S_i (JCP 2020 Sec. 3.2, \
-                          rules R1-R4); deeper: fewer false positives, slower",
-        }])
+        self.params.listing()
     }
 
     /// Certified; per-particle radii and the closed solid half-spaces (crate docs, "Solid

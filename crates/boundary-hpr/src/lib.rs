@@ -180,9 +180,10 @@ pub mod hull;
 pub mod viewpoint;
 pub mod visibility;
 
+use boundary_core::params::Check;
 use boundary_core::{
     Capabilities, CoreError, DetectError, Detection, Dim, Job, Labels, Method, NeighbourGrid,
-    ParamError, ParamInfo, Params, ParticleSet, Point, Radius, Support, SupportedDim,
+    ParamSet, ParamValue, Params, ParticleSet, Point, Radius, Support, SupportedDim,
 };
 use rayon::prelude::*;
 use viewpoint::{place_viewpoints, ViewpointKind};
@@ -246,29 +247,68 @@ pub enum Protrusion {
     Value(f64),
 }
 
-/// The parameters of `hpr`, with the thesis' defaults (string form: the `--set` keys of the
-/// same names, see `boundary::registry`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct HprParams {
-    /// Exponent of the exponential flipping `p/|p|^γ` (Eq. 2.2), finite, in `(1, 10]`;
-    /// default [`DEFAULT_GAMMA`].
-    pub gamma: f64,
-    /// Whether the cavity viewpoints of Eq. 2.3 are placed (`false`: empty cells only);
-    /// default `true`. String form `cavity=on|off`.
-    pub cavity: bool,
-    /// Viewpoint grids; default [`Grids::One`].
-    pub grids: Grids,
-    /// Hull vertices protruding by at most this are hidden; default [`Protrusion::Auto`].
-    pub protrusion: Protrusion,
+boundary_core::declare_params! {
+    /// The parameters of `hpr`, with the thesis' defaults (string form: the `--set` keys of
+    /// the same names, see `boundary::registry`).
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct HprParams for "hpr" {
+        /// Exponent of the exponential flipping `p/|p|^γ` (Eq. 2.2), finite, in `(1, 10]`;
+        /// default [`DEFAULT_GAMMA`].
+        pub gamma: f64 = DEFAULT_GAMMA, check::open_closed(1.0, 10.0),
+            "exponent of the exponential flipping p/|p|^gamma, > 1 (Sandim 2020, Eq. 2.2)";
+        /// Whether the cavity viewpoints of Eq. 2.3 are placed (`false`: empty cells only);
+        /// default `true`. String form `cavity=on|off`.
+        pub cavity: bool = true, check::any("must be on or off"),
+            "on: also place viewpoints in cavity cells (Sandim 2020, Eq. 2.3, Fig. 5); off: \
+             empty-cell viewpoints only";
+        /// Viewpoint grids; default [`Grids::One`].
+        pub grids: Grids = Grids::One, check::any("must be 1 or 2"),
+            "viewpoint grids: 1 (Alg. 1), or 2 (also the grid shifted by r; boundary when \
+             seen under both)";
+        /// Hull vertices protruding by at most this are hidden; default [`Protrusion::Auto`].
+        pub protrusion: Protrusion = Protrusion::Auto, protrusion_check(),
+            "a hull vertex protruding by at most this from the hull of the other flipped \
+             points is hidden; auto: 1e-3 in 2D, 1e-5 in 3D";
+    }
 }
 
-impl Default for HprParams {
-    fn default() -> Self {
-        HprParams {
-            gamma: DEFAULT_GAMMA,
-            cavity: true,
-            grids: Grids::One,
-            protrusion: Protrusion::Auto,
+/// The check of `protrusion`: `auto`, or a finite number within [`PROTRUSION_RANGE`].
+fn protrusion_check() -> Check<Protrusion> {
+    Check::new(
+        |p: &Protrusion| match *p {
+            Protrusion::Auto => true,
+            Protrusion::Value(t) => (PROTRUSION_RANGE.0..=PROTRUSION_RANGE.1).contains(&t),
+        },
+        "must be auto or a number in [1e-6, 0.1]",
+    )
+}
+
+/// The text form of `grids`: `1` or `2`.
+impl ParamValue for Grids {
+    fn from_text(text: &str) -> Result<Self, Option<String>> {
+        match text.trim().parse::<usize>() {
+            Ok(1) => Ok(Grids::One),
+            Ok(2) => Ok(Grids::Two),
+            _ => Err(None),
+        }
+    }
+    fn to_text(&self) -> String {
+        self.count().to_string()
+    }
+}
+
+/// The text form of `protrusion`: `auto` or a number.
+impl ParamValue for Protrusion {
+    fn from_text(text: &str) -> Result<Self, Option<String>> {
+        match text.trim() {
+            "auto" => Ok(Protrusion::Auto),
+            number => number.parse().map(Protrusion::Value).map_err(|_| None),
+        }
+    }
+    fn to_text(&self) -> String {
+        match self {
+            Protrusion::Auto => "auto".to_owned(),
+            Protrusion::Value(t) => t.to_string(),
         }
     }
 }
@@ -320,38 +360,6 @@ impl HprStats {
 }
 
 impl HprDetector {
-    /// The detector with `params`, checked (`gamma` finite in `(1, 10]`, a
-    /// [`Protrusion::Value`] finite within [`PROTRUSION_RANGE`]); the error
-    /// ([`ParamError::Invalid`]) names the first field that fails.
-    pub fn try_new(params: HprParams) -> Result<Self, ParamError> {
-        let gamma = params.gamma;
-        if !(gamma.is_finite() && gamma > 1.0 && gamma <= 10.0) {
-            return Err(ParamError::invalid(
-                METHOD,
-                "gamma",
-                &gamma.to_string(),
-                "must be in (1, 10]",
-            ));
-        }
-        if let Protrusion::Value(t) = params.protrusion {
-            let (lo, hi) = PROTRUSION_RANGE;
-            if !(t.is_finite() && (lo..=hi).contains(&t)) {
-                return Err(ParamError::invalid(
-                    METHOD,
-                    "protrusion",
-                    &t.to_string(),
-                    "must be auto or a number in [1e-6, 0.1]",
-                ));
-            }
-        }
-        Ok(HprDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &HprParams {
-        &self.params
-    }
-
     /// The protrusion tolerance used in dimension `D`.
     fn protrusion_for<const D: usize>(&self) -> f64 {
         match self.params.protrusion {
@@ -467,54 +475,16 @@ impl HprDetector {
     }
 }
 
-fn protrusion_text(p: Protrusion) -> String {
-    match p {
-        Protrusion::Auto => "auto".to_owned(),
-        Protrusion::Value(t) => t.to_string(),
-    }
-}
-
-fn switch(on: bool) -> String {
-    if on { "on" } else { "off" }.to_owned()
-}
-
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(HprDetector);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(HprDetector, HprParams);
 
 impl Method for HprDetector {
     const NAME: &'static str = METHOD;
 
     fn describe(&self) -> Params {
-        Params(vec![
-            ParamInfo {
-                name: "gamma",
-                value: self.params.gamma.to_string(),
-                default: DEFAULT_GAMMA.to_string(),
-                description: "exponent of the exponential flipping p/|p|^gamma, > 1 \
-                              (Sandim 2020, Eq. 2.2)",
-            },
-            ParamInfo {
-                name: "cavity",
-                value: switch(self.params.cavity),
-                default: switch(true),
-                description: "on: also place viewpoints in cavity cells (Sandim 2020, Eq. 2.3, \
-                              Fig. 5); off: empty-cell viewpoints only",
-            },
-            ParamInfo {
-                name: "grids",
-                value: self.params.grids.count().to_string(),
-                default: "1".to_owned(),
-                description: "viewpoint grids: 1 (Alg. 1), or 2 (also the grid shifted by r; \
-                              boundary when seen under both)",
-            },
-            ParamInfo {
-                name: "protrusion",
-                value: protrusion_text(self.params.protrusion),
-                default: protrusion_text(Protrusion::Auto),
-                description: "a hull vertex protruding by at most this from the hull of the \
-                              other flipped points is hidden; auto: 1e-3 in 2D, 1e-5 in 3D",
-            },
-        ])
+        self.params.listing()
     }
 
     /// A uniform radius only; no solid (hidden point removal sees points, and a solid
@@ -587,7 +557,7 @@ mod tests {
             })
             .unwrap_err();
             assert!(
-                matches!(&err, ParamError::Invalid { key, .. } if key == "gamma"),
+                matches!(&err, boundary_core::ParamError::Invalid { key, .. } if key == "gamma"),
                 "{err}"
             );
         }
@@ -598,7 +568,7 @@ mod tests {
             })
             .unwrap_err();
             assert!(
-                matches!(&err, ParamError::Invalid { key, .. } if key == "protrusion"),
+                matches!(&err, boundary_core::ParamError::Invalid { key, .. } if key == "protrusion"),
                 "{err}"
             );
         }

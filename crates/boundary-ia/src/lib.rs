@@ -130,8 +130,8 @@
 //! ```
 
 use boundary_core::{
-    Capabilities, DetectError, Detection, Dim, Job, Labels, Method, NeighbourGrid, ParamError,
-    ParamInfo, Params, ParticleSet, Point, Radius, RadiusGrid, Solids, Support, SupportedDim,
+    Capabilities, DetectError, Detection, Dim, Job, Labels, Method, NeighbourGrid, ParamSet,
+    Params, ParticleSet, Point, Radius, RadiusGrid, Solids, Support, SupportedDim,
 };
 use rayon::prelude::*;
 
@@ -141,19 +141,15 @@ pub const DEFAULT_DEPTH: u32 = 6;
 /// Largest accepted depth: `2^-16` of `r` is far below any particle spacing.
 pub const MAX_DEPTH: u32 = 16;
 
-/// The parameters of `ia` (string form: `--set depth=…`, see `boundary::registry`).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct IaParams {
-    /// Maximum subdivision depth, in `1..=`[`MAX_DEPTH`]; default [`DEFAULT_DEPTH`]. Deeper:
-    /// fewer false positives, slower.
-    pub depth: u32,
-}
-
-impl Default for IaParams {
-    fn default() -> Self {
-        IaParams {
-            depth: DEFAULT_DEPTH,
-        }
+boundary_core::declare_params! {
+    /// The parameters of `ia` (string form: `--set depth=…`, see `boundary::registry`).
+    #[derive(Debug, Clone, PartialEq, Eq)]
+    pub struct IaParams for "ia" {
+        /// Maximum subdivision depth, in `1..=`[`MAX_DEPTH`]; default [`DEFAULT_DEPTH`].
+        /// Deeper: fewer false positives, slower.
+        pub depth: u32 = DEFAULT_DEPTH, check::int_in(1, MAX_DEPTH),
+            "maximum quadtree/octree depth (JCP 2020 Sec. 3.1, rules R1-R4); deeper: fewer \
+             false positives, slower";
     }
 }
 
@@ -163,42 +159,16 @@ pub struct IaDetector {
     params: IaParams,
 }
 
-impl IaDetector {
-    /// The detector with `params`, checked: `depth` must lie in `1..=`[`MAX_DEPTH`] (else
-    /// [`ParamError::Invalid`] naming `depth`; a depth is never clamped).
-    pub fn try_new(params: IaParams) -> Result<Self, ParamError> {
-        if (1..=MAX_DEPTH).contains(&params.depth) {
-            Ok(IaDetector { params })
-        } else {
-            Err(ParamError::invalid(
-                "ia",
-                "depth",
-                &params.depth.to_string(),
-                format!("must be an integer in 1..={MAX_DEPTH}"),
-            ))
-        }
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &IaParams {
-        &self.params
-    }
-}
-
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(IaDetector);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(IaDetector, IaParams);
 
 impl Method for IaDetector {
     const NAME: &'static str = "ia";
 
     fn describe(&self) -> Params {
-        Params(vec![ParamInfo {
-            name: "depth",
-            value: self.params.depth.to_string(),
-            default: DEFAULT_DEPTH.to_string(),
-            description: "maximum quadtree/octree depth (JCP 2020 Sec. 3.1, rules R1-R4); \
-                          deeper: fewer false positives, slower",
-        }])
+        self.params.listing()
     }
 
     /// Certified; per-particle radii and the closed solid half-spaces (crate docs, "Solid

@@ -175,8 +175,8 @@ pub use layers::{
 pub use spokes::{spoke_directions, spoke_uncovered, SPOKE_RADIUS_OVER_R};
 
 use boundary_core::{
-    Capabilities, DetectError, Detection, Dim, Job, Labels, Method, NeighbourGrid, ParamError,
-    ParamInfo, Params, ParticleSet, Point, Radius, Support, SupportedDim,
+    Capabilities, DetectError, Detection, Dim, Job, Labels, Method, NeighbourGrid, ParamSet,
+    ParamValue, Params, ParticleSet, Point, Radius, Support, SupportedDim,
 };
 use rayon::prelude::*;
 
@@ -218,24 +218,32 @@ impl LnmVariant {
     }
 }
 
-/// The parameters of `lnm` (see the crate documentation).
-#[derive(Debug, Clone, PartialEq)]
-pub struct LnmParams {
-    /// Cell side in units of `r`; finite, in `[0.5, 16]`.
-    pub cell_over_r: f64,
-    /// The largest particle count of a sparse L1 cell; `None`: `floor(cell_over_r^D)`.
-    pub delta: Option<u32>,
-    /// Which particles of `L2` cells are boundary.
-    pub variant: LnmVariant,
+boundary_core::declare_params! {
+    /// The parameters of `lnm` (see the crate documentation).
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct LnmParams for "lnm" {
+        /// Cell side in units of `r`; finite, in `[0.5, 16]`.
+        pub cell_over_r: f64 = DEFAULT_CELL_OVER_R, check::closed(0.5, 16.0),
+            "side of the voxel cells in units of r (Oliveira & Paiva 2022)";
+        /// The largest particle count of a sparse L1 cell; `None`: `floor(cell_over_r^D)`.
+        pub delta: Option<u32> = None,
+            check::auto_or(check::any(""), "must be auto or a whole number >= 0"),
+            "largest particle count of a sparse L1 cell, whose neighbours become L2; auto: \
+             cell_over_r^D, the count of a full cell";
+        /// Which particles of `L2` cells are boundary.
+        pub variant: LnmVariant = LnmVariant::default(), check::any("must be refined or fast"),
+            "refined: an L2 particle is boundary when a sampled covering test at 0.75 r finds \
+             its sphere uncovered (Bubbles' default); fast: every L2 particle is boundary";
+    }
 }
 
-impl Default for LnmParams {
-    fn default() -> Self {
-        LnmParams {
-            cell_over_r: DEFAULT_CELL_OVER_R,
-            delta: None,
-            variant: LnmVariant::default(),
-        }
+/// The text form of `variant`: its name.
+impl ParamValue for LnmVariant {
+    fn from_text(text: &str) -> Result<Self, Option<String>> {
+        LnmVariant::from_name(text.trim()).ok_or(None)
+    }
+    fn to_text(&self) -> String {
+        self.name().to_owned()
     }
 }
 
@@ -245,31 +253,7 @@ pub struct LnmDetector {
     params: LnmParams,
 }
 
-fn check_cell(v: f64, shown: &str) -> Result<f64, ParamError> {
-    if v.is_finite() && (0.5..=16.0).contains(&v) {
-        Ok(v)
-    } else {
-        Err(ParamError::invalid(
-            METHOD,
-            "cell_over_r",
-            shown,
-            "must be in [0.5, 16]",
-        ))
-    }
-}
-
 impl LnmDetector {
-    /// The detector with `params` (`cell_over_r` finite, in `[0.5, 16]`); never clamped.
-    pub fn try_new(params: LnmParams) -> Result<Self, ParamError> {
-        check_cell(params.cell_over_r, &params.cell_over_r.to_string())?;
-        Ok(LnmDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &LnmParams {
-        &self.params
-    }
-
     /// `δ` for `dim`-dimensional sets.
     pub fn delta(&self, dim: usize) -> u32 {
         self.params
@@ -373,37 +357,14 @@ fn cell_of<const D: usize>(p: &Point<D>, l: f64, i: usize) -> Result<[i64; D], D
 
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(LnmDetector);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(LnmDetector, LnmParams);
 
 impl Method for LnmDetector {
     const NAME: &'static str = METHOD;
 
     fn describe(&self) -> Params {
-        Params(vec![
-            ParamInfo {
-                name: "cell_over_r",
-                value: self.params.cell_over_r.to_string(),
-                default: DEFAULT_CELL_OVER_R.to_string(),
-                description: "side of the voxel cells in units of r (Oliveira & Paiva 2022)",
-            },
-            ParamInfo {
-                name: "delta",
-                value: self
-                    .params
-                    .delta
-                    .map_or_else(|| "auto".to_owned(), |d| d.to_string()),
-                default: "auto".to_owned(),
-                description: "largest particle count of a sparse L1 cell, whose neighbours \
-                              become L2; auto: cell_over_r^D, the count of a full cell",
-            },
-            ParamInfo {
-                name: "variant",
-                value: self.params.variant.name().to_owned(),
-                default: LnmVariant::default().name().to_owned(),
-                description: "refined: an L2 particle is boundary when a sampled covering test \
-                              at 0.75 r finds its sphere uncovered (Bubbles' default); fast: \
-                              every L2 particle is boundary",
-            },
-        ])
+        self.params.listing()
     }
 
     /// A uniform radius only; no solid; the label of a particle depends on the counts of

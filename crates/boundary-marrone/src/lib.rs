@@ -109,8 +109,10 @@
 
 mod scan;
 
-use boundary_core::{CoreError, ParamError, ParamInfo, Params, ParticleSet, Radius};
-use boundary_sph::frame::DEFAULT_H_OVER_R as FRAME_H_OVER_R;
+use boundary_core::{CoreError, ParamSet, Params, ParticleSet, Radius};
+use boundary_sph::frame::{
+    h_over_r_check, kernel_check, DEFAULT_H_OVER_R as FRAME_H_OVER_R, H_OVER_R_DOC, KERNEL_DOC,
+};
 /// The SPH kernel shapes of [`MarroneParams::kernel`].
 pub use boundary_sph::Kernel;
 
@@ -129,35 +131,33 @@ pub const DEFAULT_H_OVER_R: f64 = FRAME_H_OVER_R;
 
 const METHOD: &str = "marrone";
 
-/// The parameters of `marrone`, with the paper's defaults (string form: the `--set` keys of
-/// the same names, see `boundary::registry`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct MarroneParams {
-    /// (M2) `λ <= lambda_surface`: free surface. Finite, `>= 0`; default
-    /// [`DEFAULT_LAMBDA_SURFACE`].
-    pub lambda_surface: f64,
-    /// (M2) `λ > lambda_interior`: interior. Finite, `>= 0`; default
-    /// [`DEFAULT_LAMBDA_INTERIOR`]. The two tests are applied in that order, so
-    /// `lambda_surface > lambda_interior` is accepted and means "no scan".
-    pub lambda_interior: f64,
-    /// (M4) half-angle of the scan cone, in degrees, in `(0, 90)`; default
-    /// [`DEFAULT_CONE_ANGLE_DEG`]. The ball part of the scan region starts at `2h cos θ`.
-    pub cone_angle: f64,
-    /// The kernel shape (support `2h`); default Wendland C2.
-    pub kernel: Kernel,
-    /// The smoothing length `h` in units of `r`, in `(0, 100]`; default [`DEFAULT_H_OVER_R`].
-    pub h_over_r: f64,
-}
-
-impl Default for MarroneParams {
-    fn default() -> Self {
-        MarroneParams {
-            lambda_surface: DEFAULT_LAMBDA_SURFACE,
-            lambda_interior: DEFAULT_LAMBDA_INTERIOR,
-            cone_angle: DEFAULT_CONE_ANGLE_DEG,
-            kernel: Kernel::WendlandC2,
-            h_over_r: DEFAULT_H_OVER_R,
-        }
+boundary_core::declare_params! {
+    /// The parameters of `marrone`, with the paper's defaults (string form: the `--set` keys
+    /// of the same names, see `boundary::registry`).
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct MarroneParams for "marrone" {
+        /// (M2) `λ <= lambda_surface`: free surface. Finite, `>= 0`; default
+        /// [`DEFAULT_LAMBDA_SURFACE`].
+        pub lambda_surface: f64 = DEFAULT_LAMBDA_SURFACE, check::non_negative(),
+            "smallest eigenvalue of the renormalisation matrix at or below which a particle \
+             is free surface (Marrone et al. 2010, first step)";
+        /// (M2) `λ > lambda_interior`: interior. Finite, `>= 0`; default
+        /// [`DEFAULT_LAMBDA_INTERIOR`]. The two tests are applied in that order, so
+        /// `lambda_surface > lambda_interior` is accepted and means "no scan".
+        pub lambda_interior: f64 = DEFAULT_LAMBDA_INTERIOR, check::non_negative(),
+            "smallest eigenvalue above which a particle is interior; between the two \
+             thresholds the scan region decides (second step)";
+        /// (M4) half-angle of the scan cone, in degrees, in `(0, 90)`; default
+        /// [`DEFAULT_CONE_ANGLE_DEG`]. The ball part of the scan region starts at `2h cos θ`.
+        pub cone_angle: f64 = DEFAULT_CONE_ANGLE_DEG,
+            check::open(0.0, 90.0).because("must be an angle in degrees in (0, 90)"),
+            "half-angle in degrees of the scan cone around the normal; the ball of radius h \
+             around x + h n takes over at 2h cos(angle)";
+        /// The kernel shape (support `2h`); default Wendland C2.
+        pub kernel: Kernel = Kernel::WendlandC2, kernel_check(), KERNEL_DOC;
+        /// The smoothing length `h` in units of `r`, in `(0, 100]`; default
+        /// [`DEFAULT_H_OVER_R`].
+        pub h_over_r: f64 = DEFAULT_H_OVER_R, h_over_r_check(), H_OVER_R_DOC;
     }
 }
 
@@ -168,68 +168,6 @@ impl Default for MarroneParams {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct MarroneDetector {
     params: MarroneParams,
-}
-
-/// A numeric parameter's rule: its key, the test, and what the message says it must be.
-struct Rule {
-    key: &'static str,
-    ok: fn(f64) -> bool,
-    expected: &'static str,
-}
-
-const LAMBDA_SURFACE: Rule = Rule {
-    key: "lambda_surface",
-    ok: |v| v >= 0.0,
-    expected: "a number >= 0",
-};
-const LAMBDA_INTERIOR: Rule = Rule {
-    key: "lambda_interior",
-    ok: |v| v >= 0.0,
-    expected: "a number >= 0",
-};
-const CONE_ANGLE: Rule = Rule {
-    key: "cone_angle",
-    ok: |v| v > 0.0 && v < 90.0,
-    expected: "an angle in degrees in (0, 90)",
-};
-const H_OVER_R: Rule = Rule {
-    key: "h_over_r",
-    ok: |v| v > 0.0 && v <= 100.0,
-    expected: "in (0, 100]",
-};
-
-impl Rule {
-    /// `Ok` if `v` is finite and allowed, else the error naming the key and the value.
-    fn check(&self, v: f64) -> Result<(), ParamError> {
-        if v.is_finite() && (self.ok)(v) {
-            Ok(())
-        } else {
-            Err(ParamError::invalid(
-                METHOD,
-                self.key,
-                &v.to_string(),
-                format!("must be {}", self.expected),
-            ))
-        }
-    }
-}
-
-impl MarroneDetector {
-    /// The detector with `params`, each checked (`lambda_surface`, `lambda_interior` finite
-    /// and `>= 0`, `cone_angle` in `(0, 90)`, `h_over_r` in `(0, 100]`); the error
-    /// ([`ParamError::Invalid`]) names the first field that fails.
-    pub fn try_new(params: MarroneParams) -> Result<Self, ParamError> {
-        LAMBDA_SURFACE.check(params.lambda_surface)?;
-        LAMBDA_INTERIOR.check(params.lambda_interior)?;
-        CONE_ANGLE.check(params.cone_angle)?;
-        H_OVER_R.check(params.h_over_r)?;
-        Ok(MarroneDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &MarroneParams {
-        &self.params
-    }
 }
 
 /// The criterion: (M2) the smallest eigenvalue of `B_i`, then for a candidate (M3–M4) the
@@ -256,37 +194,15 @@ impl SphMethod for MarroneDetector {
     const SOLID_REFUSAL: &'static str = "its renormalisation matrix and normal are kernel sums over particles, and a half-space is no particle; give the walls as wall particles, which enter the sums as in DualSPHysics";
 
     fn param_list(&self) -> Params {
-        let mut list = vec![
-            ParamInfo {
-                name: "lambda_surface",
-                value: self.params.lambda_surface.to_string(),
-                default: DEFAULT_LAMBDA_SURFACE.to_string(),
-                description: "smallest eigenvalue of the renormalisation matrix at or below \
-                              which a particle is free surface (Marrone et al. 2010, first step)",
-            },
-            ParamInfo {
-                name: "lambda_interior",
-                value: self.params.lambda_interior.to_string(),
-                default: DEFAULT_LAMBDA_INTERIOR.to_string(),
-                description: "smallest eigenvalue above which a particle is interior; between \
-                              the two thresholds the scan region decides (second step)",
-            },
-            ParamInfo {
-                name: "cone_angle",
-                value: self.params.cone_angle.to_string(),
-                default: DEFAULT_CONE_ANGLE_DEG.to_string(),
-                description: "half-angle in degrees of the scan cone around the normal; the ball \
-                              of radius h around x + h n takes over at 2h cos(angle)",
-            },
-        ];
-        list.extend(self.smoothing().param_infos());
-        Params(list)
+        self.params.listing()
     }
 }
 
 // `Display` and `BoundaryDetector` (dispatch, radii refusal, owned particles, halo of two
 // kernel supports) from the SPH frame.
 boundary_sph::impl_sph_detector!(MarroneDetector);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(MarroneDetector, MarroneParams);
 
 impl MarroneDetector {
     /// The smallest eigenvalue `λ_i` of the renormalisation matrix (M1–M2) of every particle,
@@ -390,7 +306,7 @@ mod tests {
                 _ => p.h_over_r = bad,
             }
             let err = MarroneDetector::try_new(p).unwrap_err();
-            let ParamError::Invalid {
+            let boundary_core::ParamError::Invalid {
                 key: named, value, ..
             } = &err
             else {

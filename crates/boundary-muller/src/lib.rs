@@ -110,8 +110,10 @@
 //! }
 //! ```
 
-use boundary_core::{CoreError, ParamError, ParamInfo, Params, ParticleSet, Radius};
-use boundary_sph::frame::DEFAULT_H_OVER_R as FRAME_H_OVER_R;
+use boundary_core::{CoreError, ParamSet, Params, ParticleSet, Radius};
+use boundary_sph::frame::{
+    h_over_r_check, kernel_check, DEFAULT_H_OVER_R as FRAME_H_OVER_R, H_OVER_R_DOC, KERNEL_DOC,
+};
 /// The SPH kernel shapes of [`MullerParams::kernel`].
 pub use boundary_sph::Kernel;
 
@@ -125,25 +127,20 @@ pub const DEFAULT_THRESHOLD: f64 = 0.375;
 pub const DEFAULT_H_OVER_R: f64 = FRAME_H_OVER_R;
 
 const METHOD: &str = "muller";
-/// The parameters of `muller` (string form: the `--set` keys of the same names, see
-/// `boundary::registry`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct MullerParams {
-    /// Boundary iff `|∇c|·h` exceeds it; finite, `>= 0`; default [`DEFAULT_THRESHOLD`].
-    pub threshold: f64,
-    /// The kernel shape (support `2h`); default Wendland C2.
-    pub kernel: Kernel,
-    /// The smoothing length `h` in units of `r`, in `(0, 100]`; default [`DEFAULT_H_OVER_R`].
-    pub h_over_r: f64,
-}
-
-impl Default for MullerParams {
-    fn default() -> Self {
-        MullerParams {
-            threshold: DEFAULT_THRESHOLD,
-            kernel: Kernel::WendlandC2,
-            h_over_r: DEFAULT_H_OVER_R,
-        }
+boundary_core::declare_params! {
+    /// The parameters of `muller` (string form: the `--set` keys of the same names, see
+    /// `boundary::registry`).
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct MullerParams for "muller" {
+        /// Boundary iff `|∇c|·h` exceeds it; finite, `>= 0`; default [`DEFAULT_THRESHOLD`].
+        pub threshold: f64 = DEFAULT_THRESHOLD, check::non_negative(),
+            "boundary iff the colour-field gradient magnitude times h exceeds it (Mueller et \
+             al. 2003, Sec. 4.4; dimensionless)";
+        /// The kernel shape (support `2h`); default Wendland C2.
+        pub kernel: Kernel = Kernel::WendlandC2, kernel_check(), KERNEL_DOC;
+        /// The smoothing length `h` in units of `r`, in `(0, 100]`; default
+        /// [`DEFAULT_H_OVER_R`].
+        pub h_over_r: f64 = DEFAULT_H_OVER_R, h_over_r_check(), H_OVER_R_DOC;
     }
 }
 
@@ -157,24 +154,6 @@ pub struct MullerDetector {
 }
 
 impl MullerDetector {
-    /// The detector with `params`, checked (`threshold` finite and `>= 0`, `h_over_r` in
-    /// `(0, 100]`); the error ([`ParamError::Invalid`]) names the first field that fails.
-    pub fn try_new(params: MullerParams) -> Result<Self, ParamError> {
-        check_in("threshold", params.threshold, |v| v >= 0.0, "a number >= 0")?;
-        check_in(
-            "h_over_r",
-            params.h_over_r,
-            |v| v > 0.0 && v <= 100.0,
-            "in (0, 100]",
-        )?;
-        Ok(MullerDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &MullerParams {
-        &self.params
-    }
-
     /// The dimensionless colour-field gradient magnitude `|∇c_i|·h` of every particle, in
     /// input order.
     pub fn gradient_magnitudes<const D: usize>(
@@ -192,20 +171,6 @@ impl MullerDetector {
                 ctx.local_sums(i).gradient_h.norm()
             })
             .collect())
-    }
-}
-
-/// `Ok` if `v` is finite and `ok`, else the error naming `key` and the value.
-fn check_in(key: &str, v: f64, ok: impl Fn(f64) -> bool, expected: &str) -> Result<(), ParamError> {
-    if v.is_finite() && ok(v) {
-        Ok(())
-    } else {
-        Err(ParamError::invalid(
-            METHOD,
-            key,
-            &v.to_string(),
-            format!("must be {expected}"),
-        ))
     }
 }
 
@@ -236,21 +201,15 @@ impl SphMethod for MullerDetector {
     const SOLID_REFUSAL: &'static str = "its density and colour-field gradient are kernel sums over particles, and a half-space is no particle; give the walls as wall particles, which enter the sums";
 
     fn param_list(&self) -> Params {
-        let mut list = vec![ParamInfo {
-            name: "threshold",
-            value: self.params.threshold.to_string(),
-            default: DEFAULT_THRESHOLD.to_string(),
-            description: "boundary iff the colour-field gradient magnitude times h exceeds \
-                          it (Mueller et al. 2003, Sec. 4.4; dimensionless)",
-        }];
-        list.extend(self.smoothing().param_infos());
-        Params(list)
+        self.params.listing()
     }
 }
 
 // `Display` and `BoundaryDetector` (dispatch, radii refusal, owned particles, halo of two
 // kernel supports) from the SPH frame.
 boundary_sph::impl_sph_detector!(MullerDetector);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(MullerDetector, MullerParams);
 
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
@@ -297,7 +256,7 @@ mod tests {
             })
             .unwrap_err();
             assert!(
-                matches!(&err, ParamError::Invalid { key, .. } if key == "h_over_r"),
+                matches!(&err, boundary_core::ParamError::Invalid { key, .. } if key == "h_over_r"),
                 "{err}"
             );
         }

@@ -116,7 +116,10 @@
 //! ```
 
 use boundary_core::nalgebra::SMatrix;
-use boundary_core::{CoreError, ParamError, ParamInfo, Params, ParticleSet, Radius};
+use boundary_core::{CoreError, ParamSet, Params, ParticleSet, Radius};
+use boundary_sph::frame::{
+    h_over_r_check, kernel_check, DEFAULT_H_OVER_R, H_OVER_R_DOC, KERNEL_DOC,
+};
 use boundary_sph::{
     Kernel, Smoothing, SphContext, SphCriterion, SphMethod, SymmetricEigen, Verdict,
 };
@@ -148,42 +151,22 @@ pub fn is_free_surface(lambda: f64, mu: f64) -> bool {
     lambda <= mu
 }
 
-/// The parameters of `randles` (see the crate documentation).
-#[derive(Debug, Clone, PartialEq)]
-pub struct RandlesParams {
-    /// Free surface iff `λ <= mu_2d`, for 2D sets; finite, `>= 0`.
-    pub mu_2d: f64,
-    /// Free surface iff `λ <= mu_3d`, for 3D sets; finite, `>= 0`.
-    pub mu_3d: f64,
-    /// Kernel shape (support `2h`).
-    pub kernel: Kernel,
-    /// `h / r`, in `(0, 100]`.
-    pub h_over_r: f64,
-}
-
-impl Default for RandlesParams {
-    fn default() -> Self {
-        let s = Smoothing::default();
-        RandlesParams {
-            mu_2d: DEFAULT_MU_2D,
-            mu_3d: DEFAULT_MU_3D,
-            kernel: s.kernel,
-            h_over_r: s.h_over_r,
-        }
-    }
-}
-
-/// `v` if finite and `>= 0`, else the error naming `key` and the value as `shown`.
-fn check_mu(key: &str, v: f64, shown: &str) -> Result<f64, ParamError> {
-    if v.is_finite() && v >= 0.0 {
-        Ok(v)
-    } else {
-        Err(ParamError::invalid(
-            METHOD,
-            key,
-            shown,
-            "must be a number >= 0",
-        ))
+boundary_core::declare_params! {
+    /// The parameters of `randles` (see the crate documentation).
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct RandlesParams for "randles" {
+        /// Free surface iff `λ <= mu_2d`, for 2D sets; finite, `>= 0`.
+        pub mu_2d: f64 = DEFAULT_MU_2D, check::non_negative(),
+            "2D: free surface iff the smallest eigenvalue of the renormalisation matrix is at \
+             most mu (Doring 2005; Marrone et al. 2010)";
+        /// Free surface iff `λ <= mu_3d`, for 3D sets; finite, `>= 0`.
+        pub mu_3d: f64 = DEFAULT_MU_3D, check::non_negative(),
+            "3D: free surface iff the smallest eigenvalue of the renormalisation matrix is at \
+             most mu";
+        /// Kernel shape (support `2h`).
+        pub kernel: Kernel = Kernel::WendlandC2, kernel_check(), KERNEL_DOC;
+        /// `h / r`, in `(0, 100]`.
+        pub h_over_r: f64 = DEFAULT_H_OVER_R, h_over_r_check(), H_OVER_R_DOC;
     }
 }
 
@@ -194,20 +177,6 @@ pub struct RandlesDetector {
 }
 
 impl RandlesDetector {
-    /// The detector with `params`, each checked (`mu_2d`, `mu_3d` finite and `>= 0`,
-    /// `h_over_r` in `(0, 100]`); never clamped.
-    pub fn try_new(params: RandlesParams) -> Result<Self, ParamError> {
-        check_mu("mu_2d", params.mu_2d, &params.mu_2d.to_string())?;
-        check_mu("mu_3d", params.mu_3d, &params.mu_3d.to_string())?;
-        Smoothing::try_new(METHOD, params.kernel, params.h_over_r)?;
-        Ok(RandlesDetector { params })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &RandlesParams {
-        &self.params
-    }
-
     /// The threshold for `D`-dimensional sets.
     pub fn mu(&self, dim: usize) -> f64 {
         if dim == 2 {
@@ -308,29 +277,13 @@ impl SphMethod for RandlesDetector {
     const SOLID_REFUSAL: &'static str = "its renormalisation matrix is a kernel sum over particles, and a half-space is no particle; give the walls as wall particles, which enter the sums";
 
     fn param_list(&self) -> Params {
-        let p = &self.params;
-        let mut list = vec![
-            ParamInfo {
-                name: "mu_2d",
-                value: p.mu_2d.to_string(),
-                default: DEFAULT_MU_2D.to_string(),
-                description: "2D: free surface iff the smallest eigenvalue of the \
-                              renormalisation matrix is at most mu (Doring 2005; Marrone et al. 2010)",
-            },
-            ParamInfo {
-                name: "mu_3d",
-                value: p.mu_3d.to_string(),
-                default: DEFAULT_MU_3D.to_string(),
-                description: "3D: free surface iff the smallest eigenvalue of the \
-                              renormalisation matrix is at most mu",
-            },
-        ];
-        list.extend(self.smoothing().param_infos());
-        Params(list)
+        self.params.listing()
     }
 }
 
 boundary_sph::impl_sph_detector!(RandlesDetector);
+// `try_new` (the declared checks), `params()`, and what the registry builds it from.
+boundary_core::impl_detector_params!(RandlesDetector, RandlesParams);
 
 #[cfg(test)]
 #[allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test

@@ -17,6 +17,7 @@
 
 use crate::kernel::{Kernel, SphKernel, SUPPORT_FACTOR};
 use crate::sums::SphContext;
+use boundary_core::params::{check, Check};
 use boundary_core::{
     Capabilities, CoreError, DetectError, Detection, Job, Labels, ParamError, ParamInfo, Params,
     ParticleSet, Radius, Support,
@@ -26,6 +27,23 @@ use rayon::prelude::*;
 /// Default smoothing length `h` in units of the resolution `r`: the thesis' pairing of `r`
 /// with the smoothing length (Sandim 2020, Sec. 2.4).
 pub const DEFAULT_H_OVER_R: f64 = 1.0;
+
+/// The description of the `kernel` parameter, the same in every SPH-sum method's
+/// [`declare_params!`](boundary_core::declare_params).
+pub const KERNEL_DOC: &str = "SPH kernel: wendland (C2) or cubic (spline), support 2h";
+
+/// The description of the `h_over_r` parameter, the same in every SPH-sum method.
+pub const H_OVER_R_DOC: &str = "smoothing length h in units of r";
+
+/// The check of `kernel`: its name parses or is refused by [`Kernel`]'s own message.
+pub fn kernel_check() -> Check<Kernel> {
+    check::any("must be wendland or cubic")
+}
+
+/// The check of `h_over_r`: finite, in `(0, 100]` (as [`Smoothing::try_new`]).
+pub fn h_over_r_check() -> Check<f64> {
+    check::open_closed(0.0, 100.0)
+}
 
 /// The kernel and the smoothing length of an SPH-sum method: `h = h_over_r · r`, support
 /// `2h`. Always valid when built by [`Smoothing::try_new`] (`h_over_r` finite, in `(0, 100]`).

@@ -149,6 +149,16 @@ impl fmt::Display for UnknownKernel {
 
 impl std::error::Error for UnknownKernel {}
 
+/// The text form of the `kernel` parameter: its name.
+impl boundary_core::ParamValue for Kernel {
+    fn from_text(text: &str) -> Result<Self, Option<String>> {
+        text.parse().map_err(|e: UnknownKernel| Some(e.to_string()))
+    }
+    fn to_text(&self) -> String {
+        self.name().to_owned()
+    }
+}
+
 impl FromStr for Kernel {
     type Err = UnknownKernel;
 

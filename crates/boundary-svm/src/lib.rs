@@ -189,8 +189,8 @@ pub use model::{
 };
 
 use boundary_core::{
-    BoundaryDetector, Capabilities, DetectError, Detection, Labels, Method, ParamError, ParamInfo,
-    Params, ParticleSet, Radius, Solids, Support,
+    BoundaryDetector, Capabilities, DetectError, Detection, Labels, Method, ParamError, ParamSet,
+    ParamValue, Params, ParticleSet, Radius, Solids, Support,
 };
 use boundary_core::{Dim, Job, SupportedDim};
 use boundary_exact::ExactDetector;
@@ -291,14 +291,50 @@ impl ModelChoice {
     }
 }
 
-/// The parameters of `svm` (string form: the `--set` keys of the same names, see
-/// `boundary::registry`).
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct SvmParams {
-    /// The cascade's second stage; default [`Refine::None`].
-    pub refine: Refine,
-    /// The model; default [`ModelChoice::Shipped`].
-    pub model: ModelChoice,
+boundary_core::declare_params! {
+    /// The parameters of `svm` (string form: the `--set` keys of the same names, see
+    /// `boundary::registry`).
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct SvmParams for "svm" {
+        /// The cascade's second stage; default [`Refine::None`].
+        pub refine: Refine = Refine::None, check::any("must be none, exact or ge"),
+            "none, exact or ge: re-test the particles the SVM calls boundary (the cascade of \
+             thesis Sec. 3.4)";
+        /// The model; default [`ModelChoice::Shipped`].
+        pub model: ModelChoice = ModelChoice::Shipped,
+            check::any("must be default or the path of a model file"),
+            "default (the shipped model of the set's dimension, trained by `cargo xtask \
+             train-svm`) or the path of a model file (JSON)";
+    }
+}
+
+/// The text form of `refine`: its name.
+impl ParamValue for Refine {
+    fn from_text(text: &str) -> Result<Self, Option<String>> {
+        match text.trim() {
+            "none" => Ok(Refine::None),
+            "exact" => Ok(Refine::Exact),
+            "ge" => Ok(Refine::Ge),
+            _ => Err(None),
+        }
+    }
+    fn to_text(&self) -> String {
+        self.name().to_owned()
+    }
+}
+
+/// The text form of `model`: `default`, or the path of a model file, read (and validated)
+/// when the text is parsed; the error names the file.
+impl ParamValue for ModelChoice {
+    fn from_text(text: &str) -> Result<Self, Option<String>> {
+        match text.trim() {
+            "default" => Ok(ModelChoice::Shipped),
+            path => ModelChoice::from_file(path).map_err(|e| Some(e.0)),
+        }
+    }
+    fn to_text(&self) -> String {
+        self.label().to_owned()
+    }
 }
 
 /// The SVM detector (`svm`). See the crate documentation.
@@ -311,6 +347,7 @@ impl SvmDetector {
     /// The detector with `params`, checked: a [`ModelChoice::Custom`] model must pass
     /// [`SvmModel::validate`] (else [`ParamError::Invalid`] naming `model` and its label).
     pub fn try_new(params: SvmParams) -> Result<Self, ParamError> {
+        params.check()?;
         if let ModelChoice::Custom { label, model } = &params.model {
             model.validate().map_err(|e| {
                 ParamError::invalid(METHOD, "model", label, format!("'{label}': {e}"))
@@ -442,27 +479,14 @@ where
 
 // `Display`: the label `name (key=value, …)`, as the CLI and the sweep print it.
 boundary_core::impl_display_as_label!(SvmDetector);
+// The registry builds it from `key=value` text through its declared parameters.
+boundary_core::impl_configurable!(SvmDetector, SvmParams);
 
 impl Method for SvmDetector {
     const NAME: &'static str = METHOD;
 
     fn describe(&self) -> Params {
-        Params(vec![
-            ParamInfo {
-                name: "refine",
-                value: self.params.refine.name().to_owned(),
-                default: Refine::None.name().to_owned(),
-                description: "none, exact or ge: re-test the particles the SVM calls boundary \
-                              (the cascade of thesis Sec. 3.4)",
-            },
-            ParamInfo {
-                name: "model",
-                value: self.params.model.label().to_owned(),
-                default: "default".to_owned(),
-                description: "default (the shipped model of the set's dimension, trained by \
-                              `cargo xtask train-svm`) or the path of a model file (JSON)",
-            },
-        ])
+        self.params.listing()
     }
 
     /// A uniform radius only; no solid; a halo of one kernel support (`2r`, plus `1e-9`

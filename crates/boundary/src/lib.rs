@@ -132,9 +132,9 @@ pub use boundary_svm::{ModelChoice, Refine, SvmDetector, SvmModel, SvmParams};
 ///   [`impl_display_as_label!`](implement::impl_display_as_label): a detector's `Display`.
 pub mod implement {
     pub use boundary_core::{
-        decompose, detect, domain, impl_display_as_label, method, radius_grid, solid_mesh,
-        write_label, Capabilities, Job, JobByDim, Method, NeighbourGrid, Neighbourhood, RadiusGrid,
-        Support,
+        declare_params, decompose, detect, domain, impl_configurable, impl_display_as_label,
+        method, params, radius_grid, solid_mesh, write_label, Capabilities, Configurable, Job,
+        JobByDim, Method, NeighbourGrid, Neighbourhood, ParamSet, ParamValue, RadiusGrid, Support,
     };
     #[cfg(feature = "exact")]
     pub use boundary_exact::exact_cover;

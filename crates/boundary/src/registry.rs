@@ -34,7 +34,10 @@
 //! [`parameters`] lists a method's keys with their defaults and descriptions, as
 //! `boundary methods` prints them.
 //!
-//! Pairs are applied in order, each checked at once by the method's `try_new`, so the error
+//! Each method's entry is one line: its parameters' parsing, checks and listing come from
+//! their declaration in the method crate (`boundary_core::declare_params!`).
+//!
+//! Pairs are applied in order, each checked at once by the declared checks, so the error
 //! names the first pair that fails: an unknown key lists the method's keys, an invalid value
 //! says what the parameter must be, quoting the value as given. A number that does not parse
 //! is reported like an out-of-range one.
@@ -54,7 +57,7 @@
 //! assert_eq!(parameters("ge").unwrap().0[0].default, "6");
 //! ```
 
-use boundary_core::{BoundaryDetector, ParamError, Params};
+use boundary_core::{BoundaryDetector, Configurable, ParamError, ParamSet, Params};
 use thiserror::Error;
 
 /// Why the registry could not build a detector.
@@ -87,87 +90,81 @@ struct Entry {
 /// Every compiled-in method, in the order the reports list them (references first).
 const REGISTRY: &[Entry] = &[
     #[cfg(feature = "exact")]
-    Entry {
-        name: "exact",
-        summary: "restricted Voronoi cell of each particle reaches beyond r: the reference labels",
-        build: adapters::exact,
-    },
+    method::<boundary_exact::ExactDetector>(
+        "restricted Voronoi cell of each particle reaches beyond r: the reference labels",
+    ),
     #[cfg(feature = "dilts")]
-    Entry {
-        name: "dilts",
-        summary:
-            "explicit covering of S_i by arcs (2D, Dilts 2000) or caps (3D, Haque & Dilts 2007)",
-        build: adapters::dilts,
-    },
+    method::<boundary_dilts::DiltsDetector>(
+        "explicit covering of S_i by arcs (2D, Dilts 2000) or caps (3D, Haque & Dilts 2007)",
+    ),
     #[cfg(feature = "ia")]
-    Entry {
-        name: "ia",
-        summary: "interval-arithmetic quadtree/octree over S_i, rules R1-R4 (JCP 2020 Sec. 3.1)",
-        build: adapters::ia,
-    },
+    method::<boundary_ia::IaDetector>(
+        "interval-arithmetic quadtree/octree over S_i, rules R1-R4 (JCP 2020 Sec. 3.1)",
+    ),
     #[cfg(feature = "ge")]
-    Entry {
-        name: "ge",
-        summary: "geometric-enclosure slabs on a mesh of S_i, rules R1-R4 (JCP 2020 Sec. 3.2)",
-        build: adapters::ge,
-    },
+    method::<boundary_ge::GeDetector>(
+        "geometric-enclosure slabs on a mesh of S_i, rules R1-R4 (JCP 2020 Sec. 3.2)",
+    ),
     #[cfg(feature = "marrone")]
-    Entry {
-        name: "marrone",
-        summary: "SPH renormalisation-matrix eigenvalue, then a scan cone along the normal \
+    method::<boundary_marrone::MarroneDetector>(
+        "SPH renormalisation-matrix eigenvalue, then a scan cone along the normal \
                   (Marrone et al., JCP 2010)",
-        build: adapters::marrone,
-    },
+    ),
     #[cfg(feature = "muller")]
-    Entry {
-        name: "muller",
-        summary:
-            "SPH colour-field gradient |grad c| h above a threshold (Mueller et al., SCA 2003)",
-        build: adapters::muller,
-    },
+    method::<boundary_muller::MullerDetector>(
+        "SPH colour-field gradient |grad c| h above a threshold (Mueller et al., SCA 2003)",
+    ),
     #[cfg(feature = "divr")]
-    Entry {
-        name: "divr",
-        summary: "SPH divergence of position below a threshold: DualSPHysics, SPHinXsys or \
+    method::<boundary_divr::DivrDetector>(
+        "SPH divergence of position below a threshold: DualSPHysics, SPHinXsys or \
                   Chrono::FSI's value by name (Lind et al., JCP 2012)",
-        build: adapters::divr,
-    },
+    ),
     #[cfg(feature = "asymmetry")]
-    Entry {
-        name: "asymmetry",
-        summary: "distance to the kernel-weighted mean of the neighbourhood, or a low density \
+    method::<boundary_asymmetry::AsymmetryDetector>(
+        "distance to the kernel-weighted mean of the neighbourhood, or a low density \
                   (He et al., ACM TOG 2012)",
-        build: adapters::asymmetry,
-    },
+    ),
     #[cfg(feature = "randles")]
-    Entry {
-        name: "randles",
-        summary: "smallest eigenvalue of the SPH renormalisation matrix at most mu \
+    method::<boundary_randles::RandlesDetector>(
+        "smallest eigenvalue of the SPH renormalisation matrix at most mu \
                   (Randles-Doring; Marrone et al., JCP 2010, first step)",
-        build: adapters::randles,
-    },
+    ),
     #[cfg(feature = "lnm")]
-    Entry {
-        name: "lnm",
-        summary: "layered neighbourhood cells: cells beside empty or sparse cells are boundary, \
+    method::<boundary_lnm::LnmDetector>(
+        "layered neighbourhood cells: cells beside empty or sparse cells are boundary, \
                   a narrow band (Oliveira & Paiva, CGF 2022)",
-        build: adapters::lnm,
-    },
+    ),
     #[cfg(feature = "hpr")]
-    Entry {
-        name: "hpr",
-        summary: "visibility: hidden point removal with exponential flipping from grid and \
+    method::<boundary_hpr::HprDetector>(
+        "visibility: hidden point removal with exponential flipping from grid and \
                   cavity viewpoints (Sandim 2020, ch. 2, Alg. 1)",
-        build: adapters::hpr,
-    },
+    ),
     #[cfg(feature = "svm")]
-    Entry {
-        name: "svm",
-        summary: "polynomial-kernel support vector machine on six SPH features, trained on exact labels; \
+    method::<boundary_svm::SvmDetector>(
+        "polynomial-kernel support vector machine on six SPH features, trained on exact labels; \
                   refine=exact|ge re-tests its boundary particles (Sandim 2020, ch. 3)",
-        build: adapters::svm,
-    },
+    ),
 ];
+
+/// The entry of a method whose parameters are declared once
+/// ([`boundary_core::declare_params!`]): its name, and its string adapter from the
+/// declaration.
+#[allow(dead_code)] // unused when no method is compiled in
+const fn method<M: Configurable>(summary: &'static str) -> Entry {
+    Entry {
+        name: M::NAME,
+        summary,
+        build: configured::<M>,
+    }
+}
+
+/// Builds `M` from `(key, value)` pairs applied in order to its declared parameters.
+#[allow(dead_code)]
+fn configured<M: Configurable>(
+    pairs: &[(&str, &str)],
+) -> Result<Box<dyn BoundaryDetector>, ParamError> {
+    Ok(Box::new(M::from_params(M::Params::from_pairs(pairs)?)?))
+}
 
 fn entry(name: &str) -> Result<&'static Entry, RegistryError> {
     REGISTRY
@@ -231,362 +228,6 @@ pub fn parse_param_list(text: &str) -> Result<Vec<(String, String)>, String> {
         .filter(|item| !item.trim().is_empty())
         .map(parse_param)
         .collect()
-}
-
-/// The string adapters, one per method: each parses a value into its field of the method's
-/// parameter struct and leaves the checks to the method's `try_new`.
-mod adapters {
-    #[allow(unused_imports)] // which helpers are used depends on the features
-    use super::{adapt, integer, number, Field};
-    #[allow(unused_imports)]
-    use boundary_core::{BoundaryDetector, ParamError};
-
-    #[cfg(feature = "exact")]
-    pub(super) fn exact(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_exact::{ExactDetector, ExactParams};
-        adapt(
-            pairs,
-            ExactDetector::try_new,
-            |p: &mut ExactParams, key, text| {
-                Ok(match key {
-                    "tie" => number(&mut p.tie, text),
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "dilts")]
-    pub(super) fn dilts(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_dilts::{DiltsDetector, DiltsParams};
-        adapt(
-            pairs,
-            DiltsDetector::try_new,
-            |p: &mut DiltsParams, key, text| {
-                Ok(match key {
-                    "tie" => number(&mut p.tie, text),
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "ia")]
-    pub(super) fn ia(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_ia::{IaDetector, IaParams};
-        adapt(pairs, IaDetector::try_new, |p: &mut IaParams, key, text| {
-            Ok(match key {
-                "depth" => integer(&mut p.depth, text),
-                _ => Field::Unknown,
-            })
-        })
-    }
-
-    #[cfg(feature = "ge")]
-    pub(super) fn ge(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_ge::{GeDetector, GeParams};
-        adapt(pairs, GeDetector::try_new, |p: &mut GeParams, key, text| {
-            Ok(match key {
-                "depth" => integer(&mut p.depth, text),
-                _ => Field::Unknown,
-            })
-        })
-    }
-
-    /// `kernel=wendland|cubic` (the kernel's own parser, which names the kernels).
-    #[cfg(any(
-        feature = "marrone",
-        feature = "muller",
-        feature = "divr",
-        feature = "asymmetry",
-        feature = "randles"
-    ))]
-    fn kernel(field: &mut crate::Kernel, text: &str) -> Result<Field, String> {
-        *field = text.parse::<crate::Kernel>().map_err(|e| e.to_string())?;
-        Ok(Field::Set)
-    }
-
-    #[cfg(feature = "divr")]
-    pub(super) fn divr(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_divr::{DivrDetector, DivrParams, Threshold};
-        adapt(
-            pairs,
-            DivrDetector::try_new,
-            |p: &mut DivrParams, key, text| {
-                Ok(match key {
-                    "threshold" => {
-                        p.threshold = match text.trim() {
-                            "dualsphysics" => Threshold::DualSphysics,
-                            "sphinxsys" => Threshold::Sphinxsys,
-                            "chrono" => Threshold::Chrono,
-                            number => Threshold::Value(number.parse().map_err(|_| {
-                                "must be a number > 0 or dualsphysics, sphinxsys, chrono".to_owned()
-                            })?),
-                        };
-                        Field::Set
-                    }
-                    "kernel" => kernel(&mut p.kernel, text)?,
-                    "h_over_r" => number(&mut p.h_over_r, text),
-                    "layers" => {
-                        p.layers = text
-                            .trim()
-                            .parse()
-                            .map_err(|_| "must be 0 or 1".to_owned())?;
-                        Field::Set
-                    }
-                    "min_neighbours" => {
-                        p.min_neighbours = match text.trim() {
-                            "auto" => None,
-                            count => Some(count.parse().map_err(|_| {
-                                "must be auto or a whole number in [0, 1000]".to_owned()
-                            })?),
-                        };
-                        Field::Set
-                    }
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "asymmetry")]
-    pub(super) fn asymmetry(
-        pairs: &[(&str, &str)],
-    ) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_asymmetry::{AsymmetryDetector, AsymmetryParams};
-        adapt(
-            pairs,
-            AsymmetryDetector::try_new,
-            |p: &mut AsymmetryParams, key, text| {
-                Ok(match key {
-                    "threshold" => number(&mut p.threshold, text),
-                    "density_ratio" => number(&mut p.density_ratio, text),
-                    "kernel" => kernel(&mut p.kernel, text)?,
-                    "h_over_r" => number(&mut p.h_over_r, text),
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "randles")]
-    pub(super) fn randles(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_randles::{RandlesDetector, RandlesParams};
-        adapt(
-            pairs,
-            RandlesDetector::try_new,
-            |p: &mut RandlesParams, key, text| {
-                Ok(match key {
-                    "mu_2d" => number(&mut p.mu_2d, text),
-                    "mu_3d" => number(&mut p.mu_3d, text),
-                    "kernel" => kernel(&mut p.kernel, text)?,
-                    "h_over_r" => number(&mut p.h_over_r, text),
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "lnm")]
-    pub(super) fn lnm(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_lnm::{LnmDetector, LnmParams, LnmVariant};
-        adapt(
-            pairs,
-            LnmDetector::try_new,
-            |p: &mut LnmParams, key, text| {
-                Ok(match key {
-                    "cell_over_r" => number(&mut p.cell_over_r, text),
-                    "delta" => {
-                        p.delta =
-                            match text.trim() {
-                                "auto" => None,
-                                count => Some(count.parse().map_err(|_| {
-                                    "must be auto or a whole number >= 0".to_owned()
-                                })?),
-                            };
-                        Field::Set
-                    }
-                    "variant" => {
-                        p.variant = LnmVariant::from_name(text.trim())
-                            .ok_or_else(|| "must be refined or fast".to_owned())?;
-                        Field::Set
-                    }
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "marrone")]
-    pub(super) fn marrone(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_marrone::{MarroneDetector, MarroneParams};
-        adapt(
-            pairs,
-            MarroneDetector::try_new,
-            |p: &mut MarroneParams, key, text| {
-                Ok(match key {
-                    "lambda_surface" => number(&mut p.lambda_surface, text),
-                    "lambda_interior" => number(&mut p.lambda_interior, text),
-                    "cone_angle" => number(&mut p.cone_angle, text),
-                    "kernel" => kernel(&mut p.kernel, text)?,
-                    "h_over_r" => number(&mut p.h_over_r, text),
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "muller")]
-    pub(super) fn muller(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_muller::{MullerDetector, MullerParams};
-        adapt(
-            pairs,
-            MullerDetector::try_new,
-            |p: &mut MullerParams, key, text| {
-                Ok(match key {
-                    "threshold" => number(&mut p.threshold, text),
-                    "kernel" => kernel(&mut p.kernel, text)?,
-                    "h_over_r" => number(&mut p.h_over_r, text),
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "hpr")]
-    pub(super) fn hpr(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_hpr::{Grids, HprDetector, HprParams, Protrusion};
-        adapt(
-            pairs,
-            HprDetector::try_new,
-            |p: &mut HprParams, key, text| {
-                Ok(match key {
-                    "gamma" => number(&mut p.gamma, text),
-                    "cavity" => {
-                        p.cavity = match text.trim() {
-                            "on" | "true" | "1" | "yes" => true,
-                            "off" | "false" | "0" | "no" => false,
-                            _ => return Err("must be on or off".to_owned()),
-                        };
-                        Field::Set
-                    }
-                    "grids" => {
-                        p.grids = match text.trim().parse::<usize>() {
-                            Ok(1) => Grids::One,
-                            Ok(2) => Grids::Two,
-                            _ => return Err("must be 1 or 2".to_owned()),
-                        };
-                        Field::Set
-                    }
-                    "protrusion" => {
-                        p.protrusion = if text.trim() == "auto" {
-                            Protrusion::Auto
-                        } else {
-                            let mut t = 0.0;
-                            number(&mut t, text);
-                            Protrusion::Value(t)
-                        };
-                        Field::Set
-                    }
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-
-    #[cfg(feature = "svm")]
-    pub(super) fn svm(pairs: &[(&str, &str)]) -> Result<Box<dyn BoundaryDetector>, ParamError> {
-        use boundary_svm::{ModelChoice, Refine, SvmDetector, SvmParams};
-        adapt(
-            pairs,
-            SvmDetector::try_new,
-            |p: &mut SvmParams, key, text| {
-                Ok(match key {
-                    "refine" => {
-                        p.refine = match text.trim() {
-                            "none" => Refine::None,
-                            "exact" => Refine::Exact,
-                            "ge" => Refine::Ge,
-                            _ => return Err("must be none, exact or ge".to_owned()),
-                        };
-                        Field::Set
-                    }
-                    "model" => {
-                        p.model = match text.trim() {
-                            "default" => ModelChoice::Shipped,
-                            path => ModelChoice::from_file(path).map_err(|e| e.0)?,
-                        };
-                        Field::Set
-                    }
-                    _ => Field::Unknown,
-                })
-            },
-        )
-    }
-}
-
-/// Whether a key named a field of the parameter struct.
-#[allow(dead_code)] // unused when no method is compiled in
-enum Field {
-    /// The field was set from the text.
-    Set,
-    /// The method has no such key.
-    Unknown,
-}
-
-/// Sets a number field from `text`. A text that is not a number sets NaN, which every
-/// numeric parameter refuses, so that `try_new` reports it with the field's own reason.
-#[allow(dead_code)]
-fn number(field: &mut f64, text: &str) -> Field {
-    *field = text.trim().parse().unwrap_or(f64::NAN);
-    Field::Set
-}
-
-/// Sets a depth from `text`. A text that is not an unsigned integer sets 0, which every depth
-/// refuses, so that `try_new` reports it with the field's own reason.
-#[allow(dead_code)]
-fn integer(field: &mut u32, text: &str) -> Field {
-    *field = text.trim().parse().unwrap_or(0);
-    Field::Set
-}
-
-/// Applies `pairs` in order to the default parameters with `set` (which returns the reason
-/// when a text cannot be a value of the field at all), checking each step with `make`; the
-/// error names the first pair that fails and quotes its value as given.
-#[allow(dead_code)]
-fn adapt<P, D>(
-    pairs: &[(&str, &str)],
-    make: fn(P) -> Result<D, ParamError>,
-    set: fn(&mut P, &str, &str) -> Result<Field, String>,
-) -> Result<Box<dyn BoundaryDetector>, ParamError>
-where
-    P: Default + Clone,
-    D: BoundaryDetector + Default + 'static,
-{
-    let mut detector = D::default();
-    let method = detector.name();
-    let mut params = P::default();
-    for &(key, text) in pairs {
-        match set(&mut params, key, text) {
-            Ok(Field::Set) => {}
-            Ok(Field::Unknown) => {
-                let known = detector.describe();
-                let known: Vec<&str> = known.0.iter().map(|p| p.name).collect();
-                return Err(ParamError::unknown(method, key, &known));
-            }
-            Err(reason) => return Err(ParamError::invalid(method, key, text, reason)),
-        }
-        detector = make(params.clone()).map_err(|e| match e {
-            ParamError::Invalid {
-                method,
-                key: named,
-                reason,
-                ..
-            } if named == key => ParamError::invalid(method, key, text, reason),
-            other => other,
-        })?;
-    }
-    Ok(Box::new(detector))
 }
 
 #[cfg(test)]
