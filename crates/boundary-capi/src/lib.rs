@@ -1015,6 +1015,60 @@ fn without_walls(domain: &Domain) -> Domain {
     out
 }
 
+/// `domain` with the walls `xyz` (`m * dim` doubles, `radii` NULL or `m` factors) in place of
+/// its own; `m == 0` removes them. The change of `*_set_walls`.
+///
+/// # Safety
+/// As `boundary_detector_set_walls` for `xyz` and `radii`.
+pub(crate) unsafe fn domain_with_walls(
+    domain: &Domain,
+    xyz: *const f64,
+    m: usize,
+    dim: c_int,
+    radii: *const f64,
+) -> Result<Domain, Failure> {
+    if m == 0 {
+        return Ok(without_walls(domain));
+    }
+    // SAFETY: forwarded from this function's contract.
+    let walls = unsafe { particle_set(xyz, m, dim, radii) }.map_err(|f| Failure {
+        code: f.code,
+        message: format!("walls: {}", f.message),
+    })?;
+    Ok(domain.clone().with_walls(walls))
+}
+
+/// `domain` with the solid half-space `text` (`"y<0"`) added. The change of `*_add_solid`.
+///
+/// # Safety
+/// `text` is NULL or a NUL-terminated string.
+pub(crate) unsafe fn domain_with_solid(
+    domain: Domain,
+    text: *const c_char,
+) -> Result<Domain, Failure> {
+    // SAFETY: forwarded from this function's contract.
+    let text = unsafe { c_str(text, "solid") }?;
+    let solid =
+        HalfSpace::parse(text).map_err(|e| Failure::new(BOUNDARY_ERR_DOMAIN, e.to_string()))?;
+    Ok(domain.with_solid(solid))
+}
+
+/// `domain` with the periodic axis `text` (`"x:0:1.5"`) added. The change of
+/// `*_add_periodic`.
+///
+/// # Safety
+/// `text` is NULL or a NUL-terminated string.
+pub(crate) unsafe fn domain_with_periodic(
+    domain: Domain,
+    text: *const c_char,
+) -> Result<Domain, Failure> {
+    // SAFETY: forwarded from this function's contract.
+    let text = unsafe { c_str(text, "periodic") }?;
+    let axis =
+        Periodic::parse(text).map_err(|e| Failure::new(BOUNDARY_ERR_DOMAIN, e.to_string()))?;
+    Ok(domain.with_periodic(axis))
+}
+
 /// Sets the walls of `handle`: `m` covering-only particles at `xyz` (`m * dim` doubles, `dim`
 /// 2 or 3, that of the particles to come), which cover the particles every detection by this
 /// handle labels but get no label themselves; set them once, as a solver's fixed boundary
@@ -1039,17 +1093,8 @@ pub unsafe extern "C" fn boundary_detector_set_walls(
     err: *mut c_char,
     err_len: usize,
 ) -> c_int {
-    let change = |domain: Domain| {
-        if m == 0 {
-            return Ok(without_walls(&domain));
-        }
-        // SAFETY: forwarded from this function's contract.
-        let walls = unsafe { particle_set(xyz, m, dim, radii) }.map_err(|f| Failure {
-            code: f.code,
-            message: format!("walls: {}", f.message),
-        })?;
-        Ok(domain.with_walls(walls))
-    };
+    // SAFETY: forwarded from this function's contract.
+    let change = |domain: Domain| unsafe { domain_with_walls(&domain, xyz, m, dim, radii) };
     // SAFETY: forwarded from this function's contract.
     unsafe { change_domain(handle, err, err_len, change) }
 }
@@ -1071,13 +1116,8 @@ pub unsafe extern "C" fn boundary_detector_add_solid(
     err: *mut c_char,
     err_len: usize,
 ) -> c_int {
-    let change = |domain: Domain| {
-        // SAFETY: forwarded from this function's contract.
-        let text = unsafe { c_str(text, "solid") }?;
-        let solid =
-            HalfSpace::parse(text).map_err(|e| Failure::new(BOUNDARY_ERR_DOMAIN, e.to_string()))?;
-        Ok(domain.with_solid(solid))
-    };
+    // SAFETY: forwarded from this function's contract.
+    let change = |domain: Domain| unsafe { domain_with_solid(domain, text) };
     // SAFETY: forwarded from this function's contract.
     unsafe { change_domain(handle, err, err_len, change) }
 }
@@ -1097,13 +1137,8 @@ pub unsafe extern "C" fn boundary_detector_add_periodic(
     err: *mut c_char,
     err_len: usize,
 ) -> c_int {
-    let change = |domain: Domain| {
-        // SAFETY: forwarded from this function's contract.
-        let text = unsafe { c_str(text, "periodic") }?;
-        let axis =
-            Periodic::parse(text).map_err(|e| Failure::new(BOUNDARY_ERR_DOMAIN, e.to_string()))?;
-        Ok(domain.with_periodic(axis))
-    };
+    // SAFETY: forwarded from this function's contract.
+    let change = |domain: Domain| unsafe { domain_with_periodic(domain, text) };
     // SAFETY: forwarded from this function's contract.
     unsafe { change_domain(handle, err, err_len, change) }
 }

@@ -3,11 +3,11 @@
 //! may have changed since the previous step.
 
 use super::{
-    c_str, guarded, out_slice, particle_set, read_phases, refuse_flat, Failure,
-    BOUNDARY_ERR_DETECT, BOUNDARY_ERR_DOMAIN, BOUNDARY_ERR_INPUT, BOUNDARY_ERR_NULL,
-    BOUNDARY_ERR_THREADS,
+    domain_with_periodic, domain_with_solid, domain_with_walls, guarded, out_slice, particle_set,
+    read_phases, refuse_flat, Failure, BOUNDARY_ERR_DETECT, BOUNDARY_ERR_DOMAIN,
+    BOUNDARY_ERR_INPUT, BOUNDARY_ERR_NULL, BOUNDARY_ERR_THREADS,
 };
-use boundary::{DetectError, Domain, HalfSpace, Periodic, Radius, Tracker};
+use boundary::{DetectError, Domain, Radius, Tracker};
 use std::ffi::{c_char, c_int};
 
 /// An incremental `exact` tracker over the time steps of one particle set. Opaque: create with
@@ -311,24 +311,8 @@ pub unsafe extern "C" fn boundary_tracker_set_walls(
     err: *mut c_char,
     err_len: usize,
 ) -> c_int {
-    let change = |domain: Domain| {
-        let mut out = Domain::new();
-        if m > 0 {
-            // SAFETY: forwarded from this function's contract.
-            let walls = unsafe { particle_set(xyz, m, dim, radii) }.map_err(|f| Failure {
-                code: f.code,
-                message: format!("walls: {}", f.message),
-            })?;
-            out = out.with_walls(walls);
-        }
-        for &h in domain.solids().half_spaces() {
-            out = out.with_solid(h);
-        }
-        for &p in domain.periodic() {
-            out = out.with_periodic(p);
-        }
-        Ok(out)
-    };
+    // SAFETY: forwarded from this function's contract.
+    let change = |domain: Domain| unsafe { domain_with_walls(&domain, xyz, m, dim, radii) };
     // SAFETY: forwarded from this function's contract.
     unsafe { change_domain(handle, err, err_len, change) }
 }
@@ -345,13 +329,8 @@ pub unsafe extern "C" fn boundary_tracker_add_solid(
     err: *mut c_char,
     err_len: usize,
 ) -> c_int {
-    let change = |domain: Domain| {
-        // SAFETY: forwarded from this function's contract.
-        let text = unsafe { c_str(text, "solid") }?;
-        let solid =
-            HalfSpace::parse(text).map_err(|e| Failure::new(BOUNDARY_ERR_DOMAIN, e.to_string()))?;
-        Ok(domain.with_solid(solid))
-    };
+    // SAFETY: forwarded from this function's contract.
+    let change = |domain: Domain| unsafe { domain_with_solid(domain, text) };
     // SAFETY: forwarded from this function's contract.
     unsafe { change_domain(handle, err, err_len, change) }
 }
@@ -368,13 +347,8 @@ pub unsafe extern "C" fn boundary_tracker_add_periodic(
     err: *mut c_char,
     err_len: usize,
 ) -> c_int {
-    let change = |domain: Domain| {
-        // SAFETY: forwarded from this function's contract.
-        let text = unsafe { c_str(text, "periodic") }?;
-        let axis =
-            Periodic::parse(text).map_err(|e| Failure::new(BOUNDARY_ERR_DOMAIN, e.to_string()))?;
-        Ok(domain.with_periodic(axis))
-    };
+    // SAFETY: forwarded from this function's contract.
+    let change = |domain: Domain| unsafe { domain_with_periodic(domain, text) };
     // SAFETY: forwarded from this function's contract.
     unsafe { change_domain(handle, err, err_len, change) }
 }
