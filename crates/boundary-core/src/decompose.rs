@@ -123,6 +123,20 @@ fn morton<const D: usize>(cell: [u64; D]) -> u64 {
     code
 }
 
+/// The Morton code of the cell of `p` among cells of side `cell` counted from `lo` (the low
+/// corner of the set's bounding box) and clamped to 2·10^6 cells per axis: the key of
+/// [`morton_owners`]. A `cell` that is not positive and finite puts every point in cell 0.
+pub fn morton_key<const D: usize>(p: &Point<D>, lo: &Point<D>, cell: f64) -> u64 {
+    let ok = cell.is_finite() && cell > 0.0;
+    morton::<D>(std::array::from_fn(|k| {
+        if ok {
+            ((p[k] - lo[k]) / cell).floor().clamp(0.0, 2e6) as u64
+        } else {
+            0
+        }
+    }))
+}
+
 /// Owners of `parts` blocks of consecutive particles in Morton order of their cells (side
 /// `cell`, counted from the bounding box's low corner and clamped to 2·10^6 cells per axis;
 /// ties in the code by index), balanced by count. A `cell` that is not positive and finite
@@ -131,19 +145,9 @@ pub fn morton_owners<const D: usize>(set: &ParticleSet<D>, parts: usize, cell: f
     let Some((lo, _)) = set.bounding_box() else {
         return Vec::new();
     };
-    let ok = cell.is_finite() && cell > 0.0;
-    let cell_of = |p: &Point<D>| -> [u64; D] {
-        std::array::from_fn(|k| {
-            if ok {
-                ((p[k] - lo[k]) / cell).floor().clamp(0.0, 2e6) as u64
-            } else {
-                0
-            }
-        })
-    };
     let p = set.positions();
     let mut keyed: Vec<(u64, usize)> = (0..set.len())
-        .map(|i| (morton(cell_of(&p[i])), i))
+        .map(|i| (morton_key(&p[i], &lo, cell), i))
         .collect();
     keyed.sort_unstable();
     let order: Vec<usize> = keyed.into_iter().map(|(_, i)| i).collect();

@@ -205,6 +205,7 @@ mod vtk_xml;
 mod xyz;
 
 pub use atomic::{is_temp_name_for, write_atomic, TEMP_MARKER};
+pub use csv::{read_csv_header, CsvChunk, CsvHeader};
 pub use error::{IoError, Location};
 pub use frame::{Frame, FrameParts, LineIndex};
 
@@ -773,14 +774,7 @@ fn read_any(
     attributes: bool,
     array: Option<&str>,
 ) -> Result<(ParticleFile, LineIndex), IoError> {
-    if let Some(d) = options.dim {
-        if d != 2 && d != 3 {
-            return Err(IoError::dimension(
-                name,
-                format!("dimension must be 2 or 3, got {d}"),
-            ));
-        }
-    }
+    check_dim(name, options.dim)?;
     let reader = BufReader::new(reader);
     let mut positions = match format {
         Format::Csv => csv::read(reader, name, options.dim, attributes)?,
@@ -857,6 +851,17 @@ fn read_any(
     Ok((file, lines))
 }
 
+/// Errors: a requested dimension other than 2 or 3.
+fn check_dim(name: &str, dim: Option<usize>) -> Result<(), IoError> {
+    match dim {
+        Some(d) if d != 2 && d != 3 => Err(IoError::dimension(
+            name,
+            format!("dimension must be 2 or 3, got {d}"),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Whether coordinate `axis` has the same value for every particle (vacuously for none).
 fn is_constant(coords: &[f64], stride: usize, axis: usize) -> bool {
     let mut values = coords.iter().skip(axis).step_by(stride);
@@ -873,25 +878,40 @@ fn apply_dimension(
     name: &str,
     dim: Option<usize>,
 ) -> Result<(AnyParticleSet, Option<usize>), IoError> {
-    debug_assert!(p.stride == 2 || p.stride == 3);
-    if p.stride == 2 {
+    let padded_zero = p.padded_2d && p.coords.iter().skip(2).step_by(3).all(|&z| z == 0.0);
+    dimension_of(&p.coords, p.stride, padded_zero, name, dim, |axis| {
+        is_constant(&p.coords, 3, axis)
+    })
+}
+
+/// The dimension policy on rows of `stride` (2 or 3) values: `padded_zero` says the file
+/// declares a 2D set padded with z = 0 and every z is 0; `constant(axis)` whether an axis has
+/// one value over the whole file (asked only to drop one).
+pub(crate) fn dimension_of(
+    coords: &[f64],
+    stride: usize,
+    padded_zero: bool,
+    name: &str,
+    dim: Option<usize>,
+    constant: impl Fn(usize) -> bool,
+) -> Result<(AnyParticleSet, Option<usize>), IoError> {
+    debug_assert!(stride == 2 || stride == 3);
+    if stride == 2 {
         if dim == Some(3) {
             return Err(IoError::dimension(
                 name,
                 "dim = 3 requested but the file holds 2D positions (no z coordinate)",
             ));
         }
-        return Ok((build::<2>(&p.coords, 2, [0, 1], name)?, None));
+        return Ok((build::<2>(coords, 2, [0, 1], name)?, None));
     }
     match dim {
-        Some(3) => Ok((build::<3>(&p.coords, 3, [0, 1, 2], name)?, None)),
-        None if !(p.padded_2d && p.coords.iter().skip(2).step_by(3).all(|&z| z == 0.0)) => {
-            Ok((build::<3>(&p.coords, 3, [0, 1, 2], name)?, None))
-        }
+        Some(3) => Ok((build::<3>(coords, 3, [0, 1, 2], name)?, None)),
+        None if !padded_zero => Ok((build::<3>(coords, 3, [0, 1, 2], name)?, None)),
         _ => {
             let dropped = [2, 1, 0]
                 .into_iter()
-                .find(|&axis| is_constant(&p.coords, 3, axis))
+                .find(|&axis| constant(axis))
                 .ok_or_else(|| {
                     IoError::dimension(
                         name,
@@ -904,7 +924,7 @@ fn apply_dimension(
                 1 => [0, 2],
                 _ => [1, 2],
             };
-            Ok((build::<2>(&p.coords, 3, kept, name)?, Some(dropped)))
+            Ok((build::<2>(coords, 3, kept, name)?, Some(dropped)))
         }
     }
 }

@@ -10,6 +10,8 @@ pub(crate) struct TextLines<R> {
     reader: R,
     buf: Vec<u8>,
     line: usize,
+    /// Bytes consumed so far.
+    offset: u64,
 }
 
 impl<R: BufRead> TextLines<R> {
@@ -18,7 +20,13 @@ impl<R: BufRead> TextLines<R> {
             reader,
             buf: Vec::new(),
             line: 0,
+            offset: 0,
         }
+    }
+
+    /// The byte offset of the next line: the bytes of the lines read so far.
+    pub(crate) fn offset(&self) -> u64 {
+        self.offset
     }
 
     /// The next line without its `\n` / `\r\n` terminator, with its 1-based number; `None` at
@@ -32,30 +40,33 @@ impl<R: BufRead> TextLines<R> {
         if n == 0 {
             return Ok(None);
         }
+        self.offset += n as u64;
         self.line += 1;
-        if self.buf.last() == Some(&b'\n') {
-            self.buf.pop();
-        }
-        if self.buf.last() == Some(&b'\r') {
-            self.buf.pop();
-        }
-        let text = std::str::from_utf8(&self.buf).map_err(|e| {
-            IoError::parse(
-                file,
-                Location::Line(self.line),
-                format!(
-                    "invalid UTF-8 text (byte {} of the line)",
-                    e.valid_up_to() + 1
-                ),
-            )
-        })?;
-        let text = if self.line == 1 {
-            text.strip_prefix('\u{feff}').unwrap_or(text)
-        } else {
-            text
-        };
-        Ok(Some((self.line, text)))
+        line_text(&self.buf, self.line, file).map(|text| Some((self.line, text)))
     }
+}
+
+/// The text of line number `line` (1-based) from its bytes: without its `\n` / `\r\n`
+/// terminator, and on line 1 without a UTF-8 byte-order mark. Errors: invalid UTF-8, naming
+/// the line.
+pub(crate) fn line_text<'a>(bytes: &'a [u8], line: usize, file: &str) -> Result<&'a str, IoError> {
+    let bytes = bytes.strip_suffix(b"\n").unwrap_or(bytes);
+    let bytes = bytes.strip_suffix(b"\r").unwrap_or(bytes);
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        IoError::parse(
+            file,
+            Location::Line(line),
+            format!(
+                "invalid UTF-8 text (byte {} of the line)",
+                e.valid_up_to() + 1
+            ),
+        )
+    })?;
+    Ok(if line == 1 {
+        text.strip_prefix('\u{feff}').unwrap_or(text)
+    } else {
+        text
+    })
 }
 
 /// Trims spaces and quotes around a field.

@@ -22,7 +22,7 @@
 //! assert_eq!(ghosts, vec![0]);
 //! ```
 
-use boundary::implement::NeighbourGrid;
+use boundary::implement::{decompose, NeighbourGrid};
 use boundary::{CoreError, ParticleSet, Point};
 use boundary::{Dim, SupportedDim};
 
@@ -163,6 +163,218 @@ pub fn global_indices(values: &[f64], file: &str) -> Result<Vec<u64>, String> {
         .collect()
 }
 
+/// The sums, minima and maxima over all ranks that the parallel decomposition needs: every
+/// rank calls the same reductions in the same order (MPI's all-reduce; [`Solo`] for one
+/// process).
+pub trait Reduce {
+    /// Element-wise sum over the ranks, in place.
+    fn sum(&self, values: &mut [u64]);
+    /// Element-wise minimum over the ranks, in place.
+    fn min(&self, values: &mut [f64]);
+    /// Element-wise maximum over the ranks, in place.
+    fn max(&self, values: &mut [f64]);
+}
+
+/// One process: every reduction is the identity.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Solo;
+
+impl Reduce for Solo {
+    fn sum(&self, _: &mut [u64]) {}
+    fn min(&self, _: &mut [f64]) {}
+    fn max(&self, _: &mut [f64]) {}
+}
+
+/// A key in `u64` order that is `f64::total_cmp`'s order of `x`.
+pub fn ordered_bits(x: f64) -> u64 {
+    let b = x.to_bits();
+    if b >> 63 == 1 {
+        !b
+    } else {
+        b | (1 << 63)
+    }
+}
+
+/// For each query `(keys, target)`, the key of global rank `target` (0-based, ascending)
+/// among the union of every rank's `keys`: a radix selection, one digit of 8 bits per round
+/// from the top, the digit's counts summed over the ranks. Keys must be distinct over all
+/// ranks (they carry the global index) and `target` below their global count.
+pub fn select<R: Reduce>(reduce: &R, queries: Vec<(Vec<u128>, u64)>) -> Vec<u128> {
+    let mut queries = queries;
+    let mut found = vec![0u128; queries.len()];
+    let mut counts = vec![0u64; 256 * queries.len()];
+    for round in 0..16u32 {
+        let shift = 120 - 8 * round;
+        counts.fill(0);
+        for ((keys, _), hist) in queries.iter().zip(counts.chunks_exact_mut(256)) {
+            for &k in keys {
+                hist[((k >> shift) & 0xff) as usize] += 1;
+            }
+        }
+        reduce.sum(&mut counts);
+        for (((keys, target), hist), key) in queries
+            .iter_mut()
+            .zip(counts.chunks_exact(256))
+            .zip(found.iter_mut())
+        {
+            let mut below = 0u64;
+            let mut digit = 255usize;
+            for (d, &c) in hist.iter().enumerate() {
+                if below + c > *target {
+                    digit = d;
+                    break;
+                }
+                below += c;
+            }
+            *target -= below;
+            *key |= (digit as u128) << shift;
+            keys.retain(|&k| ((k >> shift) & 0xff) as usize == digit);
+        }
+    }
+    found
+}
+
+/// The key that orders particles along `axis` as the core's RCB does: the coordinate
+/// (`total_cmp`), ties by global index.
+fn axis_key(coord: f64, index: u64) -> u128 {
+    (u128::from(ordered_bits(coord)) << 64) | u128::from(index)
+}
+
+/// The owner of each local particle under recursive coordinate bisection of the particles of
+/// all ranks into `parts` parts: exactly [`boundary::implement::decompose::rcb_owners`] of the
+/// whole set in global-index order, computed without gathering it. Each level cuts every group
+/// at once: its box and count by reduction, its cut by [`select`].
+pub fn parallel_rcb_owners<const D: usize, R: Reduce>(
+    reduce: &R,
+    points: &[Point<D>],
+    index: &[u64],
+    parts: usize,
+) -> Vec<usize> {
+    struct Group {
+        first: usize,
+        parts: usize,
+        members: Vec<usize>,
+    }
+    let mut owner = vec![0usize; points.len()];
+    let mut active = vec![Group {
+        first: 0,
+        parts: parts.max(1),
+        members: (0..points.len()).collect(),
+    }];
+    while !active.is_empty() {
+        let g = active.len();
+        let mut len: Vec<u64> = active.iter().map(|a| a.members.len() as u64).collect();
+        let mut lo = vec![f64::INFINITY; g * D];
+        let mut hi = vec![f64::NEG_INFINITY; g * D];
+        for (k, a) in active.iter().enumerate() {
+            for &m in &a.members {
+                for d in 0..D {
+                    lo[k * D + d] = lo[k * D + d].min(points[m][d]);
+                    hi[k * D + d] = hi[k * D + d].max(points[m][d]);
+                }
+            }
+        }
+        reduce.sum(&mut len);
+        reduce.min(&mut lo);
+        reduce.max(&mut hi);
+        // (group, axis, low parts) of the groups cut at this level, and their queries.
+        let mut cuts = Vec::new();
+        let mut queries = Vec::new();
+        let mut next = Vec::new();
+        for (k, a) in active.into_iter().enumerate() {
+            if a.parts <= 1 || len[k] <= 1 {
+                for &m in &a.members {
+                    owner[m] = a.first;
+                }
+                continue;
+            }
+            let side = |d: usize| hi[k * D + d] - lo[k * D + d];
+            let mut axis = 0;
+            for d in 1..D {
+                if side(d) > side(axis) {
+                    axis = d;
+                }
+            }
+            let low_parts = a.parts / 2;
+            let cut = len[k] * low_parts as u64 / a.parts as u64;
+            if cut == 0 {
+                // Nothing on the low side: the high side takes every particle.
+                next.push(Group {
+                    first: a.first + low_parts,
+                    parts: a.parts - low_parts,
+                    members: a.members,
+                });
+                continue;
+            }
+            let keys = a
+                .members
+                .iter()
+                .map(|&m| axis_key(points[m][axis], index[m]))
+                .collect();
+            queries.push((keys, cut));
+            cuts.push((a, axis, low_parts));
+        }
+        let splitters = select(reduce, queries);
+        for ((a, axis, low_parts), splitter) in cuts.into_iter().zip(splitters) {
+            let (low, high): (Vec<usize>, Vec<usize>) = a
+                .members
+                .iter()
+                .partition(|&&m| axis_key(points[m][axis], index[m]) < splitter);
+            next.push(Group {
+                first: a.first,
+                parts: low_parts,
+                members: low,
+            });
+            next.push(Group {
+                first: a.first + low_parts,
+                parts: a.parts - low_parts,
+                members: high,
+            });
+        }
+        active = next;
+    }
+    owner
+}
+
+/// The owner of each local particle under the Morton blocks of the particles of all ranks
+/// (cells of side `cell`): exactly [`boundary::implement::decompose::morton_owners`] of the
+/// whole set in global-index order. The bounding box's low corner by reduction, the first key
+/// of every block by [`select`].
+pub fn parallel_morton_owners<const D: usize, R: Reduce>(
+    reduce: &R,
+    points: &[Point<D>],
+    index: &[u64],
+    parts: usize,
+    cell: f64,
+) -> Vec<usize> {
+    let parts = parts.max(1);
+    let mut lo = [f64::INFINITY; D];
+    for p in points {
+        for d in 0..D {
+            lo[d] = lo[d].min(p[d]);
+        }
+    }
+    reduce.min(&mut lo);
+    let mut n = [points.len() as u64];
+    reduce.sum(&mut n);
+    let n = n[0];
+    let lo = Point::<D>::from_fn(|d, _| lo[d]);
+    let keys: Vec<u128> = points
+        .iter()
+        .zip(index)
+        .map(|(p, &i)| (u128::from(decompose::morton_key(p, &lo, cell)) << 64) | u128::from(i))
+        .collect();
+    // Block k starts at global rank k·n/parts; blocks that start past the end are empty.
+    let starts: Vec<u64> = (1..parts as u64)
+        .map(|k| k * n / parts as u64)
+        .filter(|&s| s < n)
+        .collect();
+    let firsts = select(reduce, starts.iter().map(|&s| (keys.clone(), s)).collect());
+    keys.iter()
+        .map(|&key| firsts.iter().filter(|&&f| f <= key).count())
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)] // test code: a failed unwrap is a failed test
@@ -234,6 +446,168 @@ mod tests {
                         ghosts, expected[me].ghosts,
                         "{parts} parts, w {w}, rank {me}"
                     );
+                }
+            }
+        }
+    }
+
+    /// Ranks simulated by threads: each reduction publishes this rank's values, waits for
+    /// every rank, and combines them.
+    struct Threads {
+        rank: usize,
+        shared: std::sync::Arc<Shared>,
+    }
+
+    struct Shared {
+        barrier: std::sync::Barrier,
+        ints: std::sync::Mutex<Vec<Vec<u64>>>,
+        reals: std::sync::Mutex<Vec<Vec<f64>>>,
+    }
+
+    impl Threads {
+        fn combine<T: Copy>(
+            &self,
+            slots: &std::sync::Mutex<Vec<Vec<T>>>,
+            values: &mut [T],
+            op: impl Fn(T, T) -> T,
+        ) {
+            slots.lock().unwrap()[self.rank] = values.to_vec();
+            self.shared.barrier.wait();
+            {
+                let all = slots.lock().unwrap();
+                for (k, v) in values.iter_mut().enumerate() {
+                    *v = all.iter().map(|s| s[k]).reduce(&op).unwrap();
+                }
+            }
+            self.shared.barrier.wait();
+        }
+    }
+
+    impl Reduce for Threads {
+        fn sum(&self, values: &mut [u64]) {
+            self.combine(&self.shared.ints, values, |a, b| a + b);
+        }
+        fn min(&self, values: &mut [f64]) {
+            self.combine(&self.shared.reals, values, f64::min);
+        }
+        fn max(&self, values: &mut [f64]) {
+            self.combine(&self.shared.reals, values, f64::max);
+        }
+    }
+
+    /// Deals the particles of `pts` to `ranks` threads (rank `i * 7 % ranks` holds particle
+    /// `i`, a split unlike any decomposition), runs `owners` on each and returns the owner of
+    /// every particle in global order.
+    fn owners_on_threads(
+        pts: &[Point<2>],
+        ranks: usize,
+        owners: impl Fn(&Threads, &[Point<2>], &[u64]) -> Vec<usize> + Sync,
+    ) -> Vec<usize> {
+        let shared = std::sync::Arc::new(Shared {
+            barrier: std::sync::Barrier::new(ranks),
+            ints: std::sync::Mutex::new(vec![Vec::new(); ranks]),
+            reals: std::sync::Mutex::new(vec![Vec::new(); ranks]),
+        });
+        let mut owner = vec![usize::MAX; pts.len()];
+        std::thread::scope(|scope| {
+            let handles: Vec<_> = (0..ranks)
+                .map(|rank| {
+                    let comm = Threads {
+                        rank,
+                        shared: shared.clone(),
+                    };
+                    let owners = &owners;
+                    scope.spawn(move || {
+                        let mine: Vec<usize> =
+                            (0..pts.len()).filter(|i| i * 7 % ranks == rank).collect();
+                        let local: Vec<Point<2>> = mine.iter().map(|&i| pts[i]).collect();
+                        let index: Vec<u64> = mine.iter().map(|&i| i as u64).collect();
+                        (mine, owners(&comm, &local, &index))
+                    })
+                })
+                .collect();
+            for h in handles {
+                let (mine, got) = h.join().unwrap();
+                for (i, o) in mine.into_iter().zip(got) {
+                    owner[i] = o;
+                }
+            }
+        });
+        owner
+    }
+
+    /// A jittered lattice with duplicates, equal coordinates (ties by index) and negative
+    /// values (the sign in the key order).
+    fn scene(n: usize) -> Vec<Point<2>> {
+        let mut pts: Vec<Point<2>> = (0..n)
+            .map(|k| {
+                let (i, j) = ((k % 23) as f64, (k / 23) as f64);
+                p2(i - 11.0 + 0.37 * ((k * 7919) % 13) as f64 / 13.0, 4.0 - j)
+            })
+            .collect();
+        if n > 40 {
+            pts.extend_from_slice(&[pts[3], pts[40], pts[3]]);
+        }
+        pts
+    }
+
+    #[test]
+    fn ordered_bits_follow_total_cmp() {
+        let xs = [-f64::MAX, -2.5, -1.0, -0.0, 0.0, 1e-300, 1.0, 3.5, f64::MAX];
+        for a in xs {
+            for b in xs {
+                assert_eq!(
+                    ordered_bits(a).cmp(&ordered_bits(b)),
+                    a.total_cmp(&b),
+                    "{a} {b}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn selection_finds_every_rank_of_the_sorted_keys() {
+        let keys: Vec<u128> = (0..300u128)
+            .map(|k| (k * 2_654_435_761 % 1009) << 70 | k)
+            .collect();
+        let mut sorted = keys.clone();
+        sorted.sort_unstable();
+        let queries = (0..300u64).step_by(7).map(|t| (keys.clone(), t)).collect();
+        let got = select(&Solo, queries);
+        let want: Vec<u128> = (0..300).step_by(7).map(|t| sorted[t]).collect();
+        assert_eq!(got, want);
+    }
+
+    /// The parallel decompositions give the core's owners on any split across ranks and for
+    /// any part count, more parts than particles included.
+    #[test]
+    fn parallel_decompositions_match_the_core_on_any_split() {
+        for n in [0, 1, 5, 300] {
+            let pts = scene(n);
+            let set = ParticleSet::new(pts.clone()).unwrap();
+            for parts in [1, 2, 3, 5, 8] {
+                let expected = rcb_owners(&set, parts);
+                for ranks in [1, 2, 3, 4] {
+                    let got = owners_on_threads(&pts, ranks, |c, p, i| {
+                        parallel_rcb_owners(c, p, i, parts)
+                    });
+                    assert_eq!(
+                        got, expected,
+                        "rcb: {n} points, {parts} parts, {ranks} ranks"
+                    );
+                }
+                for cell in [0.7, 2.5, 0.0] {
+                    let expected = decompose::morton_owners(&set, parts, cell);
+                    for ranks in [1, 3] {
+                        let got = owners_on_threads(&pts, ranks, |c, p, i| {
+                            parallel_morton_owners(c, p, i, parts, cell)
+                        });
+                        if n == 0 {
+                            assert!(got.is_empty() && expected.is_empty());
+                        } else {
+                            assert_eq!(got, expected, "morton {cell}: {n}, {parts}, {ranks}");
+                        }
+                    }
                 }
             }
         }

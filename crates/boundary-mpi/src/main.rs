@@ -8,16 +8,19 @@
 //! ```
 //!
 //! Phases (each ends in a collective, so its slowest rank is its wall time):
-//! 1. **read**: rank 0 reads INPUT (any format of `boundary-io`); or every rank reads its own
-//!    CSV file with an `index` column of global indices (`--per-rank-input`), which is then
-//!    kept as the decomposition.
-//! 2. **decompose** (rank-0 read only): rank 0 assigns owners by recursive coordinate
-//!    bisection or Morton blocks, balanced by count (`boundary::implement::decompose`).
-//! 3. **scatter**: rank 0 sends every rank its owned positions and global indices.
+//! 1. **read**: a CSV INPUT is read by every rank, each the lines that start in its byte range
+//!    (an exclusive prefix sum of the ranks' line and row counts numbers lines and particles);
+//!    another format is read by rank 0; or every rank reads its own CSV file with an `index`
+//!    column of global indices (`--per-rank-input`), which is then kept as the decomposition.
+//! 2. **decompose** (not with per-rank input): every rank finds the owners of the particles it
+//!    read by recursive coordinate bisection or Morton blocks, balanced by count, computed in
+//!    parallel (boxes and counts by all-reduce, cuts by a distributed radix selection) and
+//!    equal to `boundary::implement::decompose`'s owners of the whole set.
+//! 3. **exchange**: every rank sends each particle to its owner (all-to-all).
 //! 4. **halo**: ranks exchange boxes, send each other the strips within the halo width
 //!    `detector.halo_width(r)` and keep the exact ghosts (see the library docs).
 //! 5. **detect**: `detect_owned` on owned + ghosts.
-//! 6. **gather**: labels (and, for per-rank input, positions) to rank 0, put in input order.
+//! 6. **gather**: labels and positions to rank 0, put in input order (with `--output`).
 //! 7. **write**: rank 0 writes `--output` (the input with a `boundary` column, as
 //!    `boundary detect` writes it), and/or every rank writes `--per-rank-output`.
 //!
@@ -28,15 +31,16 @@ use boundary::{Dim, SupportedDim};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use boundary::implement::decompose::{morton_owners, rcb_owners};
 use boundary::{
     detector_with_params, parse_param, AnyParticleSet, BoundaryDetector, ParticleSet, Point, Radius,
 };
 use boundary_io::{
-    read_csv_column, read_particles, write_particles, Column, Format, IoError, ReadOptions,
+    read_csv_column, read_csv_header, read_particles, write_particles, Column, Format, IoError,
+    ReadOptions,
 };
 use boundary_mpi::{
-    bounding_box, global_indices, keep_ghosts, labels_in_input_order, rank_path, strip_for,
+    bounding_box, global_indices, keep_ghosts, labels_in_input_order, parallel_morton_owners,
+    parallel_rcb_owners, rank_path, strip_for, Reduce,
 };
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use mpi::collective::SystemOperation;
@@ -73,7 +77,8 @@ enum Decomposition {
 
 #[derive(Debug, Args)]
 struct DetectArgs {
-    /// Particle file read by rank 0: .csv, .xyz/.txt, .ply, .vtk.
+    /// Particle file: a CSV file is read in parallel (each rank a byte range), another format
+    /// (.xyz/.txt, .ply, .vtk, .vtu, .vtp, .bgeo, .hdf5, .npz) by rank 0.
     #[arg(required_unless_present = "per_rank_input")]
     input: Option<PathBuf>,
     /// Every rank reads its own CSV file (`{rank}` is replaced by the rank) with columns
@@ -90,7 +95,7 @@ struct DetectArgs {
     /// Method parameter, repeatable: `--set depth=4`.
     #[arg(long = "set", value_parser = parse_param, value_name = "KEY=VALUE")]
     params: Vec<(String, String)>,
-    /// How rank 0 splits the set (ignored with --per-rank-input).
+    /// How the set is split across the ranks (ignored with --per-rank-input).
     #[arg(long, value_enum, default_value = "rcb")]
     decomposition: Decomposition,
     /// Rank 0 writes the particles in input order with a `boundary` column (0/1), format by
@@ -133,7 +138,7 @@ enum Failure {
 const PHASES: [&str; 7] = [
     "read",
     "decompose",
-    "scatter",
+    "exchange",
     "halo",
     "detect",
     "gather",
@@ -245,69 +250,19 @@ fn detect(world: &SimpleCommunicator, args: &DetectArgs) -> Result<(), Failure> 
         format: args.format,
     };
     let mut clock = Clock::start();
-    let input = match (&args.input, &args.per_rank_input) {
+    let local = match (&args.input, &args.per_rank_input) {
         (Some(path), _) => {
-            let local = if world.rank() == 0 {
-                read_particles(path, &options)
-                    .map(Some)
-                    .map_err(|e| e.to_string())
+            let format = args.format.or_else(|| Format::from_path(path));
+            if format == Some(Format::Csv) {
+                read_csv_parts(world, path, &options)?
             } else {
-                Ok(None)
-            };
-            Input::Root(agree(world, local)?)
+                read_on_rank_0(world, path, &options)?
+            }
         }
-        (None, Some(pattern)) => {
-            let local = rank_path(pattern, world.rank()).and_then(|path| {
-                let set = match read_particles(Path::new(&path), &options) {
-                    Ok(set) => set,
-                    // A rank may own no particle at a step: its file is a header without
-                    // rows, an empty set of the dimension the header names.
-                    Err(IoError::NoParticles { dim: Some(2), .. }) => {
-                        ParticleSet::<2>::new(Vec::new())
-                            .map_err(|e| e.to_string())?
-                            .to_any()
-                    }
-                    Err(IoError::NoParticles { dim: Some(3), .. }) => {
-                        ParticleSet::<3>::new(Vec::new())
-                            .map_err(|e| e.to_string())?
-                            .to_any()
-                    }
-                    Err(e) => return Err(e.to_string()),
-                };
-                let column = read_csv_column(Path::new(&path), "index").map_err(|e| {
-                    format!("{e} (per-rank input needs a CSV file with an `index` column)")
-                })?;
-                let index = global_indices(&column, &path)?;
-                Ok((set, index))
-            });
-            let (set, index) = agree(world, local)?;
-            Input::PerRank(set, index)
-        }
+        (None, Some(pattern)) => read_per_rank(world, pattern, &options)?,
         (None, None) => return Err(Failure::Here("no input".to_owned())),
     };
     let read_seconds = clock.lap();
-    // The dimension every rank works in: rank 0's, or the files' (which must agree).
-    let dim = match &input {
-        Input::Root(set) => {
-            let mut dim = set.as_ref().map_or(0u64, |s| s.dim() as u64);
-            world.process_at_rank(0).broadcast_into(&mut dim);
-            dim
-        }
-        Input::PerRank(set, _) => {
-            let mine = set.dim() as u64;
-            let (mut lo, mut hi) = (0u64, 0u64);
-            world.all_reduce_into(&mine, &mut lo, SystemOperation::min());
-            world.all_reduce_into(&mine, &mut hi, SystemOperation::max());
-            if lo != hi {
-                return Err(if mine == lo {
-                    Failure::Here(format!("the per-rank files mix {lo}D and {hi}D sets"))
-                } else {
-                    Failure::Elsewhere
-                });
-            }
-            hi
-        }
-    };
     let run = Run {
         world,
         args,
@@ -316,33 +271,217 @@ fn detect(world: &SimpleCommunicator, args: &DetectArgs) -> Result<(), Failure> 
         clock,
         read_seconds,
     };
-    match (dim, input) {
-        (2, Input::Root(set)) => run.go::<2>(set.map(two).transpose()?, None),
-        (3, Input::Root(set)) => run.go::<3>(set.map(three).transpose()?, None),
-        (2, Input::PerRank(set, index)) => run.go::<2>(None, Some((two(set)?, index))),
-        (3, Input::PerRank(set, index)) => run.go::<3>(None, Some((three(set)?, index))),
-        (d, _) => Err(Failure::Here(format!("unsupported dimension {d}"))),
+    let Local {
+        set,
+        index,
+        n,
+        decompose,
+    } = local;
+    match set {
+        AnyParticleSet::D2(set) => run.go::<2>(set, index, n, decompose),
+        AnyParticleSet::D3(set) => run.go::<3>(set, index, n, decompose),
     }
 }
 
-enum Input {
-    /// Rank 0 read the whole set (`None` on the other ranks).
-    Root(Option<AnyParticleSet>),
-    /// This rank's own particles with their global indices.
-    PerRank(AnyParticleSet, Vec<u64>),
+/// This rank's particles after the read.
+struct Local {
+    /// Its particles (every rank's of one dimension).
+    set: AnyParticleSet,
+    /// Their global indices (particle numbers in the input).
+    index: Vec<u64>,
+    /// Particles over all ranks.
+    n: u64,
+    /// Whether the driver decomposes (the input's split is no decomposition) or keeps the
+    /// split (per-rank input).
+    decompose: bool,
 }
 
-fn two(set: AnyParticleSet) -> Result<ParticleSet<2>, Failure> {
-    match set {
-        AnyParticleSet::D2(s) => Ok(s),
-        AnyParticleSet::D3(_) => Err(Failure::Here("expected a 2D set".to_owned())),
+/// Makes a local result collective, the way a read of the whole file reports it: if any rank
+/// failed, the lowest rank that failed (the first part of the file with an error) prints its
+/// error and every rank returns an error.
+fn first_error<T>(world: &SimpleCommunicator, local: Result<T, String>) -> Result<T, Failure> {
+    let size = world.size();
+    let mine = if local.is_err() { world.rank() } else { size };
+    let mut first = size;
+    world.all_reduce_into(&mine, &mut first, SystemOperation::min());
+    match local {
+        Ok(value) if first == size => Ok(value),
+        Err(message) if first == world.rank() => Err(Failure::Here(message)),
+        _ => Err(Failure::Elsewhere),
     }
 }
 
-fn three(set: AnyParticleSet) -> Result<ParticleSet<3>, Failure> {
-    match set {
-        AnyParticleSet::D3(s) => Ok(s),
-        AnyParticleSet::D2(_) => Err(Failure::Here("expected a 3D set".to_owned())),
+/// The parallel read of one CSV file: every rank reads the header, then the lines that start
+/// in its byte range; an exclusive prefix sum of the ranks' newline and row counts gives each
+/// rank its first line number (for messages) and its first global index.
+fn read_csv_parts(
+    world: &SimpleCommunicator,
+    path: &Path,
+    options: &ReadOptions,
+) -> Result<Local, Failure> {
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let text = |e: IoError| e.to_string();
+    let header = first_error(world, read_csv_header(path, options).map_err(text))?;
+    let chunk = first_error(
+        world,
+        header
+            .read_chunk(path, header.part(rank, size))
+            .map_err(text),
+    )?;
+    let counts = [chunk.newlines() as u64, chunk.rows() as u64];
+    let mut before = [0u64; 2];
+    world.exclusive_scan_into(&counts[..], &mut before[..], SystemOperation::sum());
+    if rank == 0 {
+        before = [0, 0]; // MPI_Exscan leaves rank 0's result undefined
+    }
+    let (line, first) = (
+        header.first_data_line() + before[0] as usize,
+        before[1] as usize,
+    );
+    let coords = first_error(world, chunk.parse(&header, line, first).map_err(text))?;
+    drop(chunk);
+    let mut n = 0u64;
+    world.all_reduce_into(&counts[1], &mut n, SystemOperation::sum());
+    // Which axes hold one value over the whole file (the dimension policy drops one of them).
+    let stride = header.stride();
+    let mut lo = vec![f64::INFINITY; stride];
+    let mut hi = vec![f64::NEG_INFINITY; stride];
+    for row in coords.chunks_exact(stride) {
+        for k in 0..stride {
+            lo[k] = lo[k].min(row[k]);
+            hi[k] = hi[k].max(row[k]);
+        }
+    }
+    let (mut all_lo, mut all_hi) = (lo.clone(), hi.clone());
+    world.all_reduce_into(&lo[..], &mut all_lo[..], SystemOperation::min());
+    world.all_reduce_into(&hi[..], &mut all_hi[..], SystemOperation::max());
+    let constant: Vec<bool> = (0..stride)
+        .map(|k| n == 0 || all_lo[k] == all_hi[k])
+        .collect();
+    let (set, _) = first_error(
+        world,
+        header.finish(&coords, n as usize, &constant).map_err(text),
+    )?;
+    let index = (before[1]..before[1] + counts[1]).collect();
+    Ok(Local {
+        set,
+        index,
+        n,
+        decompose: true,
+    })
+}
+
+/// Rank 0 reads the whole file (formats without a parallel read); the other ranks start
+/// empty.
+fn read_on_rank_0(
+    world: &SimpleCommunicator,
+    path: &Path,
+    options: &ReadOptions,
+) -> Result<Local, Failure> {
+    let local = if world.rank() == 0 {
+        read_particles(path, options)
+            .map(Some)
+            .map_err(|e| e.to_string())
+    } else {
+        Ok(None)
+    };
+    let set = agree(world, local)?;
+    let mut header = set
+        .as_ref()
+        .map_or([0u64; 2], |s| [s.dim() as u64, s.len() as u64]);
+    world.process_at_rank(0).broadcast_into(&mut header[..]);
+    let [dim, n] = header;
+    let set = match set {
+        Some(set) => set,
+        None => empty_set(dim).map_err(Failure::Here)?,
+    };
+    let index = (0..set.len() as u64).collect();
+    Ok(Local {
+        set,
+        index,
+        n,
+        decompose: true,
+    })
+}
+
+/// An empty set of `dim` dimensions.
+fn empty_set(dim: u64) -> Result<AnyParticleSet, String> {
+    match dim {
+        2 => Ok(ParticleSet::<2>::new(Vec::new())
+            .map_err(|e| e.to_string())?
+            .to_any()),
+        3 => Ok(ParticleSet::<3>::new(Vec::new())
+            .map_err(|e| e.to_string())?
+            .to_any()),
+        d => Err(format!("unsupported dimension {d}")),
+    }
+}
+
+/// Every rank reads its own file, with the global index of each particle; the split is kept.
+fn read_per_rank(
+    world: &SimpleCommunicator,
+    pattern: &str,
+    options: &ReadOptions,
+) -> Result<Local, Failure> {
+    let local = rank_path(pattern, world.rank()).and_then(|path| {
+        let set = match read_particles(Path::new(&path), options) {
+            Ok(set) => set,
+            // A rank may own no particle at a step: its file is a header without rows, an
+            // empty set of the dimension the header names.
+            Err(IoError::NoParticles { dim: Some(d), .. }) => empty_set(d as u64)?,
+            Err(e) => return Err(e.to_string()),
+        };
+        let column = read_csv_column(Path::new(&path), "index")
+            .map_err(|e| format!("{e} (per-rank input needs a CSV file with an `index` column)"))?;
+        let index = global_indices(&column, &path)?;
+        Ok((set, index))
+    });
+    let (set, index) = agree(world, local)?;
+    // The files must agree on the dimension.
+    let mine = set.dim() as u64;
+    let (mut lo, mut hi) = (0u64, 0u64);
+    world.all_reduce_into(&mine, &mut lo, SystemOperation::min());
+    world.all_reduce_into(&mine, &mut hi, SystemOperation::max());
+    if lo != hi {
+        return Err(if mine == lo {
+            Failure::Here(format!("the per-rank files mix {lo}D and {hi}D sets"))
+        } else {
+            Failure::Elsewhere
+        });
+    }
+    let local_n = index.len() as u64;
+    let mut n = 0u64;
+    world.all_reduce_into(&local_n, &mut n, SystemOperation::sum());
+    Ok(Local {
+        set,
+        index,
+        n,
+        decompose: false,
+    })
+}
+
+/// The all-reduces of the parallel decomposition.
+struct MpiReduce<'a>(&'a SimpleCommunicator);
+
+impl MpiReduce<'_> {
+    fn all<T: Copy + mpi::datatype::Equivalence>(&self, values: &mut [T], op: SystemOperation) {
+        // Every rank reduces slices of the same length; none for an empty one.
+        if !values.is_empty() {
+            let mine = values.to_vec();
+            self.0.all_reduce_into(&mine[..], values, op);
+        }
+    }
+}
+
+impl Reduce for MpiReduce<'_> {
+    fn sum(&self, values: &mut [u64]) {
+        self.all(values, SystemOperation::sum());
+    }
+    fn min(&self, values: &mut [f64]) {
+        self.all(values, SystemOperation::min());
+    }
+    fn max(&self, values: &mut [f64]) {
+        self.all(values, SystemOperation::max());
     }
 }
 
@@ -389,12 +528,15 @@ struct Run<'a> {
 }
 
 impl Run<'_> {
-    /// The pipeline in `D` dimensions: `root_set` is the whole set on rank 0 (rank-0 read), or
-    /// `own` this rank's particles and global indices (per-rank read).
+    /// The pipeline in `D` dimensions from this rank's particles `set` with their global
+    /// indices `index` (`n` over all ranks): decomposed and moved to their owners
+    /// (`decompose`), or owned where they are.
     fn go<const D: usize>(
         mut self,
-        root_set: Option<ParticleSet<D>>,
-        own: Option<(ParticleSet<D>, Vec<u64>)>,
+        set: ParticleSet<D>,
+        index: Vec<u64>,
+        n: u64,
+        decompose: bool,
     ) -> Result<(), Failure>
     where
         AnyParticleSet: From<ParticleSet<D>>,
@@ -402,83 +544,29 @@ impl Run<'_> {
     {
         let world = self.world;
         let size = world.size() as usize;
-        let root = world.process_at_rank(0);
         let w = self.detector.halo_width(self.r);
         let mut stats = Stats::default();
         stats.seconds[0] = self.read_seconds;
-        let per_rank = own.is_some();
+        let n = n as usize;
+        let points = set.positions();
 
         // Owned particles (ascending global index) of this rank.
-        let (owned, owned_index, n) = match own {
-            Some((set, index)) => {
-                // Sorted by global index, as the rank-0 path has them.
-                let mut pairs: Vec<(u64, Point<D>)> = index
-                    .into_iter()
-                    .zip(set.positions().iter().copied())
-                    .collect();
-                pairs.sort_by_key(|&(i, _)| i);
-                let local_n = pairs.len() as u64;
-                let mut n = 0u64;
-                world.all_reduce_into(&local_n, &mut n, SystemOperation::sum());
-                let (index, owned): (Vec<u64>, Vec<Point<D>>) = pairs.into_iter().unzip();
-                (owned, index, n as usize)
-            }
-            None => {
-                // Decompose on rank 0.
-                let plan = match &root_set {
-                    Some(set) => {
-                        let owner = match self.args.decomposition {
-                            Decomposition::Rcb => rcb_owners(set, size),
-                            Decomposition::Morton => morton_owners(set, size, w),
-                        };
-                        let mut buckets: Vec<Vec<usize>> = vec![Vec::new(); size];
-                        for (i, &o) in owner.iter().enumerate() {
-                            buckets[o].push(i);
-                        }
-                        let counts: Vec<usize> = buckets.iter().map(Vec::len).collect();
-                        let p = set.positions();
-                        let coords: Vec<f64> = buckets
-                            .iter()
-                            .flatten()
-                            .flat_map(|&i| p[i].iter().copied())
-                            .collect();
-                        let index: Vec<u64> = buckets.iter().flatten().map(|&i| i as u64).collect();
-                        let layouts = layout(&counts, D).and_then(|c| Ok((c, layout(&counts, 1)?)));
-                        layouts.map(|(lc, li)| Some((counts, coords, index, lc, li)))
-                    }
-                    None => Ok(None),
-                };
-                let plan = agree(world, plan)?;
-                stats.seconds[1] = self.clock.lap();
-
-                let mut n = root_set.as_ref().map_or(0, |s| s.len() as u64);
-                root.broadcast_into(&mut n);
-                let mut count = 0u64;
-                let (mut coords, mut index);
-                match &plan {
-                    Some((counts, all_coords, all_index, (cc, cd), (ic, id))) => {
-                        let counts64: Vec<u64> = counts.iter().map(|&c| c as u64).collect();
-                        root.scatter_into_root(&counts64[..], &mut count);
-                        coords = vec![0.0; count as usize * D];
-                        index = vec![0u64; count as usize];
-                        let part = Partition::new(&all_coords[..], &cc[..], &cd[..]);
-                        root.scatter_varcount_into_root(&part, &mut coords[..]);
-                        let part = Partition::new(&all_index[..], &ic[..], &id[..]);
-                        root.scatter_varcount_into_root(&part, &mut index[..]);
-                    }
-                    None => {
-                        root.scatter_into(&mut count);
-                        coords = vec![0.0; count as usize * D];
-                        index = vec![0u64; count as usize];
-                        root.scatter_varcount_into(&mut coords[..]);
-                        root.scatter_varcount_into(&mut index[..]);
-                    }
-                }
-                drop(plan);
-                stats.seconds[2] = self.clock.lap();
-                (unflatten::<D>(&coords), index, n as usize)
-            }
+        let mut pairs: Vec<(u64, Point<D>)> = if decompose {
+            let reduce = MpiReduce(world);
+            let owner = match self.args.decomposition {
+                Decomposition::Rcb => parallel_rcb_owners(&reduce, points, &index, size),
+                Decomposition::Morton => parallel_morton_owners(&reduce, points, &index, size, w),
+            };
+            stats.seconds[1] = self.clock.lap();
+            let moved = self.exchange(points, &index, &owner)?;
+            stats.seconds[2] = self.clock.lap();
+            moved
+        } else {
+            index.into_iter().zip(points.iter().copied()).collect()
         };
+        drop(set);
+        pairs.sort_unstable_by_key(|&(i, _)| i);
+        let (owned_index, owned): (Vec<u64>, Vec<Point<D>>) = pairs.into_iter().unzip();
         stats.owned = owned.len() as u64;
 
         // Halo exchange.
@@ -520,7 +608,7 @@ impl Run<'_> {
 
         // Gather to rank 0 (only what an --output needs).
         let gathered = if self.args.output.is_some() {
-            let gathered = self.gather(&owned, &owned_index, &labels, per_rank, n)?;
+            let gathered = self.gather(&owned, &owned_index, &labels, n)?;
             stats.seconds[5] = self.clock.lap();
             gathered
         } else {
@@ -529,21 +617,16 @@ impl Run<'_> {
 
         // Write.
         let mut written = Ok(());
-        if let (Some(path), Some((full_labels, gathered_set))) = (&self.args.output, gathered) {
-            // Rank 0 has the set: it read it, or gathered it with the labels.
-            written = match root_set.or(gathered_set) {
-                Some(set) => {
-                    let flags: Vec<i64> = full_labels.iter().map(|&l| i64::from(l)).collect();
-                    write_particles(
-                        path,
-                        None,
-                        &AnyParticleSet::from(set),
-                        &[("boundary", Column::Int(&flags))],
-                    )
-                    .map_err(|e| e.to_string())
-                }
-                None => Err("rank 0 holds no particle set to write".to_owned()),
-            };
+        if let (Some(path), Some((full_labels, set))) = (&self.args.output, gathered) {
+            // Rank 0 gathered the set with the labels.
+            let flags: Vec<i64> = full_labels.iter().map(|&l| i64::from(l)).collect();
+            written = write_particles(
+                path,
+                None,
+                &AnyParticleSet::from(set),
+                &[("boundary", Column::Int(&flags))],
+            )
+            .map_err(|e| e.to_string());
         }
         if written.is_ok() {
             if let Some(pattern) = &self.args.per_rank_output {
@@ -650,17 +733,67 @@ impl Run<'_> {
         Ok(ghosts.into_iter().map(|(i, p)| (p, i)).unzip())
     }
 
-    /// Gathers labels (and, for per-rank input, positions) to rank 0 and puts them in input
-    /// order; `Some((labels, positions if gathered))` on rank 0, `None` elsewhere.
-    #[allow(clippy::type_complexity)]
+    /// Sends every local particle to its owner (`owner[k]` for particle `k`); returns the
+    /// particles this rank owns with their global indices, in no order.
+    fn exchange<const D: usize>(
+        &self,
+        points: &[Point<D>],
+        index: &[u64],
+        owner: &[usize],
+    ) -> Result<Vec<(u64, Point<D>)>, Failure> {
+        let world = self.world;
+        let size = world.size() as usize;
+        let mut buckets: Vec<Vec<usize>> = vec![Vec::new(); size];
+        for (k, &o) in owner.iter().enumerate() {
+            buckets[o].push(k);
+        }
+        let send_counts: Vec<usize> = buckets.iter().map(Vec::len).collect();
+        let send_counts64: Vec<u64> = send_counts.iter().map(|&c| c as u64).collect();
+        let mut recv_counts64 = vec![0u64; size];
+        world.all_to_all_into(&send_counts64[..], &mut recv_counts64[..]);
+        let recv_counts: Vec<usize> = recv_counts64.iter().map(|&c| c as usize).collect();
+        let layouts = layout(&send_counts, D).and_then(|sc| {
+            Ok((
+                sc,
+                layout(&send_counts, 1)?,
+                layout(&recv_counts, D)?,
+                layout(&recv_counts, 1)?,
+            ))
+        });
+        let ((scc, scd), (sic, sid), (rcc, rcd), (ric, rid)) = agree(world, layouts)?;
+        let send_coords: Vec<f64> = buckets
+            .iter()
+            .flatten()
+            .flat_map(|&k| points[k].iter().copied())
+            .collect();
+        let send_index: Vec<u64> = buckets.iter().flatten().map(|&k| index[k]).collect();
+        drop(buckets);
+        let total: usize = recv_counts.iter().sum();
+        let mut recv_coords = vec![0.0f64; total * D];
+        let mut recv_index = vec![0u64; total];
+        {
+            let sp = Partition::new(&send_coords[..], &scc[..], &scd[..]);
+            let mut rp = PartitionMut::new(&mut recv_coords[..], &rcc[..], &rcd[..]);
+            world.all_to_all_varcount_into(&sp, &mut rp);
+            let sp = Partition::new(&send_index[..], &sic[..], &sid[..]);
+            let mut rp = PartitionMut::new(&mut recv_index[..], &ric[..], &rid[..]);
+            world.all_to_all_varcount_into(&sp, &mut rp);
+        }
+        Ok(recv_index
+            .into_iter()
+            .zip(unflatten::<D>(&recv_coords))
+            .collect())
+    }
+
+    /// Gathers labels and positions to rank 0 and puts them in input order; `Some((labels,
+    /// set))` on rank 0, `None` elsewhere.
     fn gather<const D: usize>(
         &self,
         owned: &[Point<D>],
         owned_index: &[u64],
         labels: &[u8],
-        with_positions: bool,
         n: usize,
-    ) -> Result<Option<(Vec<u8>, Option<ParticleSet<D>>)>, Failure>
+    ) -> Result<Option<(Vec<u8>, ParticleSet<D>)>, Failure>
     where
         Dim<D>: SupportedDim,
     {
@@ -680,9 +813,7 @@ impl Run<'_> {
             agree(world, Ok(()))?;
             root.gather_varcount_into(owned_index);
             root.gather_varcount_into(labels);
-            if with_positions {
-                root.gather_varcount_into(&coords[..]);
-            }
+            root.gather_varcount_into(&coords[..]);
             agree(world, Ok(()))?;
             return Ok(None);
         }
@@ -702,25 +833,21 @@ impl Run<'_> {
             let mut part = PartitionMut::new(&mut all_labels[..], &ic[..], &id[..]);
             root.gather_varcount_into_root(labels, &mut part);
         }
-        let mut positions = None;
-        if with_positions {
-            let mut all = vec![0.0f64; total * D];
+        let mut all = vec![0.0f64; total * D];
+        {
             let mut part = PartitionMut::new(&mut all[..], &cc[..], &cd[..]);
             root.gather_varcount_into_root(&coords[..], &mut part);
-            positions = Some(all);
         }
         let result = labels_in_input_order(n, &index, &all_labels).and_then(|ordered| {
-            let set = match positions {
-                Some(all) => {
-                    let mut points = vec![Point::<D>::zeros(); n];
-                    for (k, p) in unflatten::<D>(&all).into_iter().enumerate() {
-                        points[index[k] as usize] = p;
-                    }
-                    Some(ParticleSet::new(points).map_err(|e| e.to_string())?)
-                }
-                None => None,
-            };
-            Ok((ordered, set))
+            // Every index is in range and given once (checked above).
+            let mut points = vec![Point::<D>::zeros(); n];
+            for (k, p) in unflatten::<D>(&all).into_iter().enumerate() {
+                points[index[k] as usize] = p;
+            }
+            Ok((
+                ordered,
+                ParticleSet::new(points).map_err(|e| e.to_string())?,
+            ))
         });
         agree(world, result).map(Some)
     }

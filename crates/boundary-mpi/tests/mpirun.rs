@@ -313,3 +313,221 @@ fn errors_stop_every_rank_and_name_the_cause() {
         std::fs::read(&expected).unwrap()
     );
 }
+
+/// The parallel read of a CSV file: ranks read byte ranges that cut lines anywhere (CRLF
+/// endings, a byte-order mark, a `sep=` line, comments and blank lines between rows, no
+/// newline at the end), and the labels, the decomposition and the messages are those of a
+/// whole-file read.
+#[test]
+fn the_parallel_csv_read_matches_the_whole_file_read() {
+    let dir = tempfile::tempdir().unwrap();
+    // A jittered 9 x 7 x 5 lattice, written by hand with every kind of line.
+    let mut text = String::from("\u{feff}sep=;\r\n# a comment before the header\r\nid;x;y;z\r\n");
+    let mut k = 0usize;
+    for i in 0..9 {
+        for j in 0..7 {
+            for l in 0..5 {
+                let jitter = 0.11 * ((k * 7919) % 13) as f64 / 13.0;
+                text.push_str(&format!(
+                    "{k};{};{};{}\r\n",
+                    (i as f64 + jitter).to_string().replace('.', ","),
+                    j,
+                    l as f64 - jitter
+                ));
+                if k % 17 == 3 {
+                    text.push_str("# comment between rows\r\n\r\n");
+                }
+                k += 1;
+            }
+        }
+    }
+    let text = text.trim_end().to_owned(); // no newline after the last row
+    let input = dir.path().join("lattice.csv");
+    std::fs::write(&input, &text).unwrap();
+    let set = boundary_io::read_particles(&input, &boundary_io::ReadOptions::default()).unwrap();
+    assert_eq!(set.len(), 9 * 7 * 5);
+    let expected = dir.path().join("expected.csv");
+    reference(&set, 1.2, "exact", &expected);
+    let expected = std::fs::read(&expected).unwrap();
+    let AnyParticleSet::D3(points) = &set else {
+        panic!("3D")
+    };
+    let input = input.to_str().unwrap();
+    for np in [1, 2, 3, 4] {
+        for decomposition in ["rcb", "morton"] {
+            let out = dir.path().join(format!("out-{np}-{decomposition}.csv"));
+            let pattern = dir
+                .path()
+                .join(format!("own-{np}-{decomposition}-{{rank}}.csv"));
+            ok(
+                np,
+                &[
+                    "detect",
+                    input,
+                    "--radius",
+                    "1.2",
+                    "--decomposition",
+                    decomposition,
+                    "--output",
+                    out.to_str().unwrap(),
+                    "--per-rank-output",
+                    pattern.to_str().unwrap(),
+                ],
+            );
+            assert!(
+                std::fs::read(&out).unwrap() == expected,
+                "{np} ranks ({decomposition}): labels differ from one process"
+            );
+            // Each rank owns what the core's decomposition of the whole set gives it.
+            let owner = match decomposition {
+                "rcb" => boundary::implement::decompose::rcb_owners(points, np),
+                _ => boundary::implement::decompose::morton_owners(points, np, 2.4),
+            };
+            for rank in 0..np {
+                let file = dir
+                    .path()
+                    .join(format!("own-{np}-{decomposition}-{rank}.csv"));
+                let got: Vec<usize> = read_csv_column(&file, "index")
+                    .unwrap()
+                    .iter()
+                    .map(|&i| i as usize)
+                    .collect();
+                let want: Vec<usize> = (0..owner.len()).filter(|&i| owner[i] == rank).collect();
+                assert_eq!(got, want, "{np} ranks ({decomposition}), rank {rank}");
+            }
+        }
+    }
+
+    // Fewer bytes of rows than ranks, and fewer particles: some ranks read nothing.
+    let small = dir.path().join("small.csv");
+    std::fs::write(&small, "x,y\n0,0\n1,0").unwrap();
+    let small_set =
+        boundary_io::read_particles(&small, &boundary_io::ReadOptions::default()).unwrap();
+    let expected = dir.path().join("small-expected.csv");
+    reference(&small_set, 1.0, "exact", &expected);
+    for np in [3, 4] {
+        let out = dir.path().join(format!("small-{np}.csv"));
+        ok(
+            np,
+            &[
+                "detect",
+                small.to_str().unwrap(),
+                "--radius",
+                "1",
+                "--output",
+                out.to_str().unwrap(),
+            ],
+        );
+        assert_eq!(
+            std::fs::read(&out).unwrap(),
+            std::fs::read(&expected).unwrap(),
+            "{np} ranks"
+        );
+    }
+
+    // `--dim 2` drops the axis constant over the whole file, whichever rank reads its rows.
+    let flat = dir.path().join("flat.csv");
+    let rows: String = (0..40)
+        .map(|k| format!("{},7,{}\n", k % 8, k / 8))
+        .collect();
+    std::fs::write(&flat, format!("x,y,z\n{rows}")).unwrap();
+    let options = boundary_io::ReadOptions {
+        dim: Some(2),
+        format: None,
+    };
+    let flat_set = boundary_io::read_particles(&flat, &options).unwrap();
+    let expected = dir.path().join("flat-expected.csv");
+    reference(&flat_set, 1.0, "exact", &expected);
+    let out = dir.path().join("flat-3.csv");
+    ok(
+        3,
+        &[
+            "detect",
+            flat.to_str().unwrap(),
+            "--radius",
+            "1",
+            "--dim",
+            "2",
+            "--output",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(
+        std::fs::read(&out).unwrap(),
+        std::fs::read(&expected).unwrap()
+    );
+}
+
+/// A bad row is reported once, by the rank that read it, with the line and particle a
+/// whole-file read names, wherever the byte ranges fall; a later bad row is not reported.
+#[test]
+fn a_bad_row_is_named_by_its_line_from_any_rank() {
+    let dir = tempfile::tempdir().unwrap();
+    for bad in [3usize, 40, 77, 118] {
+        let mut text = String::from("# header follows\r\nx,y\r\n");
+        for k in 0..120 {
+            match k {
+                _ if k == bad => text.push_str(&format!("{k},1e400\r\n")),
+                _ if k == bad + 1 => text.push_str(&format!("{k},oops\r\n")),
+                _ => text.push_str(&format!("{k},0\r\n")),
+            }
+            if k % 10 == 0 {
+                text.push_str("\r\n# a comment\r\n");
+            }
+        }
+        let input = dir.path().join(format!("bad{bad}.csv"));
+        std::fs::write(&input, &text).unwrap();
+        let whole = boundary_io::read_particles(&input, &boundary_io::ReadOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(whole.contains(&format!("particle {bad}:")), "{whole}");
+        for np in [1, 2, 3, 4] {
+            let out = mpirun(np, &["detect", input.to_str().unwrap(), "--radius", "1"]);
+            assert!(!out.status.success());
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(
+                stderr.matches("error:").count(),
+                1,
+                "{np} ranks, row {bad}: {stderr}"
+            );
+            assert!(stderr.contains(&whole), "{np} ranks, row {bad}: {stderr}");
+        }
+    }
+}
+
+/// Formats without a parallel read are read by rank 0 and decomposed in parallel all the
+/// same.
+#[test]
+fn formats_read_by_rank_0_give_the_same_labels() {
+    let manifest = Manifest::load(&fixtures_dir().join("scenes.toml")).unwrap();
+    let entry = manifest
+        .scene
+        .iter()
+        .find(|e| e.name == "ball_bubble3d")
+        .unwrap();
+    let set = entry.load(&fixtures_dir(), &data_dir()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let expected = dir.path().join("expected.csv");
+    reference(&set, entry.radius, "exact", &expected);
+    for ext in ["vtu", "ply"] {
+        let input = dir.path().join(format!("ball.{ext}"));
+        write_particles(&input, None, &set, &[]).unwrap();
+        let out = dir.path().join(format!("out-{ext}.csv"));
+        ok(
+            3,
+            &[
+                "detect",
+                input.to_str().unwrap(),
+                "--radius",
+                &entry.radius.to_string(),
+                "--output",
+                out.to_str().unwrap(),
+            ],
+        );
+        assert_eq!(
+            std::fs::read(&out).unwrap(),
+            std::fs::read(&expected).unwrap(),
+            "{ext}"
+        );
+    }
+}
