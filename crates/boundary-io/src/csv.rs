@@ -490,12 +490,7 @@ impl CsvHeader {
         }
         bytes.drain(..skip);
         let newlines = bytes.iter().filter(|&&b| b == b'\n').count();
-        let rows = lines_of(&bytes)
-            .filter(|line| {
-                // A line that is not text is a row: parsing it names the error.
-                std::str::from_utf8(line).map_or(true, is_row)
-            })
-            .count();
+        let rows = lines_of(&bytes).filter(|line| holds_row(line)).count();
         Ok(CsvChunk {
             bytes,
             newlines,
@@ -544,6 +539,21 @@ impl CsvHeader {
             });
         }
         Ok((set, dropped))
+    }
+}
+
+/// Whether the bytes of a line hold a row, as [`is_row`] says of its text; a line that is
+/// not text is a row (parsing it names the error).
+fn holds_row(line: &[u8]) -> bool {
+    match line
+        .iter()
+        .find(|&&b| !matches!(b, b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c))
+    {
+        None => false,
+        Some(b'#') => false,
+        Some(&b) if b.is_ascii() => true,
+        // Other white space is Unicode's: ask the text.
+        Some(_) => std::str::from_utf8(line).map_or(true, is_row),
     }
 }
 

@@ -169,10 +169,10 @@ pub fn global_indices(values: &[f64], file: &str) -> Result<Vec<u64>, String> {
 pub trait Reduce {
     /// Element-wise sum over the ranks, in place.
     fn sum(&self, values: &mut [u64]);
+    /// Element-wise maximum over the ranks, in place.
+    fn max_u64(&self, values: &mut [u64]);
     /// Element-wise minimum over the ranks, in place.
     fn min(&self, values: &mut [f64]);
-    /// Element-wise maximum over the ranks, in place.
-    fn max(&self, values: &mut [f64]);
 }
 
 /// One process: every reduction is the identity.
@@ -181,8 +181,8 @@ pub struct Solo;
 
 impl Reduce for Solo {
     fn sum(&self, _: &mut [u64]) {}
+    fn max_u64(&self, _: &mut [u64]) {}
     fn min(&self, _: &mut [f64]) {}
-    fn max(&self, _: &mut [f64]) {}
 }
 
 /// A key in `u64` order that is `f64::total_cmp`'s order of `x`.
@@ -195,43 +195,111 @@ pub fn ordered_bits(x: f64) -> u64 {
     }
 }
 
+/// One query of [`select`]: its remaining candidates on this rank, the rank sought among
+/// them, the key bits found so far, and whether it is done.
+struct Query {
+    keys: Vec<u128>,
+    target: u64,
+    found: u128,
+    /// The next digit's shift; the bits above it are in `found`.
+    shift: u32,
+    done: bool,
+}
+
 /// For each query `(keys, target)`, the key of global rank `target` (0-based, ascending)
-/// among the union of every rank's `keys`: a radix selection, one digit of 8 bits per round
-/// from the top, the digit's counts summed over the ranks. Keys must be distinct over all
-/// ranks (they carry the global index) and `target` below their global count.
+/// among the union of every rank's `keys`: a radix selection with digits of 8 bits from the
+/// top, each round's 256 counts summed over the ranks. The leading bits that the smallest
+/// and the largest key share are skipped, and a query ends as soon as one candidate is left
+/// (fetched by a maximum over the ranks), so a round count of about
+/// `log_256(candidates) + 2` suffices for spread keys. Keys must be distinct over all ranks
+/// (they carry the global index) and `target` below their global count; every rank passes
+/// the same number of queries with the same targets.
 pub fn select<R: Reduce>(reduce: &R, queries: Vec<(Vec<u128>, u64)>) -> Vec<u128> {
-    let mut queries = queries;
-    let mut found = vec![0u128; queries.len()];
-    let mut counts = vec![0u64; 256 * queries.len()];
-    for round in 0..16u32 {
-        let shift = 120 - 8 * round;
-        counts.fill(0);
-        for ((keys, _), hist) in queries.iter().zip(counts.chunks_exact_mut(256)) {
-            for &k in keys {
-                hist[((k >> shift) & 0xff) as usize] += 1;
+    if queries.is_empty() {
+        return Vec::new();
+    }
+    // The shared leading bits of the high halves: the largest high half and the complement
+    // of the smallest, over all ranks.
+    let mut spread: Vec<u64> = queries
+        .iter()
+        .flat_map(|(keys, _)| {
+            let hi = keys.iter().map(|&k| (k >> 64) as u64);
+            [!hi.clone().min().unwrap_or(u64::MAX), hi.max().unwrap_or(0)]
+        })
+        .collect();
+    reduce.max_u64(&mut spread);
+    let mut queries: Vec<Query> = queries
+        .into_iter()
+        .zip(spread.chunks_exact(2))
+        .map(|((keys, target), s)| {
+            let (lo, hi) = (!s[0], s[1]);
+            let digits = (lo ^ hi).leading_zeros() / 8; // 8: equal high halves
+            let shift = 120 - 8 * digits;
+            let known = if digits == 0 {
+                0
+            } else {
+                (u128::from(lo) << 64) & (u128::MAX << (shift + 8))
+            };
+            Query {
+                keys,
+                target,
+                found: known,
+                shift,
+                done: false,
+            }
+        })
+        .collect();
+    while queries.iter().any(|q| !q.done) {
+        let active: Vec<usize> = (0..queries.len()).filter(|&k| !queries[k].done).collect();
+        let mut counts = vec![0u64; 256 * active.len()];
+        for (&k, hist) in active.iter().zip(counts.chunks_exact_mut(256)) {
+            let q = &queries[k];
+            for &key in &q.keys {
+                hist[((key >> q.shift) & 0xff) as usize] += 1;
             }
         }
         reduce.sum(&mut counts);
-        for (((keys, target), hist), key) in queries
-            .iter_mut()
-            .zip(counts.chunks_exact(256))
-            .zip(found.iter_mut())
-        {
+        let mut last = Vec::new();
+        for (&k, hist) in active.iter().zip(counts.chunks_exact(256)) {
+            let q = &mut queries[k];
             let mut below = 0u64;
             let mut digit = 255usize;
             for (d, &c) in hist.iter().enumerate() {
-                if below + c > *target {
+                if below + c > q.target {
                     digit = d;
                     break;
                 }
                 below += c;
             }
-            *target -= below;
-            *key |= (digit as u128) << shift;
-            keys.retain(|&k| ((k >> shift) & 0xff) as usize == digit);
+            q.target -= below;
+            q.found |= (digit as u128) << q.shift;
+            let shift = q.shift;
+            q.keys
+                .retain(|&key| ((key >> shift) & 0xff) as usize == digit);
+            if hist[digit] == 1 || shift == 0 {
+                last.push(k);
+            } else {
+                q.shift -= 8;
+            }
+        }
+        if !last.is_empty() {
+            // One candidate left in each: the rank that holds it gives it, the others 0.
+            let mut keys: Vec<u64> = last
+                .iter()
+                .flat_map(|&k| {
+                    let key = queries[k].keys.first().copied().unwrap_or(0);
+                    [(key >> 64) as u64, key as u64]
+                })
+                .collect();
+            reduce.max_u64(&mut keys);
+            for (&k, pair) in last.iter().zip(keys.chunks_exact(2)) {
+                let q = &mut queries[k];
+                q.found = (u128::from(pair[0]) << 64) | u128::from(pair[1]);
+                q.done = true;
+            }
         }
     }
-    found
+    queries.into_iter().map(|q| q.found).collect()
 }
 
 /// The key that orders particles along `axis` as the core's RCB does: the coordinate
@@ -264,19 +332,20 @@ pub fn parallel_rcb_owners<const D: usize, R: Reduce>(
     while !active.is_empty() {
         let g = active.len();
         let mut len: Vec<u64> = active.iter().map(|a| a.members.len() as u64).collect();
-        let mut lo = vec![f64::INFINITY; g * D];
-        let mut hi = vec![f64::NEG_INFINITY; g * D];
+        // The boxes as minima: the low corners, then the negated high corners.
+        let mut corners = vec![f64::INFINITY; 2 * g * D];
         for (k, a) in active.iter().enumerate() {
             for &m in &a.members {
                 for d in 0..D {
-                    lo[k * D + d] = lo[k * D + d].min(points[m][d]);
-                    hi[k * D + d] = hi[k * D + d].max(points[m][d]);
+                    let c = points[m][d];
+                    corners[k * D + d] = corners[k * D + d].min(c);
+                    corners[(g + k) * D + d] = corners[(g + k) * D + d].min(-c);
                 }
             }
         }
         reduce.sum(&mut len);
-        reduce.min(&mut lo);
-        reduce.max(&mut hi);
+        reduce.min(&mut corners);
+        let (lo, hi) = corners.split_at(g * D);
         // (group, axis, low parts) of the groups cut at this level, and their queries.
         let mut cuts = Vec::new();
         let mut queries = Vec::new();
@@ -288,7 +357,7 @@ pub fn parallel_rcb_owners<const D: usize, R: Reduce>(
                 }
                 continue;
             }
-            let side = |d: usize| hi[k * D + d] - lo[k * D + d];
+            let side = |d: usize| -hi[k * D + d] - lo[k * D + d];
             let mut axis = 0;
             for d in 1..D {
                 if side(d) > side(axis) {
@@ -487,11 +556,11 @@ mod tests {
         fn sum(&self, values: &mut [u64]) {
             self.combine(&self.shared.ints, values, |a, b| a + b);
         }
+        fn max_u64(&self, values: &mut [u64]) {
+            self.combine(&self.shared.ints, values, u64::max);
+        }
         fn min(&self, values: &mut [f64]) {
             self.combine(&self.shared.reals, values, f64::min);
-        }
-        fn max(&self, values: &mut [f64]) {
-            self.combine(&self.shared.reals, values, f64::max);
         }
     }
 
@@ -576,6 +645,15 @@ mod tests {
         let got = select(&Solo, queries);
         let want: Vec<u128> = (0..300).step_by(7).map(|t| sorted[t]).collect();
         assert_eq!(got, want);
+        // Equal high halves (one coordinate): the order is the index's.
+        let same: Vec<u128> = (0..50u128).rev().map(|k| 77u128 << 64 | k * 3).collect();
+        let got = select(
+            &Solo,
+            vec![(same.clone(), 0), (same.clone(), 49), (same, 20)],
+        );
+        assert_eq!(got, [77u128 << 64, 77u128 << 64 | 147, 77u128 << 64 | 60]);
+        // One key.
+        assert_eq!(select(&Solo, vec![(vec![5u128], 0)]), [5]);
     }
 
     /// The parallel decompositions give the core's owners on any split across ranks and for

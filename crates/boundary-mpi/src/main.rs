@@ -477,11 +477,11 @@ impl Reduce for MpiReduce<'_> {
     fn sum(&self, values: &mut [u64]) {
         self.all(values, SystemOperation::sum());
     }
+    fn max_u64(&self, values: &mut [u64]) {
+        self.all(values, SystemOperation::max());
+    }
     fn min(&self, values: &mut [f64]) {
         self.all(values, SystemOperation::min());
-    }
-    fn max(&self, values: &mut [f64]) {
-        self.all(values, SystemOperation::max());
     }
 }
 
@@ -551,7 +551,7 @@ impl Run<'_> {
         let points = set.positions();
 
         // Owned particles (ascending global index) of this rank.
-        let mut pairs: Vec<(u64, Point<D>)> = if decompose {
+        let mut pairs: Vec<(u64, Point<D>)> = if decompose && size > 1 {
             let reduce = MpiReduce(world);
             let owner = match self.args.decomposition {
                 Decomposition::Rcb => parallel_rcb_owners(&reduce, points, &index, size),
