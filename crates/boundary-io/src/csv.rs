@@ -466,7 +466,7 @@ impl CsvHeader {
         };
         file.seek(SeekFrom::Start(from))
             .map_err(|e| IoError::read(name, e))?;
-        let mut bytes = Vec::new();
+        let mut bytes = Vec::with_capacity((end - from) as usize + 1024);
         (&mut file)
             .take(end - from)
             .read_to_end(&mut bytes)

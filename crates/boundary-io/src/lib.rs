@@ -92,6 +92,12 @@
 //! format and Blosc `.bgeo.sc` are errors that say so. It stores 32-bit floats: a coordinate
 //! or real beyond their range is an error on writing, others are rounded.
 //!
+//! **CSV in parts.** [`read_csv_header`] reads a CSV file's header once; each process then
+//! reads the lines that start in its byte range ([`CsvHeader::read_chunk`]) and, numbered by
+//! the counts of the parts before it, parses them as a whole-file read does
+//! ([`CsvChunk::parse`]: the same values, the same errors with the same line and particle).
+//! The MPI driver reads its input so.
+//!
 //! # Attributes
 //!
 //! [`read_particle_file`] also returns the input's other per-particle values as

@@ -1,5 +1,6 @@
-//! The MPI-free parts of the `boundary-mpi` driver: the geometry of the halo exchange and the
-//! reassembly of labels in input order. The binary (`src/main.rs`) moves the data between
+//! The MPI-free parts of the `boundary-mpi` driver: the parallel decomposition
+//! ([`parallel_rcb_owners`], [`parallel_morton_owners`] over a [`Reduce`]), the geometry of
+//! the halo exchange and the reassembly of labels in input order. The binary (`src/main.rs`) moves the data between
 //! ranks; everything it decides is here, so that it is tested without `mpirun`.
 //!
 //! The exchange follows the classic two-step halo of particle codes. Each rank publishes the

@@ -558,15 +558,15 @@ impl Run<'_> {
                 Decomposition::Morton => parallel_morton_owners(&reduce, points, &index, size, w),
             };
             stats.seconds[1] = self.clock.lap();
-            let moved = self.exchange(points, &index, &owner)?;
-            stats.seconds[2] = self.clock.lap();
-            moved
+            self.exchange(points, &index, &owner)?
         } else {
             index.into_iter().zip(points.iter().copied()).collect()
         };
         drop(set);
         pairs.sort_unstable_by_key(|&(i, _)| i);
         let (owned_index, owned): (Vec<u64>, Vec<Point<D>>) = pairs.into_iter().unzip();
+        // The exchange phase ends with the owned particles in global-index order.
+        stats.seconds[2] = self.clock.lap();
         stats.owned = owned.len() as u64;
 
         // Halo exchange.
@@ -743,11 +743,10 @@ impl Run<'_> {
     ) -> Result<Vec<(u64, Point<D>)>, Failure> {
         let world = self.world;
         let size = world.size() as usize;
-        let mut buckets: Vec<Vec<usize>> = vec![Vec::new(); size];
-        for (k, &o) in owner.iter().enumerate() {
-            buckets[o].push(k);
+        let mut send_counts = vec![0usize; size];
+        for &o in owner {
+            send_counts[o] += 1;
         }
-        let send_counts: Vec<usize> = buckets.iter().map(Vec::len).collect();
         let send_counts64: Vec<u64> = send_counts.iter().map(|&c| c as u64).collect();
         let mut recv_counts64 = vec![0u64; size];
         world.all_to_all_into(&send_counts64[..], &mut recv_counts64[..]);
@@ -761,13 +760,18 @@ impl Run<'_> {
             ))
         });
         let ((scc, scd), (sic, sid), (rcc, rcd), (ric, rid)) = agree(world, layouts)?;
-        let send_coords: Vec<f64> = buckets
-            .iter()
-            .flatten()
-            .flat_map(|&k| points[k].iter().copied())
-            .collect();
-        let send_index: Vec<u64> = buckets.iter().flatten().map(|&k| index[k]).collect();
-        drop(buckets);
+        // The send buffers in owner order (a counting sort, stable in the local order).
+        let mut next: Vec<usize> = sid.iter().map(|&d| d as usize).collect();
+        let mut send_coords = vec![0.0f64; points.len() * D];
+        let mut send_index = vec![0u64; points.len()];
+        for ((p, &i), &o) in points.iter().zip(index).zip(owner) {
+            let at = next[o];
+            next[o] += 1;
+            send_index[at] = i;
+            for k in 0..D {
+                send_coords[at * D + k] = p[k];
+            }
+        }
         let total: usize = recv_counts.iter().sum();
         let mut recv_coords = vec![0.0f64; total * D];
         let mut recv_index = vec![0u64; total];
@@ -799,6 +803,14 @@ impl Run<'_> {
     {
         let world = self.world;
         let size = world.size() as usize;
+        if size == 1 {
+            // The owned particles are the set in input order.
+            let result = labels_in_input_order(n, owned_index, labels).and_then(|ordered| {
+                let set = ParticleSet::new(owned.to_vec()).map_err(|e| e.to_string())?;
+                Ok((ordered, set))
+            });
+            return agree(world, result).map(Some);
+        }
         let root = world.process_at_rank(0);
         let count = owned.len() as u64;
         let coords = flatten(owned);
