@@ -638,7 +638,7 @@ mod tests {
     #[test]
     fn selection_finds_every_rank_of_the_sorted_keys() {
         let keys: Vec<u128> = (0..300u128)
-            .map(|k| (k * 2_654_435_761 % 1009) << 70 | k)
+            .map(|k| ((k * 2_654_435_761 % 1009) << 70) | k)
             .collect();
         let mut sorted = keys.clone();
         sorted.sort_unstable();
@@ -647,12 +647,18 @@ mod tests {
         let want: Vec<u128> = (0..300).step_by(7).map(|t| sorted[t]).collect();
         assert_eq!(got, want);
         // Equal high halves (one coordinate): the order is the index's.
-        let same: Vec<u128> = (0..50u128).rev().map(|k| 77u128 << 64 | k * 3).collect();
+        let same: Vec<u128> = (0..50u128)
+            .rev()
+            .map(|k| (77u128 << 64) | (k * 3))
+            .collect();
         let got = select(
             &Solo,
             vec![(same.clone(), 0), (same.clone(), 49), (same, 20)],
         );
-        assert_eq!(got, [77u128 << 64, 77u128 << 64 | 147, 77u128 << 64 | 60]);
+        assert_eq!(
+            got,
+            [77u128 << 64, (77u128 << 64) | 147, (77u128 << 64) | 60]
+        );
         // One key.
         assert_eq!(select(&Solo, vec![(vec![5u128], 0)]), [5]);
     }
