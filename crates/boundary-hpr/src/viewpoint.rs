@@ -7,7 +7,7 @@
 //! *Adjacent* means the `3^D − 1` cells sharing a face, an edge or a corner.
 
 use boundary_core::{NeighbourGrid, ParticleSet, Point};
-use rustc_hash::{FxHashMap, FxHashSet};
+use rayon::prelude::*;
 
 /// Fraction of `r` within which a particle disqualifies a cavity viewpoint: the thesis
 /// shrinks the ball `B_r(V_i)` by 0.95 "due to the non-uniform particle distribution"
@@ -98,66 +98,91 @@ pub fn place_viewpoints<const D: usize>(
 ) -> Vec<Viewpoint<D>> {
     let cell = 2.0 * r;
     let eps = CELL_TOLERANCE * r;
-    let mut full: FxHashMap<[i64; D], Vec<u32>> = FxHashMap::default();
-    let mut near: Vec<[i64; D]> = Vec::with_capacity(1 << D);
-    for (i, p) in set.positions().iter().enumerate() {
-        // The cell of p, and the cells whose closure lies within eps of p (p within eps of
-        // a face, edge or corner): all of them are full.
-        let c = cell_of(p, cell, shift);
-        near.clear();
-        near.push(c);
-        for k in 0..D {
-            let offset = (p[k] - shift) - c[k] as f64 * cell;
-            let step = if offset <= eps {
-                -1
-            } else if cell - offset <= eps {
-                1
-            } else {
-                continue;
-            };
-            for m in 0..near.len() {
-                let mut n = near[m];
-                n[k] += step;
-                near.push(n);
+    // Every (full cell, particle) pair, sorted by cell then particle: the particles of a full
+    // cell are one run. Built and sorted in parallel (no serial pass over the particles).
+    let mut pairs: Vec<([i64; D], u32)> = set
+        .positions()
+        .par_iter()
+        .enumerate()
+        .flat_map_iter(|(i, p)| {
+            // The cell of p, and the cells whose closure lies within eps of p (p within eps
+            // of a face, edge or corner): all of them are full.
+            let c = cell_of(p, cell, shift);
+            let mut near = [c; 8];
+            let mut len = 1;
+            for k in 0..D {
+                let offset = (p[k] - shift) - c[k] as f64 * cell;
+                let step = if offset <= eps {
+                    -1
+                } else if cell - offset <= eps {
+                    1
+                } else {
+                    continue;
+                };
+                for m in 0..len {
+                    near[len + m] = near[m];
+                    near[len + m][k] += step;
+                }
+                len *= 2;
             }
-        }
-        for n in &near {
-            full.entry(*n).or_default().push(i as u32);
-        }
-    }
-    let mut empty_adjacent: FxHashSet<[i64; D]> = FxHashSet::default();
-    let mut cavity_cells: Vec<[i64; D]> = Vec::new();
-    for c in full.keys() {
-        let mut all_full = true;
-        for_each_adjacent(c, |n| {
-            if !full.contains_key(&n) {
-                all_full = false;
-                empty_adjacent.insert(n);
-            }
-        });
-        if all_full {
-            cavity_cells.push(*c);
-        }
-    }
-    let mut empty: Vec<[i64; D]> = empty_adjacent.into_iter().collect();
-    empty.sort_unstable();
+            near.into_iter().take(len).map(move |n| (n, i as u32))
+        })
+        .collect();
+    pairs.par_sort_unstable();
+    // The full cells (sorted, distinct) and where each one's run of particles starts.
+    let starts: Vec<usize> = (0..pairs.len())
+        .into_par_iter()
+        .filter(|&k| k == 0 || pairs[k - 1].0 != pairs[k].0)
+        .collect();
+    let full: Vec<[i64; D]> = starts.par_iter().map(|&k| pairs[k].0).collect();
+    let is_full = |n: &[i64; D]| full.binary_search(n).is_ok();
+    // Per full cell: its empty adjacent cells, and whether it is a cavity cell (every
+    // adjacent cell full).
+    let (mut empty, cavity_cells): (Vec<[i64; D]>, Vec<usize>) = full
+        .par_iter()
+        .enumerate()
+        .fold(
+            || (Vec::new(), Vec::new()),
+            |(mut empty, mut cavities), (k, c)| {
+                let before = empty.len();
+                for_each_adjacent(c, |n| {
+                    if !is_full(&n) {
+                        empty.push(n);
+                    }
+                });
+                if empty.len() == before {
+                    cavities.push(k);
+                }
+                (empty, cavities)
+            },
+        )
+        .reduce(
+            || (Vec::new(), Vec::new()),
+            |(mut e, mut c), (e2, c2)| {
+                e.extend(e2);
+                c.extend(c2);
+                (e, c)
+            },
+        );
+    empty.par_sort_unstable();
+    empty.dedup();
     let mut out: Vec<Viewpoint<D>> = empty
-        .iter()
+        .par_iter()
         .map(|c| Viewpoint {
             at: Point::<D>::from_fn(|k, _| (c[k] as f64 + 0.5) * cell + shift),
             kind: ViewpointKind::EmptyCell,
         })
         .collect();
     if cavity {
-        let mut members: Vec<u32> = cavity_cells
-            .iter()
-            .flat_map(|c| full[c].iter().copied())
-            .collect();
-        members.sort_unstable();
+        let run = |k: usize| {
+            let end = starts.get(k + 1).copied().unwrap_or(pairs.len());
+            pairs[starts[k]..end].iter().map(|&(_, i)| i)
+        };
+        let mut members: Vec<u32> = cavity_cells.par_iter().flat_map_iter(|&k| run(k)).collect();
+        members.par_sort_unstable();
         members.dedup();
         let positions = set.positions();
         let found: Vec<Point<D>> = {
-            use rayon::prelude::*;
             members
                 .par_iter()
                 .filter_map(|&i| {

@@ -74,8 +74,9 @@ struct Args {
     #[arg(long, value_name = "DIR", requires = "benchmarks")]
     benchmark_pictures: Option<PathBuf>,
     /// Skip the sequence tier (the incremental tracker against full detections over 12 time
-    /// steps of an advected sphere; on by default, about 10 s; with --scale also the 10^6
-    /// sphere at 0.01 spacing per step).
+    /// steps of an advected sphere, and a second tracker on --threads for its thread
+    /// speed-up; on by default, about 15 s; with --scale also the 10^6 sphere at 0.01 spacing
+    /// per step).
     #[arg(long)]
     no_sequence: bool,
     /// Sequence tier: particles of the sphere.
@@ -233,12 +234,17 @@ fn real_main() -> Result<(), String> {
                 ),
             );
         };
-        sequence_points =
-            sequence::run_sequence(args.sequence_n, &sequence::DISPLACEMENTS, &mut seq_progress)?;
+        sequence_points = sequence::run_sequence(
+            args.sequence_n,
+            &sequence::DISPLACEMENTS,
+            args.threads,
+            &mut seq_progress,
+        )?;
         if scale_asked {
             sequence_points.extend(sequence::run_sequence(
                 1_000_000,
                 &[0.01],
+                args.threads,
                 &mut seq_progress,
             )?);
         }

@@ -4,8 +4,9 @@
 //! 12 steps after its first frame at each displacement of the fastest particle per step
 //! (units of the spacing `h`), one thread: per displacement the time of the full detections,
 //! the time of the tracker's updates (first update excluded), their ratio and the particles
-//! recomputed per step. Every update's labels are checked against the full detection (a
-//! difference is an error). Written as `sequence.csv`, a section of `report.md` and the plot
+//! recomputed per step. A second tracker runs the same steps on the sweep's threads, for the
+//! updates' 1-to-N-thread speed-up. Every update's labels, of both trackers, are checked
+//! against the full detection (a difference is an error). Written as `sequence.csv`, a section of `report.md` and the plot
 //! `sequence.svg` (ratio against displacement).
 
 use boundary::{BoundaryDetector, Domain, ExactDetector, Radius, Tracker};
@@ -31,8 +32,11 @@ pub struct SequencePoint {
     pub displacement: f64,
     /// Seconds of the full detections of steps 1..=12.
     pub full_seconds: f64,
-    /// Seconds of the tracker's updates of steps 1..=12.
+    /// Seconds of the tracker's updates of steps 1..=12, one thread.
     pub tracker_seconds: f64,
+    /// Threads of the second tracker, and the seconds of its updates of steps 1..=12 (`None`
+    /// where the sweep has one thread only).
+    pub parallel: Option<(usize, f64)>,
     /// Particles the tracker recomputed at each step 0..=12 (all of them at step 0).
     pub recomputed: Vec<usize>,
 }
@@ -42,25 +46,43 @@ impl SequencePoint {
     pub fn ratio(&self) -> f64 {
         self.full_seconds / self.tracker_seconds.max(f64::MIN_POSITIVE)
     }
+
+    /// The tracker's speed-up from one thread to [`SequencePoint::parallel`]'s threads.
+    pub fn thread_speedup(&self) -> Option<f64> {
+        self.parallel
+            .map(|(_, seconds)| self.tracker_seconds / seconds.max(f64::MIN_POSITIVE))
+    }
 }
 
-/// Runs the sphere of about `n` particles at each of `displacements`, one thread.
+/// Runs the sphere of about `n` particles at each of `displacements`: the full detections
+/// and a tracker on one thread, and a second tracker on `threads` threads (0: every core; no
+/// second tracker where that is one).
 pub fn run_sequence(
     n: usize,
     displacements: &[f64],
+    threads: usize,
     progress: &mut dyn FnMut(&str),
 ) -> Result<Vec<SequencePoint>, String> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
         .map_err(|e| format!("sequence tier: {e}"))?;
+    let threads = match threads {
+        0 => std::thread::available_parallelism().map_or(1, usize::from),
+        t => t,
+    };
     let mut points = Vec::new();
     for &d in displacements {
         progress(&format!("sequence: {n} particles, {d} spacing per step"));
         let (frames, h) = boundary_scenes::enright_sequence(n, d, STEPS);
         let r = Radius::new(1.5 * h).map_err(|e| e.to_string())?;
         let mut tracker = Tracker::new(r, Some(1), Domain::new()).map_err(|e| e.to_string())?;
+        let mut parallel = match threads {
+            1 => None,
+            t => Some(Tracker::new(r, Some(t), Domain::new()).map_err(|e| e.to_string())?),
+        };
         let (mut full_seconds, mut tracker_seconds, mut recomputed) = (0.0, 0.0, vec![]);
+        let mut parallel_seconds = 0.0;
         for (step, frame) in frames.iter().enumerate() {
             let set = frame.to_any();
             let start = Instant::now();
@@ -71,15 +93,28 @@ pub fn run_sequence(
             let start = Instant::now();
             let labels = tracker.update(&set).map_err(|e| e.to_string())?;
             let tracker_time = start.elapsed().as_secs_f64();
+            let differ = |threads: usize| {
+                format!(
+                    "sequence tier: the tracker's labels ({threads} threads) differ from exact \
+                     at step {step} ({d} spacing per step)"
+                )
+            };
             if *labels != full.labels {
-                return Err(format!(
-                    "sequence tier: the tracker's labels differ from exact at step {step} \
-                     ({d} spacing per step)"
-                ));
+                return Err(differ(1));
+            }
+            let mut parallel_time = 0.0;
+            if let Some(tracker) = parallel.as_mut() {
+                let start = Instant::now();
+                let labels = tracker.update(&set).map_err(|e| e.to_string())?;
+                parallel_time = start.elapsed().as_secs_f64();
+                if *labels != full.labels {
+                    return Err(differ(threads));
+                }
             }
             if step > 0 {
                 full_seconds += full_time;
                 tracker_seconds += tracker_time;
+                parallel_seconds += parallel_time;
             }
             recomputed.push(tracker.recomputed());
         }
@@ -88,6 +123,7 @@ pub fn run_sequence(
             displacement: d,
             full_seconds,
             tracker_seconds,
+            parallel: parallel.map(|_| (threads, parallel_seconds)),
             recomputed,
         });
     }
@@ -96,12 +132,18 @@ pub fn run_sequence(
 
 /// `sequence.csv`: one row per point, the recomputed counts `;`-separated.
 pub fn sequence_csv(points: &[SequencePoint]) -> String {
-    let mut text =
-        String::from("n,displacement,full_seconds,tracker_seconds,ratio,recomputed_per_step\n");
+    let mut text = String::from(
+        "n,displacement,full_seconds,tracker_seconds,ratio,threads,tracker_seconds_threads,\
+         thread_speedup,recomputed_per_step\n",
+    );
     for p in points {
         let counts: Vec<String> = p.recomputed.iter().map(|c| c.to_string()).collect();
+        let (threads, seconds, speedup) = match (p.parallel, p.thread_speedup()) {
+            (Some((t, s)), Some(x)) => (t.to_string(), format!("{s:.6}"), format!("{x:.3}")),
+            _ => ("1".into(), String::new(), String::new()),
+        };
         text += &format!(
-            "{},{},{:.6},{:.6},{:.3},{}\n",
+            "{},{},{:.6},{:.6},{:.3},{threads},{seconds},{speedup},{}\n",
             p.n,
             p.displacement,
             p.full_seconds,
@@ -119,15 +161,21 @@ pub fn sequence_md(points: &[SequencePoint]) -> String {
         "\n## Time steps: the incremental tracker\n\nThe Enright-advected jittered sphere \
          (r = 1.5h), 12 steps after its first frame, one thread: full `exact` detections \
          against `boundary::Tracker` updates (identical labels, checked at every step; first \
-         update excluded). Displacement: the fastest particle's, per step, in spacings.\n\n\
-         | n | displacement | full (s) | tracker (s) | ratio | recomputed per step (mean of steps 1-12) |\n\
-         |---|---|---|---|---|---|\n",
+         update excluded). Displacement: the fastest particle's, per step, in spacings. The \
+         last two columns: a second tracker on the sweep's N threads over the same steps, and \
+         its speed-up over the one-thread tracker.\n\n\
+         | n | displacement | full (s) | tracker (s) | ratio | recomputed per step (mean of steps 1-12) | tracker, N threads (s) | speed-up |\n\
+         |---|---|---|---|---|---|---|---|\n",
     );
     for p in points {
         let later = &p.recomputed[1.min(p.recomputed.len())..];
         let mean = later.iter().sum::<usize>() as f64 / later.len().max(1) as f64;
+        let (parallel, speedup) = match (p.parallel, p.thread_speedup()) {
+            (Some((t, s)), Some(x)) => (format!("{s:.3} (N = {t})"), format!("{x:.2}")),
+            _ => ("-".into(), "-".into()),
+        };
         text += &format!(
-            "| {} | {} | {:.3} | {:.3} | {:.2} | {:.0} ({:.1}%) |\n",
+            "| {} | {} | {:.3} | {:.3} | {:.2} | {:.0} ({:.1}%) | {parallel} | {speedup} |\n",
             p.n,
             p.displacement,
             p.full_seconds,
@@ -206,13 +254,25 @@ mod tests {
 
     #[test]
     fn a_small_sequence_runs_checks_and_reports() {
-        let points = run_sequence(2_000, &[0.01, 0.5], &mut |_| {}).unwrap();
+        let points = run_sequence(2_000, &[0.01, 0.5], 2, &mut |_| {}).unwrap();
         assert_eq!(points.len(), 2);
         for p in &points {
             assert_eq!(p.recomputed.len(), STEPS + 1);
             assert_eq!(p.recomputed[0], p.n);
             assert!(p.full_seconds > 0.0 && p.tracker_seconds > 0.0);
+            let (threads, seconds) = p.parallel.unwrap();
+            assert_eq!(threads, 2);
+            assert!(seconds > 0.0 && p.thread_speedup().unwrap() > 0.0);
         }
+        // One thread asked: no second tracker, and the report says so.
+        let single = run_sequence(2_000, &[0.01], 1, &mut |_| {}).unwrap();
+        assert_eq!(single[0].parallel, None);
+        assert!(sequence_md(&single).contains("| - | - |"));
+        assert!(sequence_csv(&single)
+            .lines()
+            .nth(1)
+            .unwrap()
+            .contains(",1,,,"));
         // Small steps recompute far fewer particles than large ones.
         let total = |p: &SequencePoint| p.recomputed[1..].iter().sum::<usize>();
         assert!(total(&points[0]) * 4 < total(&points[1]));
