@@ -88,7 +88,8 @@ pub(crate) fn interior_reach<const D: usize>(
     for &(d2, _, j) in near {
         // a = 2q/|q|² = (p_j − p_i)·2r/|p_j − p_i|², from the squared distance in hand.
         let d2 = f64::from_bits(d2);
-        if !(d2 >= min_d2) {
+        // (A NaN cannot arise: the coordinates are finite.)
+        if d2 < min_d2 {
             continue;
         }
         let f = 2.0 * r / d2;
@@ -142,7 +143,7 @@ pub(crate) fn interior_reach<const D: usize>(
             (e[1] * a[0] - e[0] * a[1], e[0] * e[0] + e[1] * e[1])
         };
         let low = det - DET_SLACK;
-        if !(low > 0.0) {
+        if low.is_nan() || low <= 0.0 {
             return None;
         }
         t = t.min(low * low / (mm + NORM_SLACK));
@@ -288,7 +289,7 @@ mod tests {
                     assert!(
                         exact <= rat(reach) * rat(reach),
                         "trial {trial}: exact reach² {} above {}",
-                        exact.to_string(),
+                        exact,
                         reach * reach
                     );
                 }
