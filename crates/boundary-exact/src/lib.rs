@@ -44,6 +44,19 @@
 //! (neighbouring particles one after another: their queries share cached cells); each particle
 //! is independent, so the labels do not depend on the number of threads.
 //!
+//! *The interior filter.* Before any cell is clipped, a particle at a uniform radius without
+//! solids tries a cheaper proof (module `interior`, with the proof and its rounding bound):
+//! each neighbour within `1.1r` (and at least `r/2` away) bounds the cell by `a·x <= 1`
+//! with `a = 2q/|q|²`; the six points `a` reaching farthest along `±x, ±y, ±z`, joined as the
+//! eight triangles of an octahedron (four edges of a diamond in 2D), give a lower bound `g`
+//! of `min_{|e|=1} max a·e` when the origin lies strictly inside each triangle's plane (the
+//! smallest distance of those planes), and then the cell reaches at most `1/g`. A bound of at
+//! most `1 − 2·INTERIOR_BAND`, with every rounding accounted for, makes the particle interior
+//! with that bound as its margin (an upper bound, like every margin below
+//! `−INTERIOR_BAND·r`). The filter never answers "boundary"; every other particle takes the
+//! path below unchanged. On the jittered ball (`r = 1.2a`) it decides about nine interior
+//! particles in ten.
+//!
 //! *Speed, same result.* Neighbours are gathered in two stages: those within `1.1r` first,
 //! whose nearest-first order is a prefix of the full order; every other neighbour has a
 //! bisector offset of at least `0.55(1 − 1e-9)` (units of `r`), so a cell that lies within that
@@ -294,6 +307,7 @@
 
 mod cell;
 pub mod exact_cover;
+mod interior;
 mod mesh;
 mod power;
 pub mod tracker;
@@ -613,6 +627,11 @@ where
             scratch.near.clear();
             grid.gather_within(&p, FIRST_REACH * r, &mut scratch.near, key);
             scratch.near.retain(|x| x.0 != 0);
+            // Most particles of a bulk are settled here, before any cell is clipped (crate
+            // docs, "The interior filter").
+            if let Some(reach) = interior::interior_reach(&p, sorted_positions, r, &scratch.near) {
+                return ((reach - 1.0) * r, false, false);
+            }
             scratch.beyond = 0.5 * FIRST_REACH * (1.0 - 1e-9);
             let gather_all = |near: &mut Vec<Near>| {
                 near.clear();
@@ -1218,36 +1237,86 @@ mod tests {
         ParticleSet::new(points).unwrap()
     }
 
-    fn bits(v: &[f64]) -> Vec<u64> {
-        v.iter().map(|x| x.to_bits()).collect()
+    /// Compares a detection's margins with the reference path's: bit for bit, except where
+    /// the interior filter decided (both margins below `−INTERIOR_BAND·r` then, and the
+    /// filter's reach bounds the final float cell's, which `full` gives: every neighbour
+    /// clipped, no settling). Returns how many particles the filter decided.
+    fn compare_with_reference(got: &[f64], reference: &[f64], full: &[f64], r: f64) -> usize {
+        let mut filtered = 0;
+        for (i, ((&g, &m), &f)) in got.iter().zip(reference).zip(full).enumerate() {
+            if g.to_bits() == m.to_bits() {
+                continue;
+            }
+            filtered += 1;
+            assert!(g <= -INTERIOR_BAND * r, "{i}: {g} vs {m}");
+            assert!(m <= -INTERIOR_BAND * r, "{i}: {g} vs {m}");
+            assert!(f <= g + 1e-12 * r, "{i}: {g} below the full cell's {f}");
+        }
+        filtered
     }
 
-    // The fast cell, the staged gathering (neighbours within FIRST_REACH·r first) and the
-    // traversal in grid order change no bit of any margin: at radii where the first stage
-    // settles most interior cells (1.2 spacings), where it often does not (0.9: most cells
-    // gather the rest), and on dense neighbourhoods (2.1).
+    /// Margins of particles `0..n` of the full float cell: every neighbour within 2r clipped.
+    fn full_cell_margins<const D: usize, C: ConvexCell<D> + Default>(
+        set: &ParticleSet<D>,
+        r: f64,
+    ) -> Vec<f64> {
+        let positions = set.positions();
+        let reach2 = (2.0 * r * (1.0 + NEAR_SLACK)).powi(2);
+        let mut cell = C::default();
+        positions
+            .iter()
+            .map(|p| {
+                let mut list: Vec<Near> = positions
+                    .iter()
+                    .enumerate()
+                    .map(|(j, q)| ((q - p).norm_squared(), j))
+                    .filter(|&(d2, _)| d2 > 0.0 && d2 <= reach2)
+                    .map(|(d2, j)| (d2.to_bits(), j as u32, j as u32))
+                    .collect();
+                let mut beyond = f64::INFINITY;
+                let near = Neighbours {
+                    list: &mut list,
+                    beyond: &mut beyond,
+                    gather_all: &|_| {},
+                };
+                cell_margin(p, positions, r, near, &mut cell, false, false).margin * r
+            })
+            .collect()
+    }
+
+    // The interior filter, the fast cell, the staged gathering (neighbours within
+    // FIRST_REACH·r first) and the traversal in grid order change no bit of any margin the
+    // filter does not decide, and the filter decides only particles deep inside: at radii
+    // where the first stage settles most interior cells (1.2 spacings), where it often does
+    // not (0.9: most cells gather the rest), and on dense neighbourhoods (2.1).
     #[test]
     fn detection_margins_equal_the_full_list_polyhedron_margins_bit_for_bit() {
         let set = jittered_lattice::<3>(11, 0.3, 1);
+        let mut filtered = 0;
         for r in [0.9, 1.2, 2.1] {
             let d = ExactDetector::default()
                 .detect_3d(&set, Radius::new(r).unwrap())
                 .unwrap();
             let reference = reference_margins::<3, Polyhedron>(&set, r);
-            assert_eq!(bits(&d.margin.unwrap()), bits(&reference), "r = {r}");
+            let full = full_cell_margins::<3, Polyhedron>(&set, r);
+            filtered += compare_with_reference(&d.margin.unwrap(), &reference, &full, r);
         }
+        assert!(filtered > 100, "{filtered}");
     }
 
     #[test]
     fn detection_margins_in_2d_equal_the_full_list_polygon_margins_bit_for_bit() {
         let set = jittered_lattice::<2>(40, 0.3, 2);
+        let mut filtered = 0;
         for r in [0.6, 0.9, 2.1] {
             let d = ExactDetector::default()
                 .detect_2d(&set, Radius::new(r).unwrap())
                 .unwrap();
             let reference = reference_margins::<2, Polygon>(&set, r);
-            assert_eq!(bits(&d.margin.unwrap()), bits(&reference), "r = {r}");
+            let full = full_cell_margins::<2, Polygon>(&set, r);
+            filtered += compare_with_reference(&d.margin.unwrap(), &reference, &full, r);
         }
+        assert!(filtered > 100, "{filtered}");
     }
 
     #[test]
