@@ -61,14 +61,21 @@
 //! flow that is the velocity gradient times the distance, far below the displacement itself.
 //! (The cap `m_i` keeps the members of `J` off `p_i`.)
 //!
-//! *Bookkeeping.* Per particle, the sum over the steps since its evaluation of the step's
-//! `max |Δq_j|` over the neighbours it watches (`J`, or `W`; triangle inequality), against its
-//! budget; per boundary particle also its own displacement since the evaluation plus the sum
-//! of each step's largest displacement (fluid and walls), which bounds `sup_j |Δp_j|`,
-//! against the far budget. A particle is recomputed when either reaches its budget.
+//! *Bookkeeping.* Per particle, the offsets `q_j` of the neighbours it watches (`J`, or `W`)
+//! at its evaluation, and a bound on `max_j |Δq_j|` since then, against its budget; per
+//! boundary particle also its own displacement since the evaluation plus the running sum of
+//! each step's largest displacement (fluid and walls), which bounds `sup_j |Δp_j|`, against
+//! the far budget. A particle is recomputed when either reaches its budget. The neighbours are
+//! read only when the bound might have reached the budget: in one step every `|Δq_j|` grows
+//! by at most twice that step's largest displacement, so the bound proven at the last check
+//! plus twice the running sum's growth since bounds it now; while that stays below the
+//! budget nothing is read, otherwise `max_j |q_j(now) − q_j(eval)|` is measured (a new bound,
+//! from the current positions).
 //!
 //! *Rounding.* Every quantity compared above carries a relative rounding error of a few `u`
 //! (`u = 2^-53`): distances, the running sum (rounded up at each step), the budgets' formula.
+//! A measured `|q_j(now) − q_j(eval)|` also gains `64u·(r + |Δq_j|)` for the rounding of the
+//! offsets (each within `2.5r` of the particle at its evaluation).
 //! Budgets are shrunk by the factor `1 − 1e-9` and movements grown by `1 + 1e-9`, and the
 //! witness loses `1e-12·r + 1e-14·|p_i|_∞` for the rounding of `x` itself (its distance from
 //! `S_i` is below `4u·(r + √D·|p_i|_∞)`). Particles whose float cell does not decide within
@@ -179,38 +186,42 @@ const EVALUATION_PIECE: usize = 16;
 /// `list[start[i] .. start[i] + len[i]]`. An evaluation appends its particle's neighbours at
 /// the end (no allocation per particle); the list is compacted, in particle order, when most
 /// of it is no longer watched.
-#[derive(Default)]
-struct Watched {
+struct Watched<const D: usize> {
     start: Vec<usize>,
     len: Vec<u32>,
     list: Vec<u32>,
+    /// Per entry of `list`: the neighbour's offset from the particle at the particle's
+    /// evaluation, `p_j − p_i`.
+    offsets: Vec<Point<D>>,
     /// How many entries of `list` are watched.
     live: usize,
 }
 
-impl Watched {
+impl<const D: usize> Watched<D> {
     /// `count` particles watching nothing.
-    fn new(count: usize) -> Watched {
+    fn new(count: usize) -> Watched<D> {
         Watched {
             start: vec![0; count],
             len: vec![0; count],
             list: Vec::new(),
+            offsets: Vec::new(),
             live: 0,
         }
     }
 
-    /// The neighbours particle `i` watches.
-    fn of(&self, i: usize) -> &[u32] {
-        let start = self.start[i];
-        &self.list[start..start + self.len[i] as usize]
+    /// The neighbours particle `i` watches, and their offsets at its evaluation.
+    fn of(&self, i: usize) -> (&[u32], &[Point<D>]) {
+        let range = self.start[i]..self.start[i] + self.len[i] as usize;
+        (&self.list[range.clone()], &self.offsets[range])
     }
 
-    /// Particle `i` now watches `neighbours`.
-    fn set(&mut self, i: usize, neighbours: &[u32]) {
+    /// Particle `i` now watches `neighbours`, at `offsets` from it.
+    fn set(&mut self, i: usize, neighbours: &[u32], offsets: impl Iterator<Item = Point<D>>) {
         self.live = self.live + neighbours.len() - self.len[i] as usize;
         self.start[i] = self.list.len();
         self.len[i] = neighbours.len() as u32;
         self.list.extend_from_slice(neighbours);
+        self.offsets.extend(offsets.take(neighbours.len()));
     }
 
     /// No particle watches anything.
@@ -218,6 +229,7 @@ impl Watched {
         self.len.iter_mut().for_each(|n| *n = 0);
         self.start.iter_mut().for_each(|s| *s = 0);
         self.list.clear();
+        self.offsets.clear();
         self.live = 0;
     }
 
@@ -227,12 +239,15 @@ impl Watched {
             return;
         }
         let mut list = Vec::with_capacity(2 * self.live);
+        let mut offsets = Vec::with_capacity(2 * self.live);
         for (start, &len) in self.start.iter_mut().zip(&self.len) {
-            let from = *start;
+            let range = *start..*start + len as usize;
             *start = list.len();
-            list.extend_from_slice(&self.list[from..from + len as usize]);
+            list.extend_from_slice(&self.list[range.clone()]);
+            offsets.extend_from_slice(&self.offsets[range]);
         }
         self.list = list;
+        self.offsets = offsets;
     }
 }
 
@@ -314,11 +329,6 @@ struct Track<const D: usize> {
     /// Fluid (in slot order) then wall positions of the last update; each update overwrites
     /// them in place (the walls only when they moved).
     positions: Vec<Point<D>>,
-    /// Per particle (fluid in slot order, then walls): its movement at the last update. The
-    /// walls' entries are zero unless they moved at that update.
-    moves: Vec<Point<D>>,
-    /// Whether the walls' entries of `moves` are all zero.
-    walls_still: bool,
     /// Number of fluid (classified) particles.
     count: usize,
     /// Per slot: the particle's index in the caller's list at the last update.
@@ -332,10 +342,12 @@ struct Track<const D: usize> {
     /// Per particle, the neighbours its budget watches (slots of fluid particles, `count + w`
     /// for wall `w`): for an interior particle those whose cell proved it interior, for a
     /// boundary particle those near its witness point; empty when the budget is 0.
-    watched: Watched,
-    /// Per particle: the running sum of the steps' largest movement of a neighbour of
-    /// `watched` relative to the particle, rounded up (reset at each evaluation).
+    watched: Watched<D>,
+    /// Per particle: a bound on the largest movement of a neighbour of `watched` relative to
+    /// the particle since its evaluation, proven at its last check (0 at the evaluation).
     relative: Vec<f64>,
+    /// Per particle: the running sum `sum` at its last check (or evaluation).
+    sum_checked: Vec<f64>,
     /// Running sum of the steps' largest displacements, rounded up.
     sum: f64,
     labels: Vec<bool>,
@@ -711,8 +723,6 @@ impl<const D: usize> Track<D> {
                 .chain(walls.iter().copied())
                 .collect();
             let mut track = Track {
-                moves: vec![Point::<D>::zeros(); positions.len()],
-                walls_still: true,
                 eval: positions[..count].to_vec(),
                 positions,
                 count,
@@ -721,6 +731,7 @@ impl<const D: usize> Track<D> {
                 sum_eval: vec![0.0; count],
                 watched: Watched::new(count),
                 relative: vec![0.0; count],
+                sum_checked: vec![0.0; count],
                 sum: 0.0,
                 labels: vec![false; count],
                 stale: 0,
@@ -731,34 +742,27 @@ impl<const D: usize> Track<D> {
             track.evaluate::<C>(&all, r.get())?;
             return Ok((track, count));
         };
-        // This step's positions over the last update's, in slot order, and each particle's
-        // movement, in one pass; the largest movement, rounded up (module docs, "Rounding").
-        // Walls that were not moved since the last update are where `positions` has them:
-        // their movement is zero, not computed.
+        // This step's positions over the last update's, in slot order, and the largest
+        // movement, in one pass, rounded up (module docs, "Rounding"). Walls that were not
+        // moved since the last update are where `positions` has them: their movement is zero,
+        // not computed.
         let (fluid_now, walls_now) = track.positions.split_at_mut(count);
-        let (fluid_moves, wall_moves) = track.moves.split_at_mut(count);
         let mut largest = fluid_now
             .par_iter_mut()
-            .zip(fluid_moves)
             .zip(&track.input_of_slot)
             .with_min_len(PASS_PIECE)
-            .map(|((p, m), &k)| {
+            .map(|(p, &k)| {
                 let now = fluid[k as usize];
-                *m = now - *p;
+                let moved = (now - *p).norm_squared();
                 *p = now;
-                m.norm_squared()
+                moved
             })
             .reduce(|| 0.0, f64::max);
         if walls_moved {
-            for ((p, m), now) in walls_now.iter_mut().zip(wall_moves.iter_mut()).zip(walls) {
-                *m = now - *p;
+            for (p, now) in walls_now.iter_mut().zip(walls) {
+                largest = largest.max((now - *p).norm_squared());
                 *p = *now;
-                largest = largest.max(m.norm_squared());
             }
-            track.walls_still = false;
-        } else if !track.walls_still {
-            wall_moves.fill(Point::<D>::zeros());
-            track.walls_still = true;
         }
         // `sqrt` is correctly rounded and monotone: the largest norm, bit for bit.
         let step = largest.sqrt();
@@ -767,32 +771,17 @@ impl<const D: usize> Track<D> {
             track.stale -= 1;
             (track.stale == 0).then(|| (0..count).collect())
         } else {
-            // Every particle that watches neighbours (its cell's, or its witness's): the
-            // largest movement of one relative to it, `16u·step` for the rounding of the
-            // differences; then whether a budget is spent, in the same pass.
-            let slack = 16.0 * U * step;
-            let (sum, moves, watched) = (track.sum, &track.moves, &track.watched);
+            let (sum, watched, now) = (track.sum, &track.watched, &track.positions);
             let (budget, labels) = (&track.budget, &track.labels);
-            let (eval, sum_eval, now) = (&track.eval, &track.sum_eval, &track.positions);
+            let (eval, sum_eval) = (&track.eval, &track.sum_eval);
             let list: Vec<usize> = track
                 .relative
                 .par_iter_mut()
+                .zip(&mut track.sum_checked)
                 .enumerate()
                 .with_min_len(PASS_PIECE)
-                .filter_map(|(i, rel)| {
-                    let near = watched.of(i);
-                    if !near.is_empty() {
-                        let mi = moves[i];
-                        // The largest squared norm, then one square root (as above).
-                        let most = near
-                            .iter()
-                            .map(|&j| (moves[j as usize] - mi).norm_squared())
-                            .fold(0.0, f64::max)
-                            .sqrt();
-                        *rel = (*rel + (most * (1.0 + ROUNDING) + slack)) * (1.0 + 4.0 * U);
-                    }
-                    // The watched neighbours' movement relative to the particle.
-                    let spent = *rel * (1.0 + ROUNDING) >= budget[i]
+                .filter_map(|(i, (rel, checked))| {
+                    let spent = relative_spent(i, now, watched, rel, checked, sum, budget[i], r)
                         // Boundary: the particles away from the witness, by the movement of
                         // everything (module docs, "Boundary budget").
                         || labels[i] && {
@@ -893,8 +882,6 @@ impl<const D: usize> Track<D> {
         let mut now = positions(&self.positions);
         now.extend_from_slice(&self.positions[old_count..]);
         self.positions = now;
-        self.moves = vec![Point::<D>::zeros(); self.positions.len()];
-        self.walls_still = true;
         // Watched neighbours renumbered, in the new slot order. An interior certificate that
         // used a particle that left is revoked (evaluated again); a boundary particle's witness
         // only loses a particle that could have covered it, which is dropped from the list.
@@ -905,20 +892,26 @@ impl<const D: usize> Track<D> {
                 continue;
             }
             let slot = new_slot[s] as usize;
+            let (list, offsets) = self.watched.of(s);
             renumbered.clear();
-            renumbered.extend(self.watched.of(s).iter().map(|&j| index(j)));
-            let before = renumbered.len();
-            renumbered.retain(|&j| j != ADDED);
-            if renumbered.len() < before && !self.labels[s] {
+            renumbered.extend(
+                list.iter()
+                    .zip(offsets)
+                    .map(|(&j, q)| (index(j), *q))
+                    .filter(|(j, _)| *j != ADDED),
+            );
+            if renumbered.len() < list.len() && !self.labels[s] {
                 self.budget[s] = 0.0;
             } else {
-                watched.set(slot, &renumbered);
+                let (list, offsets): (Vec<u32>, Vec<Point<D>>) = renumbered.iter().copied().unzip();
+                watched.set(slot, &list, offsets.into_iter());
             }
         }
         self.watched = watched;
         self.budget = compact(&self.budget, 0.0);
         self.sum_eval = compact(&self.sum_eval, self.sum);
         self.relative = compact(&self.relative, 0.0);
+        self.sum_checked = compact(&self.sum_checked, self.sum);
         self.labels = (0..old_count)
             .filter(stay)
             .map(|s| self.labels[s])
@@ -1031,9 +1024,13 @@ impl<const D: usize> Track<D> {
                 let len = len as usize;
                 self.labels[i] = label;
                 self.budget[i] = budget;
-                self.watched.set(i, &watched[at..at + len]);
+                let neighbours = &watched[at..at + len];
+                let p = positions[i];
+                let offsets = neighbours.iter().map(|&j| positions[j as usize] - p);
+                self.watched.set(i, neighbours, offsets);
                 at += len;
                 self.relative[i] = 0.0;
+                self.sum_checked[i] = self.sum;
                 self.eval[i] = positions[i];
                 self.sum_eval[i] = self.sum;
             }
@@ -1143,6 +1140,47 @@ fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
     (true, budget * (1.0 - ROUNDING))
 }
 
+/// Whether particle `i`'s budget is spent by the movement of the neighbours it watches
+/// relative to it since its evaluation (module docs, "Bookkeeping"). `relative` bounds that
+/// movement as of the last check, when the running sum was `checked`: since then it grew by
+/// at most twice the sum's growth, and while that bound stays within the budget the
+/// neighbours are not read. Otherwise the movement is measured, from the offsets at the
+/// evaluation, and `relative` and `checked` are updated.
+#[allow(clippy::too_many_arguments)] // one particle's bookkeeping, called in the step's pass
+fn relative_spent<const D: usize>(
+    i: usize,
+    now: &[Point<D>],
+    watched: &Watched<D>,
+    relative: &mut f64,
+    checked: &mut f64,
+    sum: f64,
+    budget: f64,
+    r: Radius,
+) -> bool {
+    let (list, offsets) = watched.of(i);
+    if list.is_empty() {
+        // A budget of 0, or one that watches no neighbour.
+        return *relative * (1.0 + ROUNDING) >= budget;
+    }
+    let bound = (*relative + 2.0 * (sum - *checked) * (1.0 + ROUNDING)) * (1.0 + ROUNDING);
+    if bound < budget {
+        return false;
+    }
+    let p = now[i];
+    // The largest squared norm, then one square root: `sqrt` is correctly rounded and
+    // monotone, so this is the largest of the norms, bit for bit.
+    let most = list
+        .iter()
+        .zip(offsets)
+        .map(|(&j, q)| ((now[j as usize] - p) - q).norm_squared())
+        .fold(0.0, f64::max)
+        .sqrt();
+    // `64u·(r + most)` covers the rounding of the differences (module docs, "Rounding").
+    *relative = (most * (1.0 + ROUNDING) + 64.0 * U * (r.get() + most)) * (1.0 + ROUNDING);
+    *checked = sum;
+    *relative * (1.0 + ROUNDING) >= budget
+}
+
 /// What the witness point loses to its own rounding: its distance from `S_i` is below
 /// `4u·(r + √D·|p_i|_∞)` (module docs, "Rounding").
 fn witness_rounding<const D: usize>(p: &Point<D>, r: f64) -> f64 {
@@ -1155,4 +1193,60 @@ fn witness_rounding<const D: usize>(p: &Point<D>, r: f64) -> f64 {
 /// particle's position at its evaluation.
 fn far_budget<const D: usize>(eval: &Point<D>, r: f64) -> f64 {
     ((WITNESS_REACH - 1.0) * r - witness_rounding(eval, r)) * (1.0 - ROUNDING)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Lists replaced many times read back as last set, before and after compaction, which
+    /// keeps every list and drops the dead entries.
+    #[test]
+    fn watched_lists_survive_replacement_and_compaction() {
+        let count = 300;
+        let mut watched = Watched::<2>::new(count);
+        let list = |i: usize, round: u32| -> Vec<u32> {
+            (0..(i as u32 + round) % 7)
+                .map(|k| k * 1000 + i as u32 + round)
+                .collect()
+        };
+        let offset = |j: u32| Point::<2>::new(f64::from(j), -f64::from(j));
+        for round in 0..40 {
+            for i in (0..count).filter(|i| !(i + round as usize).is_multiple_of(3)) {
+                let l = list(i, round);
+                watched.set(i, &l, l.iter().map(|&j| offset(j)));
+            }
+        }
+        let expected = |i: usize| -> Vec<u32> {
+            let round = (0..40u32)
+                .rev()
+                .find(|r| !(i + *r as usize).is_multiple_of(3))
+                .unwrap();
+            list(i, round)
+        };
+        let check = |watched: &Watched<2>| {
+            for i in 0..count {
+                let (l, q) = watched.of(i);
+                assert_eq!(l, expected(i).as_slice(), "particle {i}");
+                assert!(
+                    l.iter().zip(q).all(|(&j, q)| *q == offset(j)),
+                    "particle {i}"
+                );
+            }
+        };
+        check(&watched);
+        let live: usize = (0..count).map(|i| expected(i).len()).sum();
+        assert_eq!(watched.live, live);
+        assert!(
+            watched.list.len() > 2 * live + 4096,
+            "{}",
+            watched.list.len()
+        );
+        watched.compact();
+        assert_eq!(watched.list.len(), live);
+        assert_eq!(watched.offsets.len(), live);
+        check(&watched);
+        watched.clear();
+        assert!((0..count).all(|i| watched.of(i).0.is_empty()));
+    }
 }
