@@ -10,8 +10,7 @@ mod resume;
 mod summary;
 
 use crate::common::{
-    detector_for, output_format, parse_format, parse_output_format, pool, read_options, InputArgs,
-    MethodArgs,
+    detector_for, output_format, parse_output_format, pool, read_options, InputArgs, MethodArgs,
 };
 use crate::domain::{DomainArgs, DomainSetup};
 use crate::error::CliError;
