@@ -77,6 +77,11 @@ pub(crate) struct InputArgs {
     /// Input format, when the extension does not say it.
     #[arg(long, value_parser = parse_format, value_name = "FMT")]
     pub(crate) format: Option<Format>,
+    /// The particle array of a PySPH input (.hdf5, .npz) to label (default: `fluid`, or the
+    /// file's only array); other formats hold no named arrays. `detect --wall-array` names
+    /// the walls beside it.
+    #[arg(long = "array", value_name = "NAME")]
+    pub(crate) array: Option<String>,
     /// Worker threads (default: all cores).
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
     pub(crate) threads: Option<u16>,
@@ -485,10 +490,37 @@ pub(crate) fn parse_format(text: &str) -> Result<Format, String> {
     text.parse()
 }
 
+/// A format to write (`--output-format`): one that is only read (PySPH's `hdf5`, `npz`) is
+/// refused here, before any work.
+pub(crate) fn parse_output_format(text: &str) -> Result<Format, String> {
+    let format = parse_format(text)?;
+    if format.can_write() {
+        Ok(format)
+    } else {
+        Err(format!(
+            "{format} files are read, not written; write vtu (ParaView), csv or another format"
+        ))
+    }
+}
+
 pub(crate) fn read_options(args: &InputArgs) -> ReadOptions {
     ReadOptions {
         dim: args.dim.map(usize::from),
         format: args.format,
+    }
+}
+
+/// The frame at `path`: the particle array `array` of a PySPH file when one is named
+/// (`--array`), else the file's particles (a PySPH file's `fluid`, or its only array).
+pub(crate) fn read_input_frame(
+    path: &Path,
+    options: &ReadOptions,
+    array: Option<&str>,
+    parts: FrameParts,
+) -> Result<Frame, boundary_io::IoError> {
+    match array {
+        Some(array) => boundary_io::read_array_frame(path, array, options, parts),
+        None => read_frame(path, options, parts),
     }
 }
 
@@ -501,7 +533,12 @@ pub(crate) fn read_input(
     let options = read_options(args);
     match args.radius_mode()? {
         RadiusMode::Uniform(arg) => {
-            let frame = read_frame(&args.input, &options, FrameParts::Positions)?;
+            let frame = read_input_frame(
+                &args.input,
+                &options,
+                args.array.as_deref(),
+                FrameParts::Positions,
+            )?;
             refuse_flat(&frame, &options)?;
             let resolved = resolve_radius(arg, &frame.set, &args.input)?;
             if let Some(note) = radius_note(&resolved, &args.input) {
@@ -510,7 +547,12 @@ pub(crate) fn read_input(
             Ok((frame.set, resolved.r, None))
         }
         RadiusMode::PerParticle { attribute, scale } => {
-            let frame = read_frame(&args.input, &options, FrameParts::WithAttributes)?;
+            let frame = read_input_frame(
+                &args.input,
+                &options,
+                args.array.as_deref(),
+                FrameParts::WithAttributes,
+            )?;
             refuse_flat(&frame, &options)?;
             let (frame, used) = attach_radii(frame, &attribute, scale)?;
             Ok((frame.set, scale, Some(used)))

@@ -107,6 +107,28 @@ fn frame_sequence_errors_name_the_pattern_the_frames_or_the_directory() {
         "csv",
     ]);
     assert!(err.contains("would both be written to"), "{err}");
+    // A format that is only read is refused as --output-format, before any work (no .vtu
+    // written in its place).
+    let never = d.join("never");
+    for format in ["hdf5", "npz"] {
+        let run = boundary(&[
+            "detect",
+            s(&d.join("a.csv")),
+            "-r",
+            "1",
+            "--output-dir",
+            s(&never),
+            "--output-format",
+            format,
+        ]);
+        let err = String::from_utf8(run.stderr).unwrap();
+        assert_eq!(run.status.code(), Some(2), "{err}");
+        assert!(
+            err.contains("--output-format") && err.contains("files are read, not written"),
+            "{err}"
+        );
+        assert!(!never.exists(), "{err}");
+    }
     // An output directory below a file cannot be created.
     let below_a_file = d.join("a.csv").join("sub");
     let err = failure(&[

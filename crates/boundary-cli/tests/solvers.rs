@@ -492,6 +492,49 @@ fn pysph_hdf5_with_its_wall_array_labels_as_pysphs_loader_output() {
         e.contains("dam_break_2d_00010.hdf5") && e.contains("\"solid\""),
         "{e}"
     );
+    // --array labels another particle array of the file: its `boundary` array alone, as the
+    // loader exported it; an array the file lacks is refused, naming it.
+    let walls_out = dir.path().join("walls.csv");
+    let v = json(&[
+        "detect",
+        s(&hdf5),
+        "--smoothing-length",
+        "0.13",
+        "--array",
+        "boundary",
+        "--output",
+        s(&walls_out),
+    ]);
+    let expected = json(&[
+        "detect",
+        s(&walls),
+        "--dim",
+        "2",
+        "--smoothing-length",
+        "0.13",
+        "--output",
+        s(&from_loader),
+    ]);
+    assert_eq!(v["n"], csv_rows(&walls).len());
+    assert_eq!(v["boundary"], expected["boundary"]);
+    assert_eq!(
+        column(&walls_out, "boundary"),
+        column(&from_loader, "boundary")
+    );
+    let o = boundary(&[
+        "detect",
+        s(&hdf5),
+        "--smoothing-length",
+        "0.13",
+        "--array",
+        "solid",
+    ]);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(
+        e.contains("dam_break_2d_00010.hdf5") && e.contains("\"solid\""),
+        "{e}"
+    );
     // A PySPH file of several arrays as --walls would be its fluid: refused, naming the way.
     let o = boundary(&[
         "detect",

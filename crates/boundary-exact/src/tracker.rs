@@ -61,14 +61,21 @@
 //! flow that is the velocity gradient times the distance, far below the displacement itself.
 //! (The cap `m_i` keeps the members of `J` off `p_i`.)
 //!
-//! *Bookkeeping.* Per particle, the sum over the steps since its evaluation of the step's
-//! `max |Δq_j|` over the neighbours it watches (`J`, or `W`; triangle inequality), against its
-//! budget; per boundary particle also its own displacement since the evaluation plus the sum
-//! of each step's largest displacement (fluid and walls), which bounds `sup_j |Δp_j|`,
-//! against the far budget. A particle is recomputed when either reaches its budget.
+//! *Bookkeeping.* Per particle, the offsets `q_j` of the neighbours it watches (`J`, or `W`)
+//! at its evaluation, and a bound on `max_j |Δq_j|` since then, against its budget; per
+//! boundary particle also its own displacement since the evaluation plus the running sum of
+//! each step's largest displacement (fluid and walls), which bounds `sup_j |Δp_j|`, against
+//! the far budget. A particle is recomputed when either reaches its budget. The neighbours are
+//! read only when the bound might have reached the budget: in one step every `|Δq_j|` grows
+//! by at most twice that step's largest displacement, so the bound proven at the last check
+//! plus twice the running sum's growth since bounds it now; while that stays below the
+//! budget nothing is read, otherwise `max_j |q_j(now) − q_j(eval)|` is measured (a new bound,
+//! from the current positions).
 //!
 //! *Rounding.* Every quantity compared above carries a relative rounding error of a few `u`
 //! (`u = 2^-53`): distances, the running sum (rounded up at each step), the budgets' formula.
+//! A measured `|q_j(now) − q_j(eval)|` also gains `64u·(r + |Δq_j|)` for the rounding of the
+//! offsets (each within `2.5r` of the particle at its evaluation).
 //! Budgets are shrunk by the factor `1 − 1e-9` and movements grown by `1 + 1e-9`, and the
 //! witness loses `1e-12·r + 1e-14·|p_i|_∞` for the rounding of `x` itself (its distance from
 //! `S_i` is below `4u·(r + √D·|p_i|_∞)`). Particles whose float cell does not decide within
@@ -166,6 +173,84 @@ const FULL_FRACTION: f64 = 0.6;
 /// again (the amortised cost of a retry: `0.5/MAX_BACKOFF` of a detection per step).
 const MAX_BACKOFF: u32 = 32;
 
+/// The per-step passes over every particle (movements, budgets) run in pieces of at least
+/// this many particles: below twice as many, on the calling thread alone. A piece costs
+/// about 0.1 ms, well above what waking another worker costs.
+const PASS_PIECE: usize = 8192;
+
+/// Evaluations run in pieces of at least this many particles (one evaluation costs a few
+/// microseconds).
+const EVALUATION_PIECE: usize = 16;
+
+/// The neighbours each particle's budget watches, in one flat list: particle `i`'s are
+/// `list[start[i] .. start[i] + len[i]]`. An evaluation appends its particle's neighbours at
+/// the end (no allocation per particle); the list is compacted, in particle order, when most
+/// of it is no longer watched.
+struct Watched<const D: usize> {
+    start: Vec<usize>,
+    len: Vec<u32>,
+    list: Vec<u32>,
+    /// Per entry of `list`: the neighbour's offset from the particle at the particle's
+    /// evaluation, `p_j − p_i`.
+    offsets: Vec<Point<D>>,
+    /// How many entries of `list` are watched.
+    live: usize,
+}
+
+impl<const D: usize> Watched<D> {
+    /// `count` particles watching nothing.
+    fn new(count: usize) -> Watched<D> {
+        Watched {
+            start: vec![0; count],
+            len: vec![0; count],
+            list: Vec::new(),
+            offsets: Vec::new(),
+            live: 0,
+        }
+    }
+
+    /// The neighbours particle `i` watches, and their offsets at its evaluation.
+    fn of(&self, i: usize) -> (&[u32], &[Point<D>]) {
+        let range = self.start[i]..self.start[i] + self.len[i] as usize;
+        (&self.list[range.clone()], &self.offsets[range])
+    }
+
+    /// Particle `i` now watches `neighbours`, at `offsets` from it.
+    fn set(&mut self, i: usize, neighbours: &[u32], offsets: impl Iterator<Item = Point<D>>) {
+        self.live = self.live + neighbours.len() - self.len[i] as usize;
+        self.start[i] = self.list.len();
+        self.len[i] = neighbours.len() as u32;
+        self.list.extend_from_slice(neighbours);
+        self.offsets.extend(offsets.take(neighbours.len()));
+    }
+
+    /// No particle watches anything.
+    fn clear(&mut self) {
+        self.len.iter_mut().for_each(|n| *n = 0);
+        self.start.iter_mut().for_each(|s| *s = 0);
+        self.list.clear();
+        self.offsets.clear();
+        self.live = 0;
+    }
+
+    /// The lists again in particle order, when most of `list` is no longer watched.
+    fn compact(&mut self) {
+        if self.list.len() <= 2 * self.live + 4096 {
+            return;
+        }
+        let mut list = Vec::with_capacity(2 * self.live);
+        let mut offsets = Vec::with_capacity(2 * self.live);
+        for (start, &len) in self.start.iter_mut().zip(&self.len) {
+            let range = *start..*start + len as usize;
+            *start = list.len();
+            list.extend_from_slice(&self.list[range.clone()]);
+            offsets.extend_from_slice(&self.offsets[range]);
+        }
+        self.list = list;
+        self.offsets = offsets;
+    }
+}
+
 /// Incremental `exact` detection over the time steps of one particle set (module docs).
 ///
 /// ```
@@ -241,8 +326,9 @@ enum State {
 /// that leave taken out and arrivals appended. Neighbours then sit near each other in memory
 /// at every step, and the certificates' neighbour lists stay valid when the caller reorders.
 struct Track<const D: usize> {
-    /// Fluid (in slot order) then wall positions of the last update.
-    prev: Vec<Point<D>>,
+    /// Fluid (in slot order) then wall positions of the last update; each update overwrites
+    /// them in place (the walls only when they moved).
+    positions: Vec<Point<D>>,
     /// Number of fluid (classified) particles.
     count: usize,
     /// Per slot: the particle's index in the caller's list at the last update.
@@ -256,10 +342,12 @@ struct Track<const D: usize> {
     /// Per particle, the neighbours its budget watches (slots of fluid particles, `count + w`
     /// for wall `w`): for an interior particle those whose cell proved it interior, for a
     /// boundary particle those near its witness point; empty when the budget is 0.
-    cell_of: Vec<Box<[u32]>>,
-    /// Per particle: the running sum of the steps' largest movement of a neighbour of
-    /// `cell_of` relative to the particle, rounded up (reset at each evaluation).
+    watched: Watched<D>,
+    /// Per particle: a bound on the largest movement of a neighbour of `watched` relative to
+    /// the particle since its evaluation, proven at its last check (0 at the evaluation).
     relative: Vec<f64>,
+    /// Per particle: the running sum `sum` at its last check (or evaluation).
+    sum_checked: Vec<f64>,
     /// Running sum of the steps' largest displacements, rounded up.
     sum: f64,
     labels: Vec<bool>,
@@ -545,9 +633,10 @@ impl Tracker {
             Some(pool) => pool.install(|| run(state))?,
             None => run(state)?,
         };
+        let out = std::mem::replace(&mut self.labels, Labels::new(Vec::new())).into_vec();
         self.labels = match &state {
-            State::D2(t) => Labels::new(t.input_labels()),
-            State::D3(t) => Labels::new(t.input_labels()),
+            State::D2(t) => Labels::new(t.input_labels(out)),
+            State::D3(t) => Labels::new(t.input_labels(out)),
             State::Empty => Labels::new(Vec::new()),
         };
         self.state = state;
@@ -606,24 +695,17 @@ impl<const D: usize> Track<D> {
         let count = fluid.len();
         let old = match (old, map) {
             (Some(mut t), Some(map)) => {
-                if t.prev.len() - t.count == walls.len() {
+                if t.positions.len() - t.count == walls.len() {
                     t.remap(map, fluid, r.get())?;
                     Some(t)
                 } else {
                     None
                 }
             }
-            (old, None) => old.filter(|t| t.count == count && t.prev.len() == count + walls.len()),
+            (old, None) => {
+                old.filter(|t| t.count == count && t.positions.len() == count + walls.len())
+            }
             (None, Some(_)) => None,
-        };
-        // The caller's positions in slot order, then the walls.
-        let in_slots = |order: &[u32]| -> Result<ParticleSet<D>, DetectError> {
-            let all: Vec<Point<D>> = order
-                .par_iter()
-                .map(|&k| fluid[k as usize])
-                .chain(walls.par_iter().copied())
-                .collect();
-            Ok(ParticleSet::new(all)?)
         };
         let Some(mut track) = old else {
             // Start over: every particle evaluated, the slots in the grid's cell order.
@@ -635,16 +717,21 @@ impl<const D: usize> Track<D> {
                     .cell_order()
                     .to_vec()
             };
-            let set = in_slots(&order)?;
+            let positions: Vec<Point<D>> = order
+                .iter()
+                .map(|&k| fluid[k as usize])
+                .chain(walls.iter().copied())
+                .collect();
             let mut track = Track {
-                prev: set.positions().to_vec(),
+                eval: positions[..count].to_vec(),
+                positions,
                 count,
                 input_of_slot: order,
-                eval: set.positions()[..count].to_vec(),
                 budget: vec![0.0; count],
                 sum_eval: vec![0.0; count],
-                cell_of: vec![Box::default(); count],
+                watched: Watched::new(count),
                 relative: vec![0.0; count],
+                sum_checked: vec![0.0; count],
                 sum: 0.0,
                 labels: vec![false; count],
                 stale: 0,
@@ -652,64 +739,56 @@ impl<const D: usize> Track<D> {
                 grid: None,
             };
             let all: Vec<usize> = (0..count).collect();
-            track.evaluate::<C>(&set, &all, r.get())?;
+            track.evaluate::<C>(&all, r.get())?;
             return Ok((track, count));
         };
-        let set = in_slots(&track.input_of_slot)?;
-        let now = &set.positions()[..count];
-        // The step's movements, and the largest, rounded up (module docs, "Rounding").
-        // Walls that were not moved since the last update are where `prev` has them: their
-        // movement is zero, not computed.
-        let moving = if walls_moved { set.len() } else { count };
-        let moves: Vec<Point<D>> = set.positions()[..moving]
-            .par_iter()
-            .zip(&track.prev)
-            .map(|(a, b)| a - b)
-            .collect();
-        let step = moves.par_iter().map(|m| m.norm()).reduce(|| 0.0, f64::max);
-        track.sum = (track.sum + step * (1.0 + ROUNDING)) * (1.0 + 4.0 * U);
-        track.prev[..moving].copy_from_slice(&set.positions()[..moving]);
-        let still = Point::<D>::zeros();
-        let move_of = |j: u32| moves.get(j as usize).copied().unwrap_or(still);
-        // Every particle that watches neighbours (its cell's, or its witness's): the largest
-        // movement of one relative to it; `16u·step` covers the rounding of the differences.
-        let slack = 16.0 * U * step;
-        track
-            .relative
+        // This step's positions over the last update's, in slot order, and the largest
+        // movement, in one pass, rounded up (module docs, "Rounding"). Walls that were not
+        // moved since the last update are where `positions` has them: their movement is zero,
+        // not computed.
+        let (fluid_now, walls_now) = track.positions.split_at_mut(count);
+        let mut largest = fluid_now
             .par_iter_mut()
-            .zip(&track.cell_of)
-            .enumerate()
-            .for_each(|(i, (rel, cell))| {
-                if !cell.is_empty() {
-                    let mi = moves[i];
-                    // The largest squared norm, then one square root: `sqrt` is correctly
-                    // rounded and monotone, so this is the largest of the norms, bit for bit.
-                    let most = cell
-                        .iter()
-                        .map(|&j| (move_of(j) - mi).norm_squared())
-                        .fold(0.0, f64::max)
-                        .sqrt();
-                    *rel = (*rel + (most * (1.0 + ROUNDING) + slack)) * (1.0 + 4.0 * U);
-                }
-            });
+            .zip(&track.input_of_slot)
+            .with_min_len(PASS_PIECE)
+            .map(|(p, &k)| {
+                let now = fluid[k as usize];
+                let moved = (now - *p).norm_squared();
+                *p = now;
+                moved
+            })
+            .reduce(|| 0.0, f64::max);
+        if walls_moved {
+            for (p, now) in walls_now.iter_mut().zip(walls) {
+                largest = largest.max((now - *p).norm_squared());
+                *p = *now;
+            }
+        }
+        // `sqrt` is correctly rounded and monotone: the largest norm, bit for bit.
+        let step = largest.sqrt();
+        track.sum = (track.sum + step * (1.0 + ROUNDING)) * (1.0 + 4.0 * U);
         let recompute: Option<Vec<usize>> = if track.stale > 0 {
             track.stale -= 1;
             (track.stale == 0).then(|| (0..count).collect())
         } else {
-            let sum = track.sum;
-            let list: Vec<usize> = (0..count)
-                .into_par_iter()
-                .filter(|&i| {
-                    // The watched neighbours' movement relative to the particle.
-                    if track.relative[i] * (1.0 + ROUNDING) >= track.budget[i] {
-                        return true;
-                    }
-                    // Boundary: the particles away from the witness, by the movement of
-                    // everything (module docs, "Boundary budget").
-                    track.labels[i] && {
-                        let far = dist(&now[i], &track.eval[i]) + (sum - track.sum_eval[i]);
-                        far * (1.0 + ROUNDING) >= far_budget(&track.eval[i], r.get())
-                    }
+            let (sum, watched, now) = (track.sum, &track.watched, &track.positions);
+            let (budget, labels) = (&track.budget, &track.labels);
+            let (eval, sum_eval) = (&track.eval, &track.sum_eval);
+            let list: Vec<usize> = track
+                .relative
+                .par_iter_mut()
+                .zip(&mut track.sum_checked)
+                .enumerate()
+                .with_min_len(PASS_PIECE)
+                .filter_map(|(i, (rel, checked))| {
+                    let spent = relative_spent(i, now, watched, rel, checked, sum, budget[i], r)
+                        // Boundary: the particles away from the witness, by the movement of
+                        // everything (module docs, "Boundary budget").
+                        || labels[i] && {
+                            let far = dist(&now[i], &eval[i]) + (sum - sum_eval[i]);
+                            far * (1.0 + ROUNDING) >= far_budget(&eval[i], r.get())
+                        };
+                    spent.then_some(i)
                 })
                 .collect();
             if list.len() as f64 > FULL_FRACTION * count as f64 {
@@ -724,13 +803,15 @@ impl<const D: usize> Track<D> {
             }
         };
         let Some(recompute) = recompute else {
-            let (detection, _) = detect_with::<D, C>(&set, count, r, 0.0)?;
-            track.labels = detection.labels.as_slice().to_vec();
+            let set = ParticleSet::new(std::mem::take(&mut track.positions))?;
+            let detected = detect_with::<D, C>(&set, count, r, 0.0);
+            track.positions = set.into_positions();
+            track.labels = detected?.0.labels.as_slice().to_vec();
             track.budget.iter_mut().for_each(|b| *b = 0.0);
-            track.cell_of.iter_mut().for_each(|c| *c = Box::default());
+            track.watched.clear();
             return Ok((track, count));
         };
-        track.evaluate::<C>(&set, &recompute, r.get())?;
+        track.evaluate::<C>(&recompute, r.get())?;
         Ok((track, recompute.len()))
     }
 
@@ -745,7 +826,6 @@ impl<const D: usize> Track<D> {
         boundary_core::Dim<D>: boundary_core::SupportedDim,
     {
         let (old_count, count) = (self.count, map.len());
-        let walls = self.prev.len() - old_count;
         // The caller's particle at each old slot, now (ADDED: it left).
         let mut old_input_slot = vec![ADDED; old_count];
         for (s, &k) in self.input_of_slot.iter().enumerate() {
@@ -799,47 +879,39 @@ impl<const D: usize> Track<D> {
                 .collect()
         };
         self.eval = positions(&self.eval);
-        let mut prev = positions(&self.prev);
-        prev.extend_from_slice(&self.prev[old_count..]);
-        self.prev = prev;
-        // Watched neighbours renumbered in place. An interior certificate that used a particle
-        // that left is revoked (evaluated again); a boundary particle's witness only loses a
-        // particle that could have covered it, which is dropped from the list. Nothing to
-        // renumber when no particle left and there are no walls.
-        if kept < old_count || walls > 0 {
-            self.cell_of
-                .par_iter_mut()
-                .zip(&mut self.budget)
-                .zip(&now_of_slot)
-                .zip(&self.labels)
-                .filter(|(((cell, _), &k), _)| k != ADDED && !cell.is_empty())
-                .for_each(|(((cell, budget), _), &boundary)| {
-                    let mut lost = false;
-                    for j in cell.iter_mut() {
-                        *j = index(*j);
-                        lost |= *j == ADDED;
-                    }
-                    if lost && boundary {
-                        *cell = cell.iter().copied().filter(|&j| j != ADDED).collect();
-                    } else if lost {
-                        *cell = Box::default();
-                        *budget = 0.0;
-                    }
-                });
-        }
-        let mut kept_cells = 0;
+        let mut now = positions(&self.positions);
+        now.extend_from_slice(&self.positions[old_count..]);
+        self.positions = now;
+        // Watched neighbours renumbered, in the new slot order. An interior certificate that
+        // used a particle that left is revoked (evaluated again); a boundary particle's witness
+        // only loses a particle that could have covered it, which is dropped from the list.
+        let mut watched = Watched::new(count);
+        let mut renumbered = Vec::new();
         for (s, &k) in now_of_slot.iter().enumerate() {
-            if k != ADDED {
-                self.cell_of.swap(kept_cells, s);
-                kept_cells += 1;
+            if k == ADDED {
+                continue;
+            }
+            let slot = new_slot[s] as usize;
+            let (list, offsets) = self.watched.of(s);
+            renumbered.clear();
+            renumbered.extend(
+                list.iter()
+                    .zip(offsets)
+                    .map(|(&j, q)| (index(j), *q))
+                    .filter(|(j, _)| *j != ADDED),
+            );
+            if renumbered.len() < list.len() && !self.labels[s] {
+                self.budget[s] = 0.0;
+            } else {
+                let (list, offsets): (Vec<u32>, Vec<Point<D>>) = renumbered.iter().copied().unzip();
+                watched.set(slot, &list, offsets.into_iter());
             }
         }
-        self.cell_of.truncate(kept_cells);
-        self.cell_of
-            .extend(arrivals.iter().map(|_| Box::<[u32]>::default()));
+        self.watched = watched;
         self.budget = compact(&self.budget, 0.0);
         self.sum_eval = compact(&self.sum_eval, self.sum);
         self.relative = compact(&self.relative, 0.0);
+        self.sum_checked = compact(&self.sum_checked, self.sum);
         self.labels = (0..old_count)
             .filter(stay)
             .map(|s| self.labels[s])
@@ -880,17 +952,33 @@ impl<const D: usize> Track<D> {
         Ok(())
     }
 
-    /// The labels in the caller's order of the last update.
-    fn input_labels(&self) -> Vec<bool> {
-        let mut out = vec![false; self.count];
+    /// The labels in the caller's order of the last update, in `out`'s memory.
+    fn input_labels(&self, mut out: Vec<bool>) -> Vec<bool> {
+        out.clear();
+        out.resize(self.count, false);
         for (&k, &label) in self.input_of_slot.iter().zip(&self.labels) {
             out[k as usize] = label;
         }
         out
     }
 
-    /// Evaluates the fluid particles `which` (ascending) of `set`: their labels and budgets.
-    fn evaluate<C>(
+    /// Evaluates the fluid particles `which` (ascending) at `positions`: their labels and
+    /// budgets.
+    fn evaluate<C>(&mut self, which: &[usize], r: f64) -> Result<(), DetectError>
+    where
+        C: ConvexCell<D> + Default + Send + Clone,
+        boundary_core::Dim<D>: boundary_core::SupportedDim,
+    {
+        if which.is_empty() {
+            return Ok(());
+        }
+        let set = ParticleSet::new(std::mem::take(&mut self.positions))?;
+        let evaluated = self.evaluate_in::<C>(&set, which, r);
+        self.positions = set.into_positions();
+        evaluated
+    }
+
+    fn evaluate_in<C>(
         &mut self,
         set: &ParticleSet<D>,
         which: &[usize],
@@ -899,9 +987,6 @@ impl<const D: usize> Track<D> {
     where
         C: ConvexCell<D> + Default + Send + Clone,
     {
-        if which.is_empty() {
-            return Ok(());
-        }
         // The last grid, its particles moved, while they have drifted less than the skin.
         let grid = match self.grid.take() {
             Some(mut grid) if grid.cell_order().len() == set.len() => {
@@ -915,27 +1000,50 @@ impl<const D: usize> Track<D> {
         };
         let positions = set.positions();
         let sorted = grid.cell_sorted_positions();
-        let results: Vec<(bool, f64, Box<[u32]>)> = which
+        // Per piece: (particle, label, budget, how many neighbours it watches), and those
+        // neighbours one after the other.
+        type Piece = (Vec<(usize, bool, f64, u32)>, Vec<u32>);
+        let pieces: Vec<Piece> = which
             .par_iter()
-            .map_init(Scratch::<D, C>::default, |scratch, &i| {
-                evaluate_one(&grid, positions, sorted, i, r, scratch)
-            })
+            .with_min_len(EVALUATION_PIECE)
+            .fold(
+                || (Scratch::<D, C>::default(), Vec::new(), Vec::new()),
+                |(mut scratch, mut results, mut watched), &i| {
+                    let before = watched.len();
+                    let (label, budget) =
+                        evaluate_one(&grid, positions, sorted, i, r, &mut scratch, &mut watched);
+                    results.push((i, label, budget, (watched.len() - before) as u32));
+                    (scratch, results, watched)
+                },
+            )
+            .map(|(_, results, watched)| (results, watched))
             .collect();
-        for (&i, (label, budget, cell)) in which.iter().zip(results) {
-            self.labels[i] = label;
-            self.budget[i] = budget;
-            self.cell_of[i] = cell;
-            self.relative[i] = 0.0;
-            self.eval[i] = positions[i];
-            self.sum_eval[i] = self.sum;
+        for (results, watched) in pieces {
+            let mut at = 0;
+            for (i, label, budget, len) in results {
+                let len = len as usize;
+                self.labels[i] = label;
+                self.budget[i] = budget;
+                let neighbours = &watched[at..at + len];
+                let p = positions[i];
+                let offsets = neighbours.iter().map(|&j| positions[j as usize] - p);
+                self.watched.set(i, neighbours, offsets);
+                at += len;
+                self.relative[i] = 0.0;
+                self.sum_checked[i] = self.sum;
+                self.eval[i] = positions[i];
+                self.sum_eval[i] = self.sum;
+            }
         }
+        self.watched.compact();
         self.grid = Some(grid);
         Ok(())
     }
 }
 
-/// The label of particle `i`, its budget (module docs) and, for an interior particle, the
-/// neighbours its budget depends on (its cell's; empty: the budget counts every particle).
+/// The label of particle `i` and its budget (module docs); the neighbours its budget watches
+/// (an interior particle's cell's, a boundary particle's witness's) are pushed on `watched`
+/// when the budget is positive.
 fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
     grid: &NeighbourGrid<D>,
     positions: &[Point<D>],
@@ -943,7 +1051,8 @@ fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
     i: usize,
     r: f64,
     scratch: &mut Scratch<D, C>,
-) -> (bool, f64, Box<[u32]>) {
+    watched: &mut Vec<u32>,
+) -> (bool, f64) {
     let p = positions[i];
     let key = |j: usize, slot: usize, d2: f64| (d2.to_bits(), j as u32, slot as u32);
     // The neighbours within FIRST_REACH·r first; the cell gathers the rest (up to 2r) when
@@ -987,11 +1096,11 @@ fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
     let Some((cell, far)) = decided else {
         // Certificates and the exact predicate: the label of a full detection, no budget.
         let (_, label, _) = classify(&p, sorted, r, 0.0, scratch, &gather_all);
-        return (label, 0.0, Box::default());
+        return (label, 0.0);
     };
     let boundary = cell.margin > 0.0;
     if duplicated {
-        return (boundary, 0.0, Box::default());
+        return (boundary, 0.0);
     }
     // The nearest neighbour, first of the sorted list (or `2r`, if none is within it), caps
     // the interior budget.
@@ -1004,19 +1113,19 @@ fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
         // took (the first `used` of the sorted list).
         let rho = 1.0 + cell.margin + cell.tau;
         if rho >= 1.0 || cell.used == 0 {
-            return (false, 0.0, Box::default());
+            return (false, 0.0);
         }
         let mh = m / r;
         let budget = r * mh * mh * (1.0 - rho) / (2.0 * rho);
-        let neighbours: Box<[u32]> = scratch.near[..cell.used].iter().map(|x| x.1).collect();
-        return (false, budget.min(m) * (1.0 - ROUNDING), neighbours);
+        watched.extend(scratch.near[..cell.used].iter().map(|x| x.1));
+        return (false, budget.min(m) * (1.0 - ROUNDING));
     }
     // Boundary: the witness x on S_i toward the farthest vertex, and the particles within
     // WITNESS_REACH·r of it, which its budget watches (the others count as far).
     let norm = far.iter().map(|a| a * a).sum::<f64>().sqrt();
     let x = Point::<D>::from_fn(|k, _| p[k] + r * (far[k] / norm));
     let mut d2min = (WITNESS_REACH * r).powi(2);
-    let mut watched = Vec::new();
+    let before = watched.len();
     grid.for_each_within(&x, WITNESS_REACH * r, |j, d2| {
         if j != i {
             d2min = d2min.min(d2);
@@ -1025,9 +1134,51 @@ fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
     });
     let budget = d2min.sqrt() - r - witness_rounding(&p, r);
     if budget <= 0.0 {
-        return (true, 0.0, Box::default());
+        watched.truncate(before);
+        return (true, 0.0);
     }
-    (true, budget * (1.0 - ROUNDING), watched.into_boxed_slice())
+    (true, budget * (1.0 - ROUNDING))
+}
+
+/// Whether particle `i`'s budget is spent by the movement of the neighbours it watches
+/// relative to it since its evaluation (module docs, "Bookkeeping"). `relative` bounds that
+/// movement as of the last check, when the running sum was `checked`: since then it grew by
+/// at most twice the sum's growth, and while that bound stays within the budget the
+/// neighbours are not read. Otherwise the movement is measured, from the offsets at the
+/// evaluation, and `relative` and `checked` are updated.
+#[allow(clippy::too_many_arguments)] // one particle's bookkeeping, called in the step's pass
+fn relative_spent<const D: usize>(
+    i: usize,
+    now: &[Point<D>],
+    watched: &Watched<D>,
+    relative: &mut f64,
+    checked: &mut f64,
+    sum: f64,
+    budget: f64,
+    r: Radius,
+) -> bool {
+    let (list, offsets) = watched.of(i);
+    if list.is_empty() {
+        // A budget of 0, or one that watches no neighbour.
+        return *relative * (1.0 + ROUNDING) >= budget;
+    }
+    let bound = (*relative + 2.0 * (sum - *checked) * (1.0 + ROUNDING)) * (1.0 + ROUNDING);
+    if bound < budget {
+        return false;
+    }
+    let p = now[i];
+    // The largest squared norm, then one square root: `sqrt` is correctly rounded and
+    // monotone, so this is the largest of the norms, bit for bit.
+    let most = list
+        .iter()
+        .zip(offsets)
+        .map(|(&j, q)| ((now[j as usize] - p) - q).norm_squared())
+        .fold(0.0, f64::max)
+        .sqrt();
+    // `64u·(r + most)` covers the rounding of the differences (module docs, "Rounding").
+    *relative = (most * (1.0 + ROUNDING) + 64.0 * U * (r.get() + most)) * (1.0 + ROUNDING);
+    *checked = sum;
+    *relative * (1.0 + ROUNDING) >= budget
 }
 
 /// What the witness point loses to its own rounding: its distance from `S_i` is below
@@ -1042,4 +1193,60 @@ fn witness_rounding<const D: usize>(p: &Point<D>, r: f64) -> f64 {
 /// particle's position at its evaluation.
 fn far_budget<const D: usize>(eval: &Point<D>, r: f64) -> f64 {
     ((WITNESS_REACH - 1.0) * r - witness_rounding(eval, r)) * (1.0 - ROUNDING)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Lists replaced many times read back as last set, before and after compaction, which
+    /// keeps every list and drops the dead entries.
+    #[test]
+    fn watched_lists_survive_replacement_and_compaction() {
+        let count = 300;
+        let mut watched = Watched::<2>::new(count);
+        let list = |i: usize, round: u32| -> Vec<u32> {
+            (0..(i as u32 + round) % 7)
+                .map(|k| k * 1000 + i as u32 + round)
+                .collect()
+        };
+        let offset = |j: u32| Point::<2>::new(f64::from(j), -f64::from(j));
+        for round in 0..40 {
+            for i in (0..count).filter(|i| !(i + round as usize).is_multiple_of(3)) {
+                let l = list(i, round);
+                watched.set(i, &l, l.iter().map(|&j| offset(j)));
+            }
+        }
+        let expected = |i: usize| -> Vec<u32> {
+            let round = (0..40u32)
+                .rev()
+                .find(|r| !(i + *r as usize).is_multiple_of(3))
+                .unwrap();
+            list(i, round)
+        };
+        let check = |watched: &Watched<2>| {
+            for i in 0..count {
+                let (l, q) = watched.of(i);
+                assert_eq!(l, expected(i).as_slice(), "particle {i}");
+                assert!(
+                    l.iter().zip(q).all(|(&j, q)| *q == offset(j)),
+                    "particle {i}"
+                );
+            }
+        };
+        check(&watched);
+        let live: usize = (0..count).map(|i| expected(i).len()).sum();
+        assert_eq!(watched.live, live);
+        assert!(
+            watched.list.len() > 2 * live + 4096,
+            "{}",
+            watched.list.len()
+        );
+        watched.compact();
+        assert_eq!(watched.list.len(), live);
+        assert_eq!(watched.offsets.len(), live);
+        check(&watched);
+        watched.clear();
+        assert!((0..count).all(|i| watched.of(i).0.is_empty()));
+    }
 }

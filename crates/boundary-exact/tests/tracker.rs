@@ -758,3 +758,44 @@ fn fixed_walls_and_phases_match_full_detection() {
         ExactDetector::default().detect(&set, r).unwrap().labels
     );
 }
+
+/// A long, slow shear beside walls that move: many steps each far below a spacing, so most
+/// particles skip their neighbours' check for several steps before a budget is spent (the
+/// bound grows by twice each step's largest movement), and enough evaluations over the run
+/// that the neighbour lists are compacted. Every step is a full detection's labels; the
+/// saving holds (few particles recomputed per step once started).
+#[test]
+fn slow_shear_beside_moving_walls_matches_full_detection_at_every_step() {
+    let mut rng = Rng(29);
+    let base = jittered_square(70, 0.2, &mut rng);
+    let wall: Vec<[f64; 2]> = (0..90)
+        .flat_map(|k| [[k as f64 - 10.0, -1.0], [k as f64 - 10.0, -2.0]])
+        .collect();
+    let r = Radius::new(0.8).unwrap();
+    let mut tracker = Tracker::new(r, Some(2), Domain::new().with_walls(set2(&wall))).unwrap();
+    let mut recomputed = vec![];
+    for s in 0..60 {
+        let t = s as f64;
+        // Shear u = 0.0005·y per step, the top faster; the walls slide by 0.01 per step.
+        let points: Vec<[f64; 2]> = base
+            .iter()
+            .map(|p| [p[0] + 0.0005 * t * p[1], p[1]])
+            .collect();
+        let walls: Vec<[f64; 2]> = wall.iter().map(|w| [w[0] + 0.01 * t, w[1]]).collect();
+        let walls = set2(&walls);
+        tracker.move_walls(walls.clone()).unwrap();
+        let set = set2(&points);
+        let labels = tracker.update(&set).unwrap().clone();
+        let domain = Domain::new().with_walls(walls);
+        let full = boundary_core::detect_in(&ExactDetector::default(), &set, &domain, r).unwrap();
+        assert_eq!(
+            first_difference(&labels, &full.detection.labels),
+            None,
+            "step {s}"
+        );
+        recomputed.push(tracker.recomputed());
+    }
+    let later: usize = recomputed[1..].iter().sum();
+    assert!(later > 0, "{recomputed:?}");
+    assert!(later < 59 * base.len() / 10, "{recomputed:?}");
+}

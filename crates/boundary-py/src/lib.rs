@@ -1225,12 +1225,13 @@ fn component(name: &str) -> Option<(&str, usize)> {
 /// Reads a particle file: `(points, point_data)`, each attribute a `(n,)` array, or `(n, k)`
 /// for the `k` columns `name:0 .. name:k-1` of one vector attribute (consecutive, of one type).
 #[pyfunction]
-#[pyo3(signature = (path, dim = None, format = None))]
+#[pyo3(signature = (path, dim = None, format = None, array = None))]
 fn read<'py>(
     py: Python<'py>,
     path: PathBuf,
     dim: Option<usize>,
     format: Option<&str>,
+    array: Option<&str>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
     if let Some(d) = dim {
         if d != 2 && d != 3 {
@@ -1242,7 +1243,10 @@ fn read<'py>(
         format: format_arg(format)?,
     };
     let file = py
-        .detach(|| boundary_io::read_particle_file(&path, &options))
+        .detach(|| match array {
+            Some(array) => boundary_io::read_particle_array(&path, array, &options),
+            None => boundary_io::read_particle_file(&path, &options),
+        })
         .map_err(io_error)?;
     for skipped in &file.skipped {
         let text = format!("{}: attribute not read: {skipped}", path.display());

@@ -385,6 +385,30 @@ def test_read_gives_the_positions_of_the_bundled_files():
         assert point_data == {}
 
 
+def test_read_takes_any_particle_array_of_a_pysph_file():
+    # PySPH's dam break (fixtures/pysph): `fluid` by default, `boundary` when named, each as
+    # PySPH's own loader exported it; an array the file lacks, or one asked of a format
+    # without named arrays, is a ValueError naming it.
+    pysph = FIXTURES / "pysph"
+    hdf5 = pysph / "dam_break_2d_00010.hdf5"
+    arrays = [
+        (None, "fluid_loaded.csv"),
+        ("fluid", "fluid_loaded.csv"),
+        ("boundary", "boundary_loaded.csv"),
+    ]
+    for array, loaded in arrays:
+        points, point_data = bp.read(hdf5, array=array)
+        expected, _ = bp.read(pysph / loaded, dim=2)
+        np.testing.assert_array_equal(points, expected)
+        assert "gid" in point_data
+    npz_points, _ = bp.read(pysph / "dam_break_2d_00010.npz", array="boundary")
+    np.testing.assert_array_equal(npz_points, bp.read(hdf5, array="boundary")[0])
+    with pytest.raises(ValueError, match='"solid"'):
+        bp.read(hdf5, array="solid")
+    with pytest.raises(ValueError, match="only PySPH files"):
+        bp.read(pysph / "fluid_loaded.csv", array="fluid")
+
+
 def test_write_is_atomic_a_failed_write_leaves_no_file(tmp_path):
     points = jittered_ball(5, 3)
     # A folder where the file should go: the rename into place fails, naming the file, and

@@ -3,15 +3,15 @@
 
 use super::DetectArgs;
 use crate::common::{
-    attach_radii, point_attribute, radius, refuse_flat, resolve_radius, run_timed, run_timed_in,
-    RadiiUsed, RadiusMode, ResolvedRadius,
+    attach_radii, point_attribute, radius, read_input_frame, refuse_flat, resolve_radius,
+    run_timed, run_timed_in, RadiiUsed, RadiusMode, ResolvedRadius,
 };
 use crate::domain::DomainSetup;
 use crate::error::CliError;
 use boundary::{AnyParticleSet, BoundaryDetector, Detection, Domain, Tracker};
 use boundary_io::{
-    read_frame, write_particles, AttributeValues, Column, Format, Frame, FrameParts,
-    PositionColumns, ReadOptions,
+    write_particles, AttributeValues, Column, Format, Frame, FrameParts, PositionColumns,
+    ReadOptions,
 };
 use std::path::Path;
 
@@ -67,6 +67,8 @@ pub(super) struct FrameJob<'a> {
     /// Walls, solids, periodic axes, phases; `None` for the bare cloud.
     pub(super) domain: Option<&'a DomainSetup>,
     pub(super) options: ReadOptions,
+    /// `--array`: the particle array of a PySPH input to label.
+    pub(super) array: Option<&'a str>,
     pub(super) margin: bool,
     pub(super) normals: bool,
     /// `--band K`.
@@ -102,7 +104,7 @@ impl FrameJob<'_> {
     /// (`output`) or an option reads one.
     pub(super) fn read(&self, input: &Path, output: bool) -> Result<Frame, CliError> {
         let parts = frame_parts(output, self.reads_attributes);
-        Ok(read_frame(input, &self.options, parts)?)
+        Ok(read_input_frame(input, &self.options, self.array, parts)?)
     }
 
     /// Detects on `file`, and writes `output` (when given) with `boundary`, the optional

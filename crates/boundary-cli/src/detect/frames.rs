@@ -7,14 +7,15 @@ use super::resume::{is_temp_file, resumable};
 use super::summary::{summary_header, summary_row, RunReport, Summary};
 use super::DetectArgs;
 use crate::common::{
-    percent, pool, radius_note, read_options, resolve_radius, RadiusArg, RadiusMode,
+    percent, pool, radius_note, read_input_frame, read_options, resolve_radius, RadiusArg,
+    RadiusMode,
 };
 use crate::domain::DomainSetup;
 use crate::error::CliError;
 use crate::interrupt::Interrupt;
 use crate::output::errln;
 use boundary::BoundaryDetector;
-use boundary_io::{read_frame, Format, Frame, ReadOptions};
+use boundary_io::{Format, Frame, ReadOptions};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
@@ -160,8 +161,13 @@ fn one_radius(
         let Ok(output) = &outputs[k] else {
             continue;
         };
-        let read =
-            read_frame(path, options, frame_parts(output.is_some(), reads)).map_err(CliError::from);
+        let read = read_input_frame(
+            path,
+            options,
+            args.input.array.as_deref(),
+            frame_parts(output.is_some(), reads),
+        )
+        .map_err(CliError::from);
         let resolved = read
             .as_ref()
             .ok()
@@ -361,6 +367,7 @@ pub(super) fn detect_frames(
         detector,
         domain: setup.as_ref(),
         options,
+        array: args.input.array.as_deref(),
         margin: args.margin,
         normals: args.normals,
         band: args.band,

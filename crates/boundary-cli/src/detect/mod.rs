@@ -10,7 +10,7 @@ mod resume;
 mod summary;
 
 use crate::common::{
-    detector_for, output_format, parse_format, pool, read_options, InputArgs, MethodArgs,
+    detector_for, output_format, parse_output_format, pool, read_options, InputArgs, MethodArgs,
 };
 use crate::domain::{DomainArgs, DomainSetup};
 use crate::error::CliError;
@@ -53,8 +53,9 @@ pub(crate) struct DetectArgs {
     /// one output per frame into DIR, named after its input.
     #[arg(long, value_name = "DIR", conflicts_with = "output")]
     output_dir: Option<PathBuf>,
-    /// Format of the files written to --output-dir (default: each input's format).
-    #[arg(long, value_parser = parse_format, value_name = "FMT", requires = "output_dir")]
+    /// Format of the files written to --output-dir (default: each input's format; .vtu for
+    /// an input only read, PySPH's .hdf5 and .npz).
+    #[arg(long, value_parser = parse_output_format, value_name = "FMT", requires = "output_dir")]
     output_format: Option<Format>,
     /// With several frames: write one CSV line per frame (frame, input, output, n, dim, radius,
     /// boundary, seconds, error; with --radius-attribute also radius_min, radius_max before
@@ -123,6 +124,7 @@ pub(crate) fn detect(args: DetectArgs) -> Result<(), CliError> {
         detector: detector.as_ref(),
         domain: setup.as_ref(),
         options: read_options(&args.input),
+        array: args.input.array.as_deref(),
         margin: args.margin,
         normals: args.normals,
         band: args.band,

@@ -1003,7 +1003,10 @@ def methods() -> List[MethodInfo]:
 
 
 def read(
-    path: Path, dim: Optional[int] = None, format: Optional[str] = None
+    path: Path,
+    dim: Optional[int] = None,
+    format: Optional[str] = None,
+    array: Optional[str] = None,
 ) -> Tuple[NDArray[np.float64], Dict[str, NDArray[Any]]]:
     """Reads a particle file.
 
@@ -1011,12 +1014,16 @@ def read(
     ----------
     path : str or path-like
         CSV (header ``x,y[,z]``), whitespace XYZ, PLY, legacy VTK, VTK XML ``.vtu`` /
-        ``.vtp``, Houdini BGEO (``.bgeo``, ``.bgeo.gz``).
+        ``.vtp``, Houdini BGEO (``.bgeo``, ``.bgeo.gz``), PySPH's ``.hdf5`` and ``.npz``.
     dim : {2, 3}, optional
         ``2`` drops the one constant axis of a 3D file; ``3`` asks for 3D.
     format : str, optional
         The format when the extension does not say it (``csv``, ``xyz``, ``ply``, ``vtk``,
-        ``vtu``, ``vtp``, ``bgeo``).
+        ``vtu``, ``vtp``, ``bgeo``, ``hdf5``, ``npz``).
+    array : str, optional
+        The particle array of a PySPH file to read (``"fluid"``, ``"boundary"``, ...); by
+        default its ``fluid`` array, or its only one. Other formats hold no named arrays:
+        naming one is a ``ValueError``.
 
     Returns
     -------
@@ -1040,7 +1047,7 @@ def read(
         like a misspelt ``z`` (``x,y,zz``): rename the column, or pass ``dim=2`` to read the
         file as 2D from ``x``, ``y`` on purpose.
     """
-    return _native.read(path, dim, format)
+    return _native.read(path, dim, format, array)
 
 
 def write(
