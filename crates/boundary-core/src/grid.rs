@@ -459,6 +459,70 @@ impl<const D: usize> NeighbourGrid<D> {
         }
     }
 
+    /// For a sweep over the cells: calls `visit(cell, candidates)` for every occupied cell of a
+    /// dense grid, in the cell order, with `cell` the range of its particles in
+    /// [`NeighbourGrid::cell_order`] and `candidates` ascending, disjoint ranges of that order
+    /// that hold every particle within `radius` of any particle of the cell (and others): the
+    /// rows along x of the cells that the query boxes of [`NeighbourGrid::for_each_within`]
+    /// cover for the cell's particles, at their current positions. Visits nothing and returns
+    /// false for the hashed layout.
+    pub fn for_each_cell_block(
+        &self,
+        radius: f64,
+        mut visit: impl FnMut(std::ops::Range<usize>, &[std::ops::Range<usize>]),
+    ) -> bool {
+        let Layout::Dense { dims, starts } = &self.layout else {
+            return false;
+        };
+        if radius.is_nan() || radius < 0.0 {
+            return true;
+        }
+        let radius = radius + self.pad;
+        let mut rows: Vec<std::ops::Range<usize>> = Vec::new();
+        for cell in 0..starts.len() - 1 {
+            let (a, b) = (starts[cell] as usize, starts[cell + 1] as usize);
+            if a == b {
+                continue;
+            }
+            // The union of the query boxes of the cell's particles: the box of their bounding
+            // box, each side widened as a query at that coordinate is (monotone cells).
+            let mut lo = [0i64; D];
+            let mut hi = [0i64; D];
+            for k in 0..D {
+                let (mut min, mut max) = (f64::INFINITY, f64::NEG_INFINITY);
+                for p in &self.sorted[a..b] {
+                    min = min.min(p[k]);
+                    max = max.max(p[k]);
+                }
+                // At least the pad of a query at any coordinate in `[min, max]`.
+                let pad = radius * (1.0 + 1e-9) + min.abs().max(max.abs()) * 4.0 * f64::EPSILON;
+                lo[k] = self.axis_cell(min - pad, k).max(0);
+                hi[k] = self.axis_cell(max + pad, k).min(dims[k] - 1);
+            }
+            rows.clear();
+            if (0..D).all(|k| lo[k] <= hi[k]) {
+                let mut c = lo;
+                loop {
+                    let mut row = 0i64;
+                    for k in (1..D).rev() {
+                        row = row * dims[k] + c[k];
+                    }
+                    let first = (row * dims[0] + lo[0]) as usize;
+                    let last = (row * dims[0] + hi[0]) as usize;
+                    let range = starts[first] as usize..starts[last + 1] as usize;
+                    if !range.is_empty() {
+                        rows.push(range);
+                    }
+                    if !advance(&mut c, &lo, &hi, 1) {
+                        break;
+                    }
+                }
+            }
+            visit(a..b, &rows);
+        }
+        true
+    }
+
     /// Collects `(j, d2)` for the particles within `radius` of `q` into `out` (cleared first),
     /// sorted by increasing distance, ties by index.
     pub fn within_sorted(&self, q: &Point<D>, radius: f64, out: &mut Vec<(usize, f64)>) {
