@@ -817,13 +817,13 @@ mod tests {
                     }
                 }
             });
-            assert!(dense);
+            assert!(dense, "a dense grid");
             assert_eq!(next, set.len());
         }
         let mut rng = rand::rngs::StdRng::seed_from_u64(11);
         for radius in [0.3, 1.0, 2.5] {
             let rows: Vec<[f64; 3]> = (0..300)
-                .map(|_| std::array::from_fn(|_| rng.gen_range(-4.0..4.0)))
+                .map(|_| std::array::from_fn(|_| rng.gen_range(-2.0..2.0)))
                 .collect();
             let set = ParticleSet::<3>::from_rows(&rows).unwrap();
             let mut g = NeighbourGrid::new(&set, radius).unwrap();
