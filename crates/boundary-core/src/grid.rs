@@ -812,7 +812,11 @@ mod tests {
                 for s in cell {
                     let i = g.cell_order()[s] as usize;
                     for j in brute(set, &set.positions()[i], radius) {
-                        let t = g.cell_order().iter().position(|&k| k as usize == j).unwrap();
+                        let t = g
+                            .cell_order()
+                            .iter()
+                            .position(|&k| k as usize == j)
+                            .unwrap();
                         assert!(held(t), "particle {j} near {i} missed");
                     }
                 }

@@ -40,7 +40,10 @@ fn run(name: &str, set: &ParticleSet<3>, r: Radius) -> usize {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let n: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(1_000_000);
+    let n: usize = args
+        .get(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1_000_000);
     let rounds: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(3);
     let methods: Vec<String> = args
         .get(3)
@@ -68,12 +71,13 @@ fn main() {
             writeln!(out, "round {round} {m:>9} {t:7.3} s").expect("stdout");
         }
     }
-    let exact = methods
-        .iter()
-        .position(|m| m == "exact")
-        .map(|k| best[k]);
+    let exact = methods.iter().position(|m| m == "exact").map(|k| best[k]);
     writeln!(out, "{} particles, one thread, best of {rounds}", set.len()).expect("stdout");
-    writeln!(out, "method     time_s  Mparticles/s  speed/exact  boundary").expect("stdout");
+    writeln!(
+        out,
+        "method     time_s  Mparticles/s  speed/exact  boundary"
+    )
+    .expect("stdout");
     for (k, m) in methods.iter().enumerate() {
         let rate = set.len() as f64 / best[k] / 1e6;
         let ratio = exact.map_or(f64::NAN, |e| e / best[k]);

@@ -216,13 +216,6 @@ fn density_and_lists_sweep<const D: usize>(
     // candidates (a candidate out of reach is overwritten by the next): no branch per
     // candidate, whose outcome is a coin toss (about one in six is a neighbour).
     let mut near: Vec<u32> = Vec::new();
-    // The coordinates axis by axis (in the cell order) and the squared distances of a row:
-    // loops over one axis at a time that the compiler vectorises; `0 + d0² + d1² (+ d2²)`
-    // in that order, as `dist2`.
-    let axes: Vec<Vec<f64>> = (0..D)
-        .map(|k| sorted.iter().map(|x| x[k]).collect())
-        .collect();
-    let mut squares: Vec<f64> = Vec::new();
     let dense = grid.for_each_cell_block(support, |cell, rows| {
         if over || boundary_core::stop::requested() {
             over = true;
@@ -238,17 +231,9 @@ fn density_and_lists_sweep<const D: usize>(
             for row in rows {
                 let first = row.start.max(a + 1);
                 if first < row.end {
-                    squares.clear();
-                    squares.resize(row.end - first, 0.0);
-                    for (axis, &pk) in axes.iter().zip(p.iter()) {
-                        for (d2, &x) in squares.iter_mut().zip(&axis[first..row.end]) {
-                            let d = x - pk;
-                            *d2 += d * d;
-                        }
-                    }
-                    for (t, &d2) in (first..row.end).zip(squares.iter()) {
+                    for (t, x) in (first..row.end).zip(&sorted[first..row.end]) {
                         near[found] = t as u32;
-                        found += (d2 <= r2) as usize;
+                        found += (dist2(x, &p) <= r2) as usize;
                     }
                 }
             }
@@ -607,7 +592,10 @@ mod tests {
     fn queried_sums<const D: usize>(
         set: &ParticleSet<D>,
         kernel: &SphKernel<D>,
-    ) -> (Vec<f64>, Vec<(f64, Point<D>, SMatrix<f64, D, D>, usize, f64)>) {
+    ) -> (
+        Vec<f64>,
+        Vec<(f64, Point<D>, SMatrix<f64, D, D>, usize, f64)>,
+    ) {
         let p = set.positions();
         let grid = NeighbourGrid::new(set, kernel.support()).unwrap();
         let inv_h = 1.0 / kernel.h();
