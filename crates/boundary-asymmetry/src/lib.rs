@@ -194,10 +194,10 @@ fn sums<const D: usize>(ctx: &SphContext<'_, D>, i: usize) -> AsymmetrySums<D> {
     let mut offset = Point::<D>::zeros();
     let mut smallest_volume = volumes[i];
     let mut has_neighbour = false;
-    ctx.for_each_neighbour(i, |j, xji, d| {
+    ctx.for_each_neighbour_volume(i, |volume, xji, d| {
         let q = d * inv_h;
         offset += xji * (inv_h * kernel.reduced_value(q));
-        smallest_volume = smallest_volume.min(volumes[j]);
+        smallest_volume = smallest_volume.min(volume);
         // A particle on the support's sphere has no weight: not a neighbour.
         has_neighbour |= d > 0.0 && q < SUPPORT_FACTOR;
     });

@@ -232,8 +232,8 @@ impl MarroneDetector {
         h: f64,
         theta: f64,
     ) -> bool {
-        let sums = ctx.local_sums(i);
-        let eigen = SymmetricEigen::new(&sums.renormalisation);
+        let (renormalisation, gradient_h) = ctx.renormalisation_and_gradient_h(i);
+        let eigen = SymmetricEigen::new(&renormalisation);
         let lambda = eigen.min_value();
         if lambda <= self.params.lambda_surface {
             return true;
@@ -241,7 +241,7 @@ impl MarroneDetector {
         if lambda > self.params.lambda_interior {
             return false;
         }
-        let nu = -eigen.solve(&sums.gradient_h);
+        let nu = -eigen.solve(&gradient_h);
         let norm = nu.norm();
         if !(norm > 0.0 && norm.is_finite()) {
             return false;
@@ -251,7 +251,7 @@ impl MarroneDetector {
         let region = ScanRegion::new(nu / norm, 1.0, theta);
         let inv_h = 1.0 / h;
         let mut shielded = false;
-        ctx.for_each_neighbour(i, |_, xji, _| {
+        ctx.for_each_neighbour_volume(i, |_, xji, _| {
             let xji = xji * inv_h;
             let d = xji.norm();
             if !shielded && d > 0.0 && region.contains(&xji, d) {

@@ -187,7 +187,7 @@ impl SphCriterion for MullerDetector {
     }
 
     fn classify<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Verdict {
-        let margin = ctx.local_sums(i).gradient_h.norm() - self.params.threshold;
+        let margin = ctx.gradient_h(i).norm() - self.params.threshold;
         Verdict {
             boundary: margin > 0.0,
             margin,

@@ -212,12 +212,11 @@ fn lambda<const D: usize>(ctx: &SphContext<'_, D>, i: usize) -> f64 {
 fn renormalisation<const D: usize>(ctx: &SphContext<'_, D>, i: usize) -> SMatrix<f64, D, D> {
     let kernel = ctx.kernel();
     let inv_h = 1.0 / kernel.h();
-    let volumes = ctx.reduced_volumes();
     let mut b = SMatrix::<f64, D, D>::zeros();
-    ctx.for_each_neighbour(i, |j, xji, d| {
+    ctx.for_each_neighbour_volume(i, |volume, xji, d| {
         if d > 0.0 {
             let x = xji * inv_h;
-            let w = volumes[j] * kernel.reduced_gradient_weight(d * inv_h);
+            let w = volume * kernel.reduced_gradient_weight(d * inv_h);
             b += (x * w) * x.transpose();
         }
     });
