@@ -237,7 +237,8 @@ fn density_and_lists_sweep<const D: usize>(
                     }
                 }
             }
-            let mut sum = density[a] + kernel.reduced_value(((p - p) * inv_h).norm());
+            // Itself: `x − x = 0` exactly for finite coordinates, so `q = 0` as in its query.
+            let mut sum = density[a] + kernel.reduced_value(0.0);
             for &t in &near[..found] {
                 let w = kernel.reduced_value(((sorted[t as usize] - p) * inv_h).norm());
                 sum += w;
