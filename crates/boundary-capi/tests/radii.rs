@@ -143,7 +143,17 @@ fn a_handle_takes_radii_and_its_margin() {
         BOUNDARY_OK
     );
     assert_eq!(run(ones.as_ptr(), &mut b, &mut mb, &mut err), BOUNDARY_OK);
-    assert_eq!((a, ma), (b, mb));
+    assert_eq!(a, b);
+    // Margins are exact above -1e-6 r and upper bounds below it (exact's documented
+    // margins: the uniform path's interior filter and the radii path may bound an interior
+    // particle differently), so deep interior margins are compared by that band only.
+    let band = -1e-6 * 1.2; // boundary_exact::INTERIOR_BAND times r
+    for (i, (x, y)) in ma.iter().zip(&mb).enumerate() {
+        if *x > band || *y > band {
+            assert_eq!(x, y, "margin of particle {i}");
+        }
+    }
+    assert!(ma.iter().zip(&mb).any(|(x, y)| *x <= band && *y <= band));
     let mut bad = ones.clone();
     bad[17] = -2.0;
     let (mut labels, mut margin) = (vec![9u8; 125], vec![5.0; 125]);
