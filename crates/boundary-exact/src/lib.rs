@@ -1186,10 +1186,12 @@ mod tests {
 
     /// Margins of particles `0..n` by the reference path: every neighbour within 2r gathered
     /// by brute force, sorted, clipped into the full cell (`Polygon` / `Polyhedron`), no fast
-    /// cell, no staged gathering.
+    /// cell, no staged gathering. With `settle = false` every neighbour is clipped (the full
+    /// float cell), else clipping stops once the cell has settled, as the detector's does.
     fn reference_margins<const D: usize, C: ConvexCell<D> + Default>(
         set: &ParticleSet<D>,
         r: f64,
+        settle: bool,
     ) -> Vec<f64> {
         let positions = set.positions();
         let reach2 = (2.0 * r * (1.0 + NEAR_SLACK)).powi(2);
@@ -1210,7 +1212,7 @@ mod tests {
                     beyond: &mut beyond,
                     gather_all: &|_| {},
                 };
-                cell_margin(p, positions, r, near, &mut cell, false, true).margin * r
+                cell_margin(p, positions, r, near, &mut cell, false, settle).margin * r
             })
             .collect()
     }
@@ -1255,35 +1257,6 @@ mod tests {
         filtered
     }
 
-    /// Margins of particles `0..n` of the full float cell: every neighbour within 2r clipped.
-    fn full_cell_margins<const D: usize, C: ConvexCell<D> + Default>(
-        set: &ParticleSet<D>,
-        r: f64,
-    ) -> Vec<f64> {
-        let positions = set.positions();
-        let reach2 = (2.0 * r * (1.0 + NEAR_SLACK)).powi(2);
-        let mut cell = C::default();
-        positions
-            .iter()
-            .map(|p| {
-                let mut list: Vec<Near> = positions
-                    .iter()
-                    .enumerate()
-                    .map(|(j, q)| ((q - p).norm_squared(), j))
-                    .filter(|&(d2, _)| d2 > 0.0 && d2 <= reach2)
-                    .map(|(d2, j)| (d2.to_bits(), j as u32, j as u32))
-                    .collect();
-                let mut beyond = f64::INFINITY;
-                let near = Neighbours {
-                    list: &mut list,
-                    beyond: &mut beyond,
-                    gather_all: &|_| {},
-                };
-                cell_margin(p, positions, r, near, &mut cell, false, false).margin * r
-            })
-            .collect()
-    }
-
     // The interior filter, the fast cell, the staged gathering (neighbours within
     // FIRST_REACH·r first) and the traversal in grid order change no bit of any margin the
     // filter does not decide, and the filter decides only particles deep inside: at radii
@@ -1297,8 +1270,8 @@ mod tests {
             let d = ExactDetector::default()
                 .detect_3d(&set, Radius::new(r).unwrap())
                 .unwrap();
-            let reference = reference_margins::<3, Polyhedron>(&set, r);
-            let full = full_cell_margins::<3, Polyhedron>(&set, r);
+            let reference = reference_margins::<3, Polyhedron>(&set, r, true);
+            let full = reference_margins::<3, Polyhedron>(&set, r, false);
             filtered += compare_with_reference(&d.margin.unwrap(), &reference, &full, r);
         }
         assert!(filtered > 100, "{filtered}");
@@ -1312,8 +1285,8 @@ mod tests {
             let d = ExactDetector::default()
                 .detect_2d(&set, Radius::new(r).unwrap())
                 .unwrap();
-            let reference = reference_margins::<2, Polygon>(&set, r);
-            let full = full_cell_margins::<2, Polygon>(&set, r);
+            let reference = reference_margins::<2, Polygon>(&set, r, true);
+            let full = reference_margins::<2, Polygon>(&set, r, false);
             filtered += compare_with_reference(&d.margin.unwrap(), &reference, &full, r);
         }
         assert!(filtered > 100, "{filtered}");
