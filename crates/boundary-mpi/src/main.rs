@@ -690,36 +690,14 @@ impl Run<'_> {
         }
         let send_counts: Vec<usize> = send.iter().map(Vec::len).collect();
         stats.sent = send_counts.iter().sum::<usize>() as u64;
-        let send_counts64: Vec<u64> = send_counts.iter().map(|&c| c as u64).collect();
-        let mut recv_counts64 = vec![0u64; size];
-        world.all_to_all_into(&send_counts64[..], &mut recv_counts64[..]);
-        let recv_counts: Vec<usize> = recv_counts64.iter().map(|&c| c as usize).collect();
-        let layouts = layout(&send_counts, D).and_then(|sc| {
-            Ok((
-                sc,
-                layout(&send_counts, 1)?,
-                layout(&recv_counts, D)?,
-                layout(&recv_counts, 1)?,
-            ))
-        });
-        let ((scc, scd), (sic, sid), (rcc, rcd), (ric, rid)) = agree(world, layouts)?;
         let send_coords: Vec<f64> = send
             .iter()
             .flatten()
             .flat_map(|&i| owned[i].iter().copied())
             .collect();
         let send_index: Vec<u64> = send.iter().flatten().map(|&i| owned_index[i]).collect();
-        let total: usize = recv_counts.iter().sum();
-        let mut recv_coords = vec![0.0f64; total * D];
-        let mut recv_index = vec![0u64; total];
-        {
-            let sp = Partition::new(&send_coords[..], &scc[..], &scd[..]);
-            let mut rp = PartitionMut::new(&mut recv_coords[..], &rcc[..], &rcd[..]);
-            world.all_to_all_varcount_into(&sp, &mut rp);
-            let sp = Partition::new(&send_index[..], &sic[..], &sid[..]);
-            let mut rp = PartitionMut::new(&mut recv_index[..], &ric[..], &rid[..]);
-            world.all_to_all_varcount_into(&sp, &mut rp);
-        }
+        let (recv_coords, recv_index) =
+            self.send_by_rank(&send_counts, &send_coords, &send_index, D)?;
         let candidates = unflatten::<D>(&recv_coords);
         let kept = agree(
             world,
@@ -731,6 +709,42 @@ impl Run<'_> {
             .collect();
         ghosts.sort_by_key(|&(i, _)| i);
         Ok(ghosts.into_iter().map(|(i, p)| (p, i)).unzip())
+    }
+
+    /// One all-to-all of particles: `send_counts[q]` particles go to rank `q`, their `per`
+    /// coordinates each in `send_coords` and their global indices in `send_index`, both in
+    /// rank order. Returns the coordinates and indices received, in rank order.
+    fn send_by_rank(
+        &self,
+        send_counts: &[usize],
+        send_coords: &[f64],
+        send_index: &[u64],
+        per: usize,
+    ) -> Result<(Vec<f64>, Vec<u64>), Failure> {
+        let world = self.world;
+        let send_counts64: Vec<u64> = send_counts.iter().map(|&c| c as u64).collect();
+        let mut recv_counts64 = vec![0u64; send_counts.len()];
+        world.all_to_all_into(&send_counts64[..], &mut recv_counts64[..]);
+        let recv_counts: Vec<usize> = recv_counts64.iter().map(|&c| c as usize).collect();
+        let layouts = layout(send_counts, per).and_then(|sc| {
+            Ok((
+                sc,
+                layout(send_counts, 1)?,
+                layout(&recv_counts, per)?,
+                layout(&recv_counts, 1)?,
+            ))
+        });
+        let ((scc, scd), (sic, sid), (rcc, rcd), (ric, rid)) = agree(world, layouts)?;
+        let total: usize = recv_counts.iter().sum();
+        let mut recv_coords = vec![0.0f64; total * per];
+        let mut recv_index = vec![0u64; total];
+        let sp = Partition::new(send_coords, &scc[..], &scd[..]);
+        let mut rp = PartitionMut::new(&mut recv_coords[..], &rcc[..], &rcd[..]);
+        world.all_to_all_varcount_into(&sp, &mut rp);
+        let sp = Partition::new(send_index, &sic[..], &sid[..]);
+        let mut rp = PartitionMut::new(&mut recv_index[..], &ric[..], &rid[..]);
+        world.all_to_all_varcount_into(&sp, &mut rp);
+        Ok((recv_coords, recv_index))
     }
 
     /// Sends every local particle to its owner (`owner[k]` for particle `k`); returns the
@@ -747,21 +761,15 @@ impl Run<'_> {
         for &o in owner {
             send_counts[o] += 1;
         }
-        let send_counts64: Vec<u64> = send_counts.iter().map(|&c| c as u64).collect();
-        let mut recv_counts64 = vec![0u64; size];
-        world.all_to_all_into(&send_counts64[..], &mut recv_counts64[..]);
-        let recv_counts: Vec<usize> = recv_counts64.iter().map(|&c| c as usize).collect();
-        let layouts = layout(&send_counts, D).and_then(|sc| {
-            Ok((
-                sc,
-                layout(&send_counts, 1)?,
-                layout(&recv_counts, D)?,
-                layout(&recv_counts, 1)?,
-            ))
-        });
-        let ((scc, scd), (sic, sid), (rcc, rcd), (ric, rid)) = agree(world, layouts)?;
         // The send buffers in owner order (a counting sort, stable in the local order).
-        let mut next: Vec<usize> = sid.iter().map(|&d| d as usize).collect();
+        let mut next: Vec<usize> = send_counts
+            .iter()
+            .scan(0, |start, &c| {
+                let at = *start;
+                *start += c;
+                Some(at)
+            })
+            .collect();
         let mut send_coords = vec![0.0f64; points.len() * D];
         let mut send_index = vec![0u64; points.len()];
         for ((p, &i), &o) in points.iter().zip(index).zip(owner) {
@@ -772,17 +780,8 @@ impl Run<'_> {
                 send_coords[at * D + k] = p[k];
             }
         }
-        let total: usize = recv_counts.iter().sum();
-        let mut recv_coords = vec![0.0f64; total * D];
-        let mut recv_index = vec![0u64; total];
-        {
-            let sp = Partition::new(&send_coords[..], &scc[..], &scd[..]);
-            let mut rp = PartitionMut::new(&mut recv_coords[..], &rcc[..], &rcd[..]);
-            world.all_to_all_varcount_into(&sp, &mut rp);
-            let sp = Partition::new(&send_index[..], &sic[..], &sid[..]);
-            let mut rp = PartitionMut::new(&mut recv_index[..], &ric[..], &rid[..]);
-            world.all_to_all_varcount_into(&sp, &mut rp);
-        }
+        let (recv_coords, recv_index) =
+            self.send_by_rank(&send_counts, &send_coords, &send_index, D)?;
         Ok(recv_index
             .into_iter()
             .zip(unflatten::<D>(&recv_coords))
