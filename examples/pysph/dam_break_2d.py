@@ -13,13 +13,13 @@ PySPH's ``gid`` is 4294967295 for every particle in a serial run and cannot serv
 Run (``pip install pysph boundary-particles``; PySPH needs a C compiler and Cython)::
 
     python examples/pysph/dam_break_2d.py --max-steps 300 -d /tmp/db2d
-    python examples/pysph/dam_break_2d.py --dx 0.015 --max-steps 50 -d /tmp/db2d_fine
+    python examples/pysph/dam_break_2d.py --dx 0.015 --max-steps 8000 -d /tmp/db2d_fine
 
-The second is the size of the dam break in the docs (8978 fluid and 3256 wall particles).
-PySPH 1.0b2's example gives its particles the mass and smoothing length of its default
-``dx = 0.03`` whatever ``--dx`` says, and at ``--dx 0.015`` its time step collapses and the
-positions turn NaN after about 60 steps (without the tracker too); the tracker then stops the
-run with a ``ValueError`` naming the particle.
+The second is the size of the dam break in the docs (8978 fluid and 3256 wall particles,
+``r = h = 0.0195``). PySPH 1.0b2's example gives its particles the mass and smoothing length
+of its default ``dx = 0.03`` whatever ``--dx`` says (at ``--dx 0.015`` its positions then turn
+NaN after about 60 steps); this example sets both from ``--dx`` (``m = dx^2 rho0``,
+``h = hdx dx``), as the scheme's own ``h0`` already is, so every spacing runs.
 
 Every option of PySPH's example applies (``--tf``, ``--openmp``, ``--pfreq``, ...). At the end
 it prints the tracker's cost: its mean update time (wall clock, from gathering the positions
@@ -40,7 +40,7 @@ import time
 import numpy as np
 
 import boundary_particles as bp
-from pysph.examples.dam_break_2d import DamBreak2D
+from pysph.examples.dam_break_2d import DamBreak2D, ro
 
 
 class LabelledDamBreak2D(DamBreak2D):
@@ -48,6 +48,12 @@ class LabelledDamBreak2D(DamBreak2D):
 
     def create_particles(self):
         particles = super().create_particles()
+        # PySPH 1.0b2's example gives every particle the mass and smoothing length of its
+        # default dx = 0.03 whatever `--dx` says; set both from the spacing actually used, as
+        # the scheme's own h0 = hdx * dx already is, so that a finer run stays finite.
+        for array in particles:
+            array.h[:] = self.h
+            array.m[:] = self.dx**2 * ro
         fluid = self._named(particles, "fluid")
         fluid.add_property("boundary_label", type="int")
         fluid.add_property("label_id", type="long", data=np.arange(fluid.get_number_of_particles()))

@@ -37,6 +37,10 @@ const MAX_DENSE_CELLS: f64 = (u32::MAX - 1) as f64;
 /// must grow it (cut back to the particles kept at the end).
 const GATHER_SLACK: usize = 64;
 
+/// [`NeighbourGrid::move_particles`] works in pieces of this many particles (a piece takes
+/// some tens of microseconds, more than handing it to another worker costs).
+const MOVE_PIECE: usize = 16384;
+
 /// Whether `n` particles take the dense layout over a bounding box of `total` cells: at most
 /// `max(4n, 4096)` cells (memory `O(n)`) and at most [`MAX_DENSE_CELLS`] (`u32` indices).
 fn dense_fits(n: usize, total: f64) -> bool {
@@ -229,15 +233,22 @@ impl<const D: usize> NeighbourGrid<D> {
         if self.built.is_empty() {
             self.built = self.sorted.clone();
         }
-        self.sorted
-            .par_iter_mut()
-            .zip(&self.order)
-            .for_each(|(s, &i)| *s = positions[i as usize]);
+        // One pass: each new position stored and its squared distance from where it was
+        // sorted taken, in pieces of `MOVE_PIECE` (a set of a few thousand particles, moved at
+        // every step of a time loop, stays on the calling thread).
         let drift = self
             .sorted
-            .par_iter()
-            .zip(&self.built)
-            .map(|(a, b)| dist2(a, b))
+            .par_chunks_mut(MOVE_PIECE)
+            .zip(self.order.par_chunks(MOVE_PIECE))
+            .zip(self.built.par_chunks(MOVE_PIECE))
+            .map(|((sorted, order), built)| {
+                let mut most = 0.0f64;
+                for ((s, &i), b) in sorted.iter_mut().zip(order).zip(built) {
+                    *s = positions[i as usize];
+                    most = most.max(dist2(s, b));
+                }
+                most
+            })
             .reduce(|| 0.0, f64::max)
             .sqrt();
         // The computed distances carry a relative rounding of a few `u`.
@@ -733,6 +744,39 @@ mod tests {
         check::<3>(8, 0.2, &[0.1, 0.2, 0.5], 0.0);
         // Far from the origin with a fine cell: the hashed layout.
         check::<3>(9, 1e-3, &[0.01, 0.1], 1e7);
+    }
+
+    /// A set larger than one piece of `move_particles`: the drift is the largest over every
+    /// piece (the farthest particle moved in each piece in turn), and every sorted position is
+    /// the new one.
+    #[test]
+    fn moving_many_particles_takes_the_largest_drift_of_every_piece() {
+        let n = 2 * MOVE_PIECE + 1000;
+        let set = random_set::<2>(21, n, 10.0, 0.0);
+        let mut grid = NeighbourGrid::new(&set, 0.5).unwrap();
+        for (round, piece) in [0, MOVE_PIECE + 7, n - 1].into_iter().enumerate() {
+            // The particle at sorted slot `piece` moves farthest.
+            let far = grid.cell_order()[piece] as usize;
+            let mut positions = set.positions().to_vec();
+            for (k, p) in positions.iter_mut().enumerate() {
+                let step = if k == far {
+                    0.25 + 0.01 * round as f64
+                } else {
+                    1e-3
+                };
+                *p += Point::<2>::new(step, 0.0);
+            }
+            let moved = ParticleSet::new(positions).unwrap();
+            let drift = grid.move_particles(&moved).unwrap();
+            let most = 0.25 + 0.01 * round as f64;
+            assert!((drift - most).abs() <= 1e-12, "{drift} {most}");
+            for (s, &i) in grid.cell_order().iter().enumerate() {
+                assert_eq!(
+                    grid.cell_sorted_positions()[s],
+                    moved.positions()[i as usize]
+                );
+            }
+        }
     }
 
     #[test]

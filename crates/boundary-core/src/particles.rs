@@ -103,11 +103,18 @@ where
         if positions.len() > u32::MAX as usize {
             return Err(CoreError::TooManyParticles(positions.len()));
         }
-        for (index, p) in positions.iter().enumerate() {
-            for axis in 0..D {
-                let value = p[axis];
-                if !value.is_finite() {
-                    return Err(CoreError::NonFiniteCoordinate { index, axis, value });
+        // One branch-free pass (sets are validated on every call of a time loop); the
+        // offending particle is looked up only when there is one.
+        let finite = positions
+            .iter()
+            .fold(true, |ok, p| p.iter().fold(ok, |ok, v| ok & v.is_finite()));
+        if !finite {
+            for (index, p) in positions.iter().enumerate() {
+                for axis in 0..D {
+                    let value = p[axis];
+                    if !value.is_finite() {
+                        return Err(CoreError::NonFiniteCoordinate { index, axis, value });
+                    }
                 }
             }
         }

@@ -113,8 +113,8 @@
 //! gather of the positions and a scatter of the labels). Besides the budgets, labels and each
 //! interior particle's certificate neighbours, an update keeps the neighbour grid of the last
 //! evaluation: the grid is not sorted again while no
-//! particle has drifted more than `0.1r` from where it was sorted, the Verlet-list rule with
-//! a skin of `0.2r` ([`NeighbourGrid::move_particles`]: its queries scan `drift` farther and
+//! particle has drifted more than `0.5r` from where it was sorted, the Verlet-list rule with
+//! a skin of `r` ([`NeighbourGrid::move_particles`]: its queries scan `drift` farther and
 //! test the current positions, so they find the same particles at the same distances as a
 //! new grid would). The labels and the proofs of the budgets do not depend on the reuse.
 //!
@@ -162,7 +162,7 @@ const WITNESS_REACH: f64 = 1.5;
 /// The neighbour grid is reused, its particles moved, while no particle (fluid or wall) has
 /// drifted more than `SKIN·r` from where the grid sorted it: queries then scan cells up to
 /// `SKIN·r` farther (module docs, "Reuse").
-const SKIN: f64 = 0.1;
+const SKIN: f64 = 0.5;
 
 /// More than this fraction of particles to recompute: a full detection is cheaper (an
 /// evaluation costs about 1.5 times a particle of a full detection: the cell is clipped to
@@ -1168,13 +1168,20 @@ fn relative_spent<const D: usize>(
     }
     let p = now[i];
     // The largest squared norm, then one square root: `sqrt` is correctly rounded and
-    // monotone, so this is the largest of the norms, bit for bit.
-    let most = list
-        .iter()
-        .zip(offsets)
-        .map(|(&j, q)| ((now[j as usize] - p) - q).norm_squared())
-        .fold(0.0, f64::max)
-        .sqrt();
+    // monotone, so this is the largest of the norms, bit for bit. Written out per axis (the
+    // same operations in the same order as `((now_j − p) − q).norm_squared()`): the positions
+    // are finite, so a plain comparison takes the largest.
+    let mut most2 = 0.0f64;
+    for (&j, q) in list.iter().zip(offsets) {
+        let nj = &now[j as usize];
+        let mut d2 = 0.0;
+        for k in 0..D {
+            let d = (nj[k] - p[k]) - q[k];
+            d2 += d * d;
+        }
+        most2 = if d2 > most2 { d2 } else { most2 };
+    }
+    let most = most2.sqrt();
     // `64u·(r + most)` covers the rounding of the differences (module docs, "Rounding").
     *relative = (most * (1.0 + ROUNDING) + 64.0 * U * (r.get() + most)) * (1.0 + ROUNDING);
     *checked = sum;

@@ -176,11 +176,17 @@ fn particle_set<const D: usize>(
 where
     Dim<D>: SupportedDim,
 {
-    ParticleSet::new(
+    let positions = if stride == D && kept.iter().enumerate().all(|(k, &axis)| k == axis) {
+        // Every column, in order: rows copied whole.
+        flat.chunks_exact(D)
+            .map(Point::<D>::from_column_slice)
+            .collect()
+    } else {
         flat.chunks_exact(stride)
             .map(|row| Point::<D>::from_fn(|k, _| row[kept[k]]))
-            .collect(),
-    )
+            .collect()
+    };
+    ParticleSet::new(positions)
 }
 
 /// The set of `dim` columns of `flat` (rows of `stride`), without the dimension checks.
@@ -586,9 +592,14 @@ fn whole_numbers(arg: &Bound<'_, PyAny>, name: &str, what: &str, max: u64) -> Py
         ))
     };
     // Every integer dtype fits in uint64 or int64 without wrapping; the values are then
-    // checked. `astype` gives a contiguous copy, read as one slice.
+    // checked. A contiguous array of that dtype is read in place, any other converted to one.
+    let contiguous = |dtype: &str| -> PyResult<Bound<'_, PyAny>> {
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("dtype", numpy.getattr(dtype)?)?;
+        numpy.call_method("ascontiguousarray", (&array,), Some(&kwargs))
+    };
     if kind == "u" {
-        let values = array.call_method1("astype", (numpy.getattr("uint64")?,))?;
+        let values = contiguous("uint64")?;
         let values: numpy::PyReadonlyArray1<'_, u64> = values.extract()?;
         let values = values.as_slice()?;
         if let Some((i, v)) = values.iter().enumerate().find(|(_, &v)| v > max) {
@@ -596,19 +607,22 @@ fn whole_numbers(arg: &Bound<'_, PyAny>, name: &str, what: &str, max: u64) -> Py
         }
         Ok(values.to_vec())
     } else {
-        let values = array.call_method1("astype", (numpy.getattr("int64")?,))?;
+        let values = contiguous("int64")?;
         let values: numpy::PyReadonlyArray1<'_, i64> = values.extract()?;
-        values
-            .as_slice()?
+        let values = values.as_slice()?;
+        // The range first, in one branch-free pass (a solver hands its ids every step); the
+        // particle and value are looked up only when something is out of range.
+        let (low, high) = values
             .iter()
-            .enumerate()
-            .map(|(i, &v)| {
-                u64::try_from(v)
-                    .ok()
-                    .filter(|&v| v <= max)
-                    .ok_or_else(|| out_of_range(i, &v))
-            })
-            .collect()
+            .fold((i64::MAX, i64::MIN), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+        if low < 0 || u64::try_from(high).is_ok_and(|high| high > max) {
+            let bad = |&v: &i64| u64::try_from(v).map_or(true, |v| v > max);
+            if let Some((i, v)) = values.iter().enumerate().find(|(_, v)| bad(v)) {
+                return Err(out_of_range(i, v));
+            }
+        }
+        // Non-negative: the same value as a u64.
+        Ok(values.iter().map(|&v| v as u64).collect())
     }
 }
 

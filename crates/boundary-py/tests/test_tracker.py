@@ -85,6 +85,14 @@ def test_tracker_refuses_bad_ids():
     # Ids up to 2^64 - 1 are taken.
     big = np.array([2**64 - 1, 0, 2**63], dtype=np.uint64)
     np.testing.assert_array_equal(tracker.update(points, ids=big), boundary.detect(points, 1.0))
+    # The first offender is named, whatever follows it.
+    with pytest.raises(ValueError, match="particle 1: id -7"):
+        tracker.update(points, ids=np.array([4, -7, -2], dtype=np.int64))
+    # A strided view and a narrower dtype are read as the same ids.
+    expected = boundary.detect(points, 1.0)
+    strided = np.arange(6, dtype=np.int64)[::2]
+    np.testing.assert_array_equal(tracker.update(points, ids=strided), expected)
+    np.testing.assert_array_equal(tracker.update(points, ids=strided.astype(np.int32)), expected)
 
 
 def tank(step: int):
