@@ -112,11 +112,13 @@
 //! passes ids (a solver that sorts its particles into cells every step loses nothing but a
 //! gather of the positions and a scatter of the labels). Besides the budgets, labels and each
 //! interior particle's certificate neighbours, an update keeps the neighbour grid of the last
-//! evaluation: the grid is not sorted again while no
-//! particle has drifted more than `0.5r` from where it was sorted, the Verlet-list rule with
-//! a skin of `r` ([`NeighbourGrid::move_particles`]: its queries scan `drift` farther and
-//! test the current positions, so they find the same particles at the same distances as a
-//! new grid would). The labels and the proofs of the budgets do not depend on the reuse.
+//! evaluation as it was sorted, untouched while no particle may have drifted more than `0.5r`
+//! from there (the Verlet-list rule with a skin of `r`). The drift is bounded by the growth of
+//! the running sum of the steps' largest displacements since the grid was sorted, so nothing
+//! is computed per particle to keep it: a query of an evaluated particle scans `drift` farther
+//! and tests the particles it finds at their current positions, so it finds the same particles
+//! at the same distances as a new grid would. The labels and the proofs of the budgets do not
+//! depend on the reuse.
 //!
 //! # Fallbacks and scope
 //! - The first update, a change of the dimension or of the number of walls start over
@@ -159,9 +161,9 @@ const ROUNDING: f64 = 1e-9;
 /// is at most `(WITNESS_REACH − 1)·r`.
 const WITNESS_REACH: f64 = 1.5;
 
-/// The neighbour grid is reused, its particles moved, while no particle (fluid or wall) has
-/// drifted more than `SKIN·r` from where the grid sorted it: queries then scan cells up to
-/// `SKIN·r` farther (module docs, "Reuse").
+/// The neighbour grid is reused, as it was sorted, while no particle (fluid or wall) may have
+/// drifted more than `SKIN·r` from where it sorted them: queries then scan up to `SKIN·r`
+/// farther (module docs, "Reuse").
 const SKIN: f64 = 0.5;
 
 /// More than this fraction of particles to recompute: a full detection is cheaper (an
@@ -357,9 +359,12 @@ struct Track<const D: usize> {
     /// The number of full detections after the next fallback: doubled at each fallback (up
     /// to [`MAX_BACKOFF`]), back to 1 after a step that recomputes few particles.
     backoff: u32,
-    /// The neighbour grid of the last evaluation (fluid and walls), moved along with the
-    /// particles until their drift passes [`SKIN`] (module docs, "Reuse").
+    /// The neighbour grid of the last evaluation (fluid and walls), as sorted, kept until
+    /// the particles may have drifted [`SKIN`] from there (module docs, "Reuse").
     grid: Option<NeighbourGrid<D>>,
+    /// The running sum `sum` when `grid` was sorted: no particle has moved farther than
+    /// `sum - grid_sum` since.
+    grid_sum: f64,
 }
 
 impl Tracker {
@@ -737,6 +742,7 @@ impl<const D: usize> Track<D> {
                 stale: 0,
                 backoff: 1,
                 grid: None,
+                grid_sum: 0.0,
             };
             let all: Vec<usize> = (0..count).collect();
             track.evaluate::<C>(&all, r.get())?;
@@ -972,34 +978,42 @@ impl<const D: usize> Track<D> {
         if which.is_empty() {
             return Ok(());
         }
-        let set = ParticleSet::new(std::mem::take(&mut self.positions))?;
-        let evaluated = self.evaluate_in::<C>(&set, which, r);
-        self.positions = set.into_positions();
+        let positions = std::mem::take(&mut self.positions);
+        let evaluated = self.evaluate_in::<C>(&positions, which, r);
+        self.positions = positions;
         evaluated
     }
 
     fn evaluate_in<C>(
         &mut self,
-        set: &ParticleSet<D>,
+        positions: &[Point<D>],
         which: &[usize],
         r: f64,
     ) -> Result<(), DetectError>
     where
         C: ConvexCell<D> + Default + Send + Clone,
+        boundary_core::Dim<D>: boundary_core::SupportedDim,
     {
-        // The last grid, its particles moved, while they have drifted less than the skin.
-        let grid = match self.grid.take() {
-            Some(mut grid) if grid.cell_order().len() == set.len() => {
-                if grid.move_particles(set)? <= SKIN * r {
-                    grid
-                } else {
-                    NeighbourGrid::new(set, r * crate::GRID_CELL)?
-                }
+        // The last grid as it was sorted, while the particles may have drifted less than the
+        // skin from there: its queries reach `drift` farther and are tested at the current
+        // positions (`Near::within`). The drift is bounded by the running sum's growth since
+        // (each step adds its largest displacement, rounded up), grown for the subtraction.
+        let drift = (self.sum - self.grid_sum) * (1.0 + ROUNDING);
+        let (grid, drift) = match self.grid.take() {
+            Some(grid) if grid.cell_order().len() == positions.len() && drift <= SKIN * r => {
+                (grid, drift)
             }
-            _ => NeighbourGrid::new(set, r * crate::GRID_CELL)?,
+            _ => {
+                self.grid_sum = self.sum;
+                let set = ParticleSet::new(positions.to_vec())?;
+                (NeighbourGrid::new(&set, r * crate::GRID_CELL)?, 0.0)
+            }
         };
-        let positions = set.positions();
-        let sorted = grid.cell_sorted_positions();
+        let near = Within {
+            grid: &grid,
+            positions,
+            drift,
+        };
         // Per piece: (particle, label, budget, how many neighbours it watches), and those
         // neighbours one after the other.
         type Piece = (Vec<(usize, bool, f64, u32)>, Vec<u32>);
@@ -1010,8 +1024,7 @@ impl<const D: usize> Track<D> {
                 || (Scratch::<D, C>::default(), Vec::new(), Vec::new()),
                 |(mut scratch, mut results, mut watched), &i| {
                     let before = watched.len();
-                    let (label, budget) =
-                        evaluate_one(&grid, positions, sorted, i, r, &mut scratch, &mut watched);
+                    let (label, budget) = evaluate_one(&near, i, r, &mut scratch, &mut watched);
                     results.push((i, label, budget, (watched.len() - before) as u32));
                     (scratch, results, watched)
                 },
@@ -1041,32 +1054,70 @@ impl<const D: usize> Track<D> {
     }
 }
 
+/// Neighbour queries at the current positions over a grid sorted at earlier ones (module
+/// docs, "Reuse"). The grid was built over `positions` (fluid slots, then walls), so its
+/// indices are theirs; no particle is farther than `drift` from where the grid sorted it. A
+/// query reaches `drift` farther on the grid (and `1e-9` relative, for the rounding of the
+/// distances the grid tests) and tests each particle it finds again at its current position.
+struct Within<'a, const D: usize> {
+    grid: &'a NeighbourGrid<D>,
+    positions: &'a [Point<D>],
+    drift: f64,
+}
+
+impl<const D: usize> Within<'_, D> {
+    /// Calls `f(j, d2)` for every particle `j` within `radius` of `q` now (`d2` its squared
+    /// distance now), as [`NeighbourGrid::for_each_within`] would on a grid of the current
+    /// positions.
+    fn for_each(&self, q: &Point<D>, radius: f64, mut f: impl FnMut(usize, f64)) {
+        if self.drift == 0.0 {
+            // Sorted at the current positions.
+            self.grid.for_each_within(q, radius, f);
+            return;
+        }
+        let r2 = radius * radius;
+        let reach = radius * (1.0 + 1e-9) + self.drift;
+        self.grid.for_each_within(q, reach, |j, _| {
+            let d2 = (self.positions[j] - q).norm_squared();
+            if d2 <= r2 {
+                f(j, d2);
+            }
+        });
+    }
+
+    /// Appends every particle within `radius` of `q` now as a [`Near`] entry `(d2, j, j)`
+    /// (`j` indexes `positions`).
+    fn gather(&self, q: &Point<D>, radius: f64, out: &mut Vec<Near>) {
+        self.for_each(q, radius, |j, d2| {
+            out.push((d2.to_bits(), j as u32, j as u32));
+        });
+    }
+}
+
 /// The label of particle `i` and its budget (module docs); the neighbours its budget watches
 /// (an interior particle's cell's, a boundary particle's witness's) are pushed on `watched`
 /// when the budget is positive.
 fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
-    grid: &NeighbourGrid<D>,
-    positions: &[Point<D>],
-    sorted: &[Point<D>],
+    within: &Within<'_, D>,
     i: usize,
     r: f64,
     scratch: &mut Scratch<D, C>,
     watched: &mut Vec<u32>,
 ) -> (bool, f64) {
+    let positions = within.positions;
     let p = positions[i];
-    let key = |j: usize, slot: usize, d2: f64| (d2.to_bits(), j as u32, slot as u32);
     // The neighbours within FIRST_REACH·r first; the cell gathers the rest (up to 2r) when
     // it reaches beyond half of that (every other bisector lies farther).
     scratch.near.clear();
-    grid.gather_within(&p, FIRST_REACH * r, &mut scratch.near, key);
+    within.gather(&p, FIRST_REACH * r, &mut scratch.near);
     // `i` itself has d2 = 0; any other zero is an exact duplicate (module docs).
     let duplicated = scratch.near.iter().filter(|x| x.0 == 0).count() > 1;
     scratch.near.retain(|x| x.0 != 0);
     scratch.beyond = 0.5 * FIRST_REACH * (1.0 - 1e-9);
-    let gather_all = |near: &mut Vec<Near>| {
-        near.clear();
-        grid.gather_within(&p, 2.0 * r * (1.0 + NEAR_SLACK), near, key);
-        near.retain(|x| x.0 != 0);
+    let gather_all = |list: &mut Vec<Near>| {
+        list.clear();
+        within.gather(&p, 2.0 * r * (1.0 + NEAR_SLACK), list);
+        list.retain(|x| x.0 != 0);
     };
 
     // The float cell, clipped to the end; the fast cell first where there is one.
@@ -1077,7 +1128,7 @@ fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
             beyond: &mut scratch.beyond,
             gather_all: &gather_all,
         };
-        let cell = cell_margin(&p, sorted, r, near, &mut scratch.fast, true, false);
+        let cell = cell_margin(&p, positions, r, near, &mut scratch.fast, true, false);
         if !cell.degenerate && cell.margin.abs() > cell.tau {
             decided = Some((cell, scratch.fast.farthest()));
         }
@@ -1088,14 +1139,14 @@ fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
             beyond: &mut scratch.beyond,
             gather_all: &gather_all,
         };
-        let cell = cell_margin(&p, sorted, r, near, &mut scratch.cell, false, false);
+        let cell = cell_margin(&p, positions, r, near, &mut scratch.cell, false, false);
         if !cell.degenerate && cell.margin.abs() > cell.tau {
             decided = Some((cell, scratch.cell.farthest()));
         }
     }
     let Some((cell, far)) = decided else {
         // Certificates and the exact predicate: the label of a full detection, no budget.
-        let (_, label, _) = classify(&p, sorted, r, 0.0, scratch, &gather_all);
+        let (_, label, _) = classify(&p, positions, r, 0.0, scratch, &gather_all);
         return (label, 0.0);
     };
     let boundary = cell.margin > 0.0;
@@ -1126,7 +1177,7 @@ fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
     let x = Point::<D>::from_fn(|k, _| p[k] + r * (far[k] / norm));
     let mut d2min = (WITNESS_REACH * r).powi(2);
     let before = watched.len();
-    grid.for_each_within(&x, WITNESS_REACH * r, |j, d2| {
+    within.for_each(&x, WITNESS_REACH * r, |j, d2| {
         if j != i {
             d2min = d2min.min(d2);
             watched.push(j as u32);
