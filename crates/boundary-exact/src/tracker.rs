@@ -211,6 +211,11 @@ impl<const D: usize> Watched<D> {
         }
     }
 
+    /// Whether particle `i` watches any neighbour.
+    fn watches(&self, i: usize) -> bool {
+        self.len[i] > 0
+    }
+
     /// The neighbours particle `i` watches, and their offsets at its evaluation.
     fn of(&self, i: usize) -> (&[u32], &[Point<D>]) {
         let range = self.start[i]..self.start[i] + self.len[i] as usize;
@@ -1198,6 +1203,7 @@ fn evaluate_one<const D: usize, C: ConvexCell<D> + Clone>(
 /// neighbours are not read. Otherwise the movement is measured, from the offsets at the
 /// evaluation, and `relative` and `checked` are updated.
 #[allow(clippy::too_many_arguments)] // one particle's bookkeeping, called in the step's pass
+#[inline(always)] // called for every particle at every step: the call cost more than the test
 fn relative_spent<const D: usize>(
     i: usize,
     now: &[Point<D>],
@@ -1208,8 +1214,7 @@ fn relative_spent<const D: usize>(
     budget: f64,
     r: Radius,
 ) -> bool {
-    let (list, offsets) = watched.of(i);
-    if list.is_empty() {
+    if !watched.watches(i) {
         // A budget of 0, or one that watches no neighbour.
         return *relative * (1.0 + ROUNDING) >= budget;
     }
@@ -1217,6 +1222,7 @@ fn relative_spent<const D: usize>(
     if bound < budget {
         return false;
     }
+    let (list, offsets) = watched.of(i);
     let p = now[i];
     // The largest squared norm, then one square root: `sqrt` is correctly rounded and
     // monotone, so this is the largest of the norms, bit for bit. Written out per axis (the
