@@ -75,7 +75,9 @@
 //! *Rounding.* Every quantity compared above carries a relative rounding error of a few `u`
 //! (`u = 2^-53`): distances, the running sum (rounded up at each step), the budgets' formula.
 //! A measured `|q_j(now) − q_j(eval)|` also gains `64u·(r + |Δq_j|)` for the rounding of the
-//! offsets (each within `2.5r` of the particle at its evaluation).
+//! offsets (each within `2.5r` of the particle at its evaluation), and `3e-7·r` for their
+//! storage in units of `r` in single precision (each coordinate rounded to 24 bits: at most
+//! `√3·2.5r·2^-24` and a few `u`, below `2.6e-7·r`).
 //! Budgets are shrunk by the factor `1 − 1e-9` and movements grown by `1 + 1e-9`, and the
 //! witness loses `1e-12·r + 1e-14·|p_i|_∞` for the rounding of `x` itself (its distance from
 //! `S_i` is below `4u·(r + √D·|p_i|_∞)`). Particles whose float cell does not decide within
@@ -193,8 +195,8 @@ struct Watched<const D: usize> {
     len: Vec<u32>,
     list: Vec<u32>,
     /// Per entry of `list`: the neighbour's offset from the particle at the particle's
-    /// evaluation, `p_j − p_i`.
-    offsets: Vec<Point<D>>,
+    /// evaluation, `p_j − p_i`, in units of `r` and single precision ([`stored`]).
+    offsets: Vec<[f32; D]>,
     /// How many entries of `list` are watched.
     live: usize,
 }
@@ -217,13 +219,13 @@ impl<const D: usize> Watched<D> {
     }
 
     /// The neighbours particle `i` watches, and their offsets at its evaluation.
-    fn of(&self, i: usize) -> (&[u32], &[Point<D>]) {
+    fn of(&self, i: usize) -> (&[u32], &[[f32; D]]) {
         let range = self.start[i]..self.start[i] + self.len[i] as usize;
         (&self.list[range.clone()], &self.offsets[range])
     }
 
     /// Particle `i` now watches `neighbours`, at `offsets` from it.
-    fn set(&mut self, i: usize, neighbours: &[u32], offsets: impl Iterator<Item = Point<D>>) {
+    fn set(&mut self, i: usize, neighbours: &[u32], offsets: impl Iterator<Item = [f32; D]>) {
         self.live = self.live + neighbours.len() - self.len[i] as usize;
         self.start[i] = self.list.len();
         self.len[i] = neighbours.len() as u32;
@@ -914,7 +916,7 @@ impl<const D: usize> Track<D> {
             if renumbered.len() < list.len() && !self.labels[s] {
                 self.budget[s] = 0.0;
             } else {
-                let (list, offsets): (Vec<u32>, Vec<Point<D>>) = renumbered.iter().copied().unzip();
+                let (list, offsets): (Vec<u32>, Vec<[f32; D]>) = renumbered.iter().copied().unzip();
                 watched.set(slot, &list, offsets.into_iter());
             }
         }
@@ -1044,7 +1046,9 @@ impl<const D: usize> Track<D> {
                 self.budget[i] = budget;
                 let neighbours = &watched[at..at + len];
                 let p = positions[i];
-                let offsets = neighbours.iter().map(|&j| positions[j as usize] - p);
+                let offsets = neighbours
+                    .iter()
+                    .map(|&j| stored(positions[j as usize] - p, r));
                 self.watched.set(i, neighbours, offsets);
                 at += len;
                 self.relative[i] = 0.0;
@@ -1229,21 +1233,37 @@ fn relative_spent<const D: usize>(
     // same operations in the same order as `((now_j − p) − q).norm_squared()`): the positions
     // are finite, so a plain comparison takes the largest.
     let mut most2 = 0.0f64;
+    let r_len = r.get();
     for (&j, q) in list.iter().zip(offsets) {
         let nj = &now[j as usize];
         let mut d2 = 0.0;
         for k in 0..D {
-            let d = (nj[k] - p[k]) - q[k];
+            let d = (nj[k] - p[k]) - f64::from(q[k]) * r_len;
             d2 += d * d;
         }
         most2 = if d2 > most2 { d2 } else { most2 };
     }
     let most = most2.sqrt();
-    // `64u·(r + most)` covers the rounding of the differences (module docs, "Rounding").
-    *relative = (most * (1.0 + ROUNDING) + 64.0 * U * (r.get() + most)) * (1.0 + ROUNDING);
+    // `64u·(r + most)` covers the rounding of the differences, `OFFSET_STORAGE·r` that of the
+    // offsets to single precision (module docs, "Rounding").
+    *relative = (most * (1.0 + ROUNDING) + 64.0 * U * (r.get() + most) + OFFSET_STORAGE * r.get())
+        * (1.0 + ROUNDING);
     *checked = sum;
     *relative * (1.0 + ROUNDING) >= budget
 }
+
+/// A watched neighbour's offset `q = p_j − p_i` as stored: `q/r`, each coordinate rounded to
+/// single precision (half the memory the step's checks read); read back as `stored·r`.
+fn stored<const D: usize>(q: Point<D>, r: f64) -> [f32; D] {
+    std::array::from_fn(|k| (q[k] / r) as f32)
+}
+
+/// What storing an offset may move it, in units of `r`: an offset is within `2.5r` of zero
+/// (the witness's neighbours lie within `1.5r` of a point at `r`; a cell's within
+/// `2r(1 + NEAR_SLACK)`), so each stored coordinate is within 2.5 and moves at most
+/// `2.5·2^-24` (or `2^-150` if subnormal) plus the few `u` of the division and of the product
+/// that reads it back; the offset moves at most `√3·2.5r·(2^-24 + 4u) < 2.6e-7·r`.
+const OFFSET_STORAGE: f64 = 3e-7;
 
 /// What the witness point loses to its own rounding: its distance from `S_i` is below
 /// `4u·(r + √D·|p_i|_∞)` (module docs, "Rounding").
@@ -1274,7 +1294,8 @@ mod tests {
                 .map(|k| k * 1000 + i as u32 + round)
                 .collect()
         };
-        let offset = |j: u32| Point::<2>::new(f64::from(j), -f64::from(j));
+        // Whole numbers below 2^24: stored exactly in single precision.
+        let offset = |j: u32| stored(Point::<2>::new(f64::from(j), -f64::from(j)), 1.0);
         for round in 0..40 {
             for i in (0..count).filter(|i| !(i + round as usize).is_multiple_of(3)) {
                 let l = list(i, round);

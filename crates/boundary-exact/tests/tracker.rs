@@ -799,3 +799,37 @@ fn slow_shear_beside_moving_walls_matches_full_detection_at_every_step() {
     assert!(later > 0, "{recomputed:?}");
     assert!(later < 59 * base.len() / 10, "{recomputed:?}");
 }
+
+/// A slow shear of a jittered square at the scales of the supported resolutions' ends
+/// (`r = 1.5·10^±90`) and at 1: the labels of a full detection at every step, and the same
+/// saving at every scale (the watched offsets are kept in units of `r`, so their storage
+/// neither overflows nor underflows).
+#[test]
+fn slow_shear_at_extreme_scales_matches_full_detection_and_saves_alike() {
+    let mut rng = Rng(77);
+    let base = jittered_square(24, 0.3, &mut rng);
+    let mut saved = vec![];
+    for scale in [1e-90, 1.0, 1e90] {
+        let frames: Vec<AnyParticleSet> = (0..16)
+            .map(|step| {
+                let t = step as f64 * 2e-3;
+                let rows: Vec<[f64; 2]> = base
+                    .iter()
+                    .map(|p| [(p[0] + t * p[1]) * scale, p[1] * (1.0 - 0.5 * t) * scale])
+                    .collect();
+                set2(&rows)
+            })
+            .collect();
+        let recomputed = check_sequence(&frames, 1.5 * scale, Domain::new());
+        let later: usize = recomputed[1..].iter().sum();
+        assert!(
+            later < 15 * base.len() / 4,
+            "scale {scale}: {recomputed:?} of {}",
+            base.len()
+        );
+        saved.push(later);
+    }
+    // The same motion in units of r: the same particles recomputed, within a few.
+    let spread = saved.iter().max().unwrap() - saved.iter().min().unwrap();
+    assert!(spread <= saved[1] / 10 + 5, "{saved:?}");
+}
