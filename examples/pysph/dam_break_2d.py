@@ -20,9 +20,8 @@ The second is the size of the dam break in the docs (8978 fluid and 3256 wall pa
 of its default ``dx = 0.03`` whatever ``--dx`` says (at ``--dx 0.015`` its positions then turn
 NaN after about 60 steps); this example sets both from ``--dx`` (``m = dx^2 rho0``,
 ``h = hdx dx``), as the scheme's own ``h0`` already is. At ``--dx 0.015`` the collapse then
-runs for about 10,000 steps (to t = 0.58 s) before
-PySPH's positions turn NaN; the tracker stops the run there with a ``ValueError`` naming the
-particle.
+runs for about 10,000 steps (to t = 0.58 s) before PySPH's positions turn NaN; the tracker
+stops the run there with a ``ValueError`` naming the particle.
 
 Every option of PySPH's example applies (``--tf``, ``--openmp``, ``--pfreq``, ...). At the end
 it prints the tracker's cost: its mean update time (wall clock, from gathering the positions
@@ -53,7 +52,7 @@ class LabelledDamBreak2D(DamBreak2D):
         particles = super().create_particles()
         # PySPH 1.0b2's example gives every particle the mass and smoothing length of its
         # default dx = 0.03 whatever `--dx` says; set both from the spacing actually used, as
-        # the scheme's own h0 = hdx * dx already is, so that a finer run stays finite.
+        # the scheme's own h0 = hdx * dx already is, so that a run is at the spacing it names.
         for array in particles:
             array.h[:] = self.h
             array.m[:] = self.dx**2 * ro

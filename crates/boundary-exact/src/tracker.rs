@@ -1003,7 +1003,7 @@ impl<const D: usize> Track<D> {
     {
         // The last grid as it was sorted, while the particles may have drifted less than the
         // skin from there: its queries reach `drift` farther and are tested at the current
-        // positions (`Near::within`). The drift is bounded by the running sum's growth since
+        // positions (`Within`). The drift is bounded by the running sum's growth since
         // (each step adds its largest displacement, rounded up), grown for the subtraction.
         let drift = (self.sum - self.grid_sum) * (1.0 + ROUNDING);
         let (grid, drift) = match self.grid.take() {
@@ -1016,7 +1016,7 @@ impl<const D: usize> Track<D> {
                 (NeighbourGrid::new(&set, r * crate::GRID_CELL)?, 0.0)
             }
         };
-        let near = Within {
+        let within = Within {
             grid: &grid,
             positions,
             drift,
@@ -1031,7 +1031,7 @@ impl<const D: usize> Track<D> {
                 || (Scratch::<D, C>::default(), Vec::new(), Vec::new()),
                 |(mut scratch, mut results, mut watched), &i| {
                     let before = watched.len();
-                    let (label, budget) = evaluate_one(&near, i, r, &mut scratch, &mut watched);
+                    let (label, budget) = evaluate_one(&within, i, r, &mut scratch, &mut watched);
                     results.push((i, label, budget, (watched.len() - before) as u32));
                     (scratch, results, watched)
                 },
@@ -1229,9 +1229,9 @@ fn relative_spent<const D: usize>(
     let (list, offsets) = watched.of(i);
     let p = now[i];
     // The largest squared norm, then one square root: `sqrt` is correctly rounded and
-    // monotone, so this is the largest of the norms, bit for bit. Written out per axis (the
-    // same operations in the same order as `((now_j − p) − q).norm_squared()`): the positions
-    // are finite, so a plain comparison takes the largest.
+    // monotone, so this is the largest of the norms, bit for bit. Written out per axis, the
+    // stored offset read back as `stored·r`; the positions are finite, so a plain comparison
+    // takes the largest.
     let mut most2 = 0.0f64;
     let r_len = r.get();
     for (&j, q) in list.iter().zip(offsets) {
