@@ -480,7 +480,9 @@ int boundary_confusion_from_labels(const uint8_t *predicted,
 /**
  * Creates a tracker at resolution `r` on `threads` worker threads (0: all cores). Returns NULL
  * on error (`r` not positive and finite, threads that cannot start), with the message in
- * `err`. Release it with `boundary_tracker_free`.
+ * `err`. Release it with `boundary_tracker_free`. An update runs on the calling thread and
+ * hands only its large parts to the workers (passes over 16,384 particles and more, 128
+ * evaluations and more): a small step never waits for a worker to wake.
  *
  * # Safety
  * `err` is NULL or valid for writes of `err_len` bytes.

@@ -41,6 +41,10 @@ const GATHER_SLACK: usize = 64;
 /// some tens of microseconds, more than handing it to another worker costs).
 const MOVE_PIECE: usize = 16384;
 
+/// [`NeighbourGrid::new`] sorts fewer particles than this on the calling thread (a fraction
+/// of a millisecond: less than waking the workers of a pool costs, twice).
+const SORT_IN_PARALLEL_FROM: usize = 2 * MOVE_PIECE;
+
 /// Whether `n` particles take the dense layout over a bounding box of `total` cells: at most
 /// `max(4n, 4096)` cells (memory `O(n)`) and at most [`MAX_DENSE_CELLS`] (`u32` indices).
 fn dense_fits(n: usize, total: f64) -> bool {
@@ -77,7 +81,9 @@ enum Layout<const D: usize> {
 }
 
 impl<const D: usize> NeighbourGrid<D> {
-    /// Builds the grid with cells of side `cell` (finite, positive).
+    /// Builds the grid with cells of side `cell` (finite, positive). Sets of fewer than
+    /// 32,768 particles are sorted on the calling thread, larger ones on the rayon pool the
+    /// call runs on.
     ///
     /// Fails with [`CoreError::GridTooFine`] when the bounding box spans more than `2^52`
     /// cells along an axis (e.g. coordinates `1e9` apart with `cell = 1e-9`).
@@ -131,18 +137,20 @@ impl<const D: usize> NeighbourGrid<D> {
 
     fn fill_dense(mut self, positions: &[Point<D>], dims: [i64; D]) -> Self {
         let ncells = dims.iter().product::<i64>() as usize;
-        let linear: Vec<u32> = positions
-            .par_iter()
-            .map(|p| {
-                let c = self.cell_of(p);
-                let mut idx = 0i64;
-                for k in (0..D).rev() {
-                    idx = idx * dims[k] + c[k].clamp(0, dims[k] - 1);
-                }
-                // In range: `idx < ncells <= MAX_DENSE_CELLS` (`dense_fits`).
-                idx as u32
-            })
-            .collect();
+        let index = |p: &Point<D>| {
+            let c = self.cell_of(p);
+            let mut idx = 0i64;
+            for k in (0..D).rev() {
+                idx = idx * dims[k] + c[k].clamp(0, dims[k] - 1);
+            }
+            // In range: `idx < ncells <= MAX_DENSE_CELLS` (`dense_fits`).
+            idx as u32
+        };
+        let linear: Vec<u32> = if positions.len() < SORT_IN_PARALLEL_FROM {
+            positions.iter().map(index).collect()
+        } else {
+            positions.par_iter().map(index).collect()
+        };
         let mut starts = vec![0u32; ncells + 1];
         for &c in &linear {
             starts[c as usize + 1] += 1;
@@ -164,12 +172,15 @@ impl<const D: usize> NeighbourGrid<D> {
     }
 
     fn fill_hashed(mut self, positions: &[Point<D>]) -> Self {
-        let mut keyed: Vec<([i64; D], u32)> = positions
-            .par_iter()
-            .enumerate()
-            .map(|(i, p)| (self.cell_of(p), i as u32))
-            .collect();
-        keyed.par_sort_unstable();
+        let key = |(i, p): (usize, &Point<D>)| (self.cell_of(p), i as u32);
+        let mut keyed: Vec<([i64; D], u32)>;
+        if positions.len() < SORT_IN_PARALLEL_FROM {
+            keyed = positions.iter().enumerate().map(key).collect();
+            keyed.sort_unstable();
+        } else {
+            keyed = positions.par_iter().enumerate().map(key).collect();
+            keyed.par_sort_unstable();
+        }
         let mut ranges = FxHashMap::default();
         let mut start = 0usize;
         while start < keyed.len() {

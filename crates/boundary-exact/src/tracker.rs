@@ -122,6 +122,16 @@
 //! at the same distances as a new grid would. The labels and the proofs of the budgets do not
 //! depend on the reuse.
 //!
+//! # Threads
+//! An update runs on the thread that calls it. A solver's step leaves the tracker's workers
+//! asleep for milliseconds, and handing them work costs some tens of microseconds twice
+//! (waking them, being woken when they are done): about as much as the whole update of a
+//! set of ten thousand particles. So only the large parts go to the workers (the tracker's
+//! pool, or the rayon pool the update is called on): the passes over every particle from
+//! 16,384 particles on (in pieces of 8,192), the evaluations from 128 in one step, a new
+//! neighbour grid from 16,384 particles, a full detection. Smaller parts run on the calling
+//! thread, and an update that has only those never touches the pool.
+//!
 //! # Fallbacks and scope
 //! - The first update, a change of the dimension or of the number of walls start over
 //!   (every particle evaluated); so does a change of the particle count without ids, and the
@@ -154,6 +164,7 @@ use boundary_core::{
 };
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
+use std::sync::Arc;
 
 /// Budgets shrink and movements grow by this relative amount: far above the few `u` of
 /// relative rounding in the distances, sums and formulas compared (module docs).
@@ -185,6 +196,11 @@ const PASS_PIECE: usize = 8192;
 /// Evaluations run in pieces of at least this many particles (one evaluation costs a few
 /// microseconds).
 const EVALUATION_PIECE: usize = 16;
+
+/// Fewer evaluations than this in a step run on the calling thread: they cost a few tenths
+/// of a millisecond, and handing work to workers that slept through the solver's step costs
+/// some tens of microseconds, twice (waking them, being woken when they are done).
+const EVALUATION_PARALLEL: usize = 128;
 
 /// The neighbours each particle's budget watches, in one flat list: particle `i`'s are
 /// `list[start[i] .. start[i] + len[i]]`. An evaluation appends its particle's neighbours at
@@ -279,7 +295,8 @@ impl<const D: usize> Watched<D> {
 /// ```
 pub struct Tracker {
     r: Radius,
-    pool: Option<rayon::ThreadPool>,
+    /// The workers of the parallel parts; `None`: the rayon pool the tracker is called on.
+    pool: Option<Arc<rayon::ThreadPool>>,
     domain: Domain,
     /// Walls as given (moved by [`Tracker::move_walls`]).
     walls: Option<AnyParticleSet>,
@@ -312,6 +329,36 @@ enum Follow {
 
 /// A particle that was not there at the last update (see [`Follow::Ids`]).
 const ADDED: u32 = u32::MAX;
+
+/// Where an update's large parts run: the tracker's pool, or (`None`) the rayon pool the
+/// update is called on. The small parts run on the calling thread (module docs, "Threads").
+#[derive(Clone, Copy)]
+struct Workers<'a>(Option<&'a rayon::ThreadPool>);
+
+impl Workers<'_> {
+    /// `f` on the workers.
+    fn run<R: Send>(self, f: impl FnOnce() -> R + Send) -> R {
+        match self.0 {
+            Some(pool) => pool.install(f),
+            None => f(),
+        }
+    }
+
+    /// The neighbour grid of `set` with cells of side `cell`, sorted on the workers when the
+    /// set is large (a grid of fewer than `2·PASS_PIECE` particles is sorted on the calling
+    /// thread alone: [`NeighbourGrid::new`] sorts up to 32,768 there).
+    fn grid<const D: usize>(
+        self,
+        set: &ParticleSet<D>,
+        cell: f64,
+    ) -> Result<NeighbourGrid<D>, CoreError> {
+        if set.len() < 2 * PASS_PIECE {
+            NeighbourGrid::new(set, cell)
+        } else {
+            self.run(|| NeighbourGrid::new(set, cell))
+        }
+    }
+}
 
 impl std::fmt::Debug for Tracker {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -375,12 +422,14 @@ struct Track<const D: usize> {
 }
 
 impl Tracker {
-    /// A tracker at radius `r` on `threads` threads (`None`: the rayon pool it is called on) in `domain`
-    /// (walls, solids, periodic axes, phases; module docs, "Fallbacks and scope").
+    /// A tracker at radius `r` in `domain` (walls, solids, periodic axes, phases; module docs,
+    /// "Fallbacks and scope") whose large parts run on a pool of `threads` workers of its own
+    /// (`None`: on the rayon pool it is called on); the small parts run on the calling thread
+    /// (module docs, "Threads").
     pub fn new(r: Radius, threads: Option<usize>, domain: Domain) -> Result<Tracker, DetectError> {
         let pool = match threads {
             None => None,
-            Some(t) => Some(
+            Some(t) => Some(Arc::new(
                 rayon::ThreadPoolBuilder::new()
                     .num_threads(t.max(1))
                     .build()
@@ -388,10 +437,21 @@ impl Tracker {
                         method: "exact",
                         message: format!("tracker thread pool: {e}"),
                     })?,
-            ),
+            )),
         };
+        Ok(Tracker::build(r, pool, domain))
+    }
+
+    /// A tracker at radius `r` in `domain` whose parallel parts run on `pool`, a pool the
+    /// caller keeps (one pool for several trackers, or a pool whose workers a
+    /// [`StopToken`](boundary_core::stop::StopToken) can stop).
+    pub fn with_pool(r: Radius, pool: Arc<rayon::ThreadPool>, domain: Domain) -> Tracker {
+        Tracker::build(r, Some(pool), domain)
+    }
+
+    fn build(r: Radius, pool: Option<Arc<rayon::ThreadPool>>, domain: Domain) -> Tracker {
         let walls = domain.walls().cloned();
-        Ok(Tracker {
+        Tracker {
             r,
             pool,
             domain,
@@ -402,7 +462,7 @@ impl Tracker {
             interface: None,
             recomputed: 0,
             ids: None,
-        })
+        }
     }
 
     /// How many particles the last update recomputed (all of them on a full detection).
@@ -612,6 +672,7 @@ impl Tracker {
             _ => None,
         };
         let moved = self.walls_moved;
+        let workers = Workers(self.pool.as_deref());
         let run = |state: State| -> Result<(State, usize), DetectError> {
             Ok(match (set, walls) {
                 (AnyParticleSet::D2(s), w) => {
@@ -623,7 +684,8 @@ impl Tracker {
                         State::D2(t) => Some(t),
                         _ => None,
                     };
-                    let (t, n) = Track::<2>::step::<Polygon>(old, map, s.positions(), w, moved, r)?;
+                    let (t, n) =
+                        Track::<2>::step::<Polygon>(old, map, s.positions(), w, moved, r, workers)?;
                     (State::D2(t), n)
                 }
                 (AnyParticleSet::D3(s), w) => {
@@ -635,16 +697,21 @@ impl Tracker {
                         State::D3(t) => Some(t),
                         _ => None,
                     };
-                    let (t, n) =
-                        Track::<3>::step::<Polyhedron>(old, map, s.positions(), w, moved, r)?;
+                    let (t, n) = Track::<3>::step::<Polyhedron>(
+                        old,
+                        map,
+                        s.positions(),
+                        w,
+                        moved,
+                        r,
+                        workers,
+                    )?;
                     (State::D3(t), n)
                 }
             })
         };
-        let (state, recomputed) = match &self.pool {
-            Some(pool) => pool.install(|| run(state))?,
-            None => run(state)?,
-        };
+        // On the calling thread: the step hands its large parts to the workers itself.
+        let (state, recomputed) = run(state)?;
         let out = std::mem::replace(&mut self.labels, Labels::new(Vec::new())).into_vec();
         self.labels = match &state {
             State::D2(t) => Labels::new(t.input_labels(out)),
@@ -699,6 +766,7 @@ impl<const D: usize> Track<D> {
         walls: &[Point<D>],
         walls_moved: bool,
         r: Radius,
+        workers: Workers<'_>,
     ) -> Result<(Track<D>, usize), DetectError>
     where
         C: ConvexCell<D> + Default + Send + Clone,
@@ -708,7 +776,7 @@ impl<const D: usize> Track<D> {
         let old = match (old, map) {
             (Some(mut t), Some(map)) => {
                 if t.positions.len() - t.count == walls.len() {
-                    t.remap(map, fluid, r.get())?;
+                    t.remap(map, fluid, r.get(), workers)?;
                     Some(t)
                 } else {
                     None
@@ -725,7 +793,8 @@ impl<const D: usize> Track<D> {
                 Vec::new()
             } else {
                 let input = ParticleSet::new(fluid.to_vec())?;
-                NeighbourGrid::new(&input, r.get() * crate::GRID_CELL)?
+                workers
+                    .grid(&input, r.get() * crate::GRID_CELL)?
                     .cell_order()
                     .to_vec()
             };
@@ -752,25 +821,38 @@ impl<const D: usize> Track<D> {
                 grid_sum: 0.0,
             };
             let all: Vec<usize> = (0..count).collect();
-            track.evaluate::<C>(&all, r.get())?;
+            track.evaluate::<C>(&all, r.get(), workers)?;
             return Ok((track, count));
         };
         // This step's positions over the last update's, in slot order, and the largest
         // movement, in one pass, rounded up (module docs, "Rounding"). Walls that were not
         // moved since the last update are where `positions` has them: their movement is zero,
         // not computed.
+        // Below two pieces, on the calling thread.
+        let in_pieces = count >= 2 * PASS_PIECE;
         let (fluid_now, walls_now) = track.positions.split_at_mut(count);
-        let mut largest = fluid_now
-            .par_iter_mut()
-            .zip(&track.input_of_slot)
-            .with_min_len(PASS_PIECE)
-            .map(|(p, &k)| {
-                let now = fluid[k as usize];
-                let moved = (now - *p).norm_squared();
-                *p = now;
-                moved
+        let moved = |(p, &k): (&mut Point<D>, &u32)| {
+            let now = fluid[k as usize];
+            let moved = (now - *p).norm_squared();
+            *p = now;
+            moved
+        };
+        let mut largest = if in_pieces {
+            workers.run(|| {
+                fluid_now
+                    .par_iter_mut()
+                    .zip(&track.input_of_slot)
+                    .with_min_len(PASS_PIECE)
+                    .map(moved)
+                    .reduce(|| 0.0, f64::max)
             })
-            .reduce(|| 0.0, f64::max);
+        } else {
+            fluid_now
+                .iter_mut()
+                .zip(&track.input_of_slot)
+                .map(moved)
+                .fold(0.0, f64::max)
+        };
         if walls_moved {
             for (p, now) in walls_now.iter_mut().zip(walls) {
                 largest = largest.max((now - *p).norm_squared());
@@ -787,23 +869,35 @@ impl<const D: usize> Track<D> {
             let (sum, watched, now) = (track.sum, &track.watched, &track.positions);
             let (budget, labels) = (&track.budget, &track.labels);
             let (eval, sum_eval) = (&track.eval, &track.sum_eval);
-            let list: Vec<usize> = track
-                .relative
-                .par_iter_mut()
-                .zip(&mut track.sum_checked)
-                .enumerate()
-                .with_min_len(PASS_PIECE)
-                .filter_map(|(i, (rel, checked))| {
-                    let spent = relative_spent(i, now, watched, rel, checked, sum, budget[i], r)
-                        // Boundary: the particles away from the witness, by the movement of
-                        // everything (module docs, "Boundary budget").
-                        || labels[i] && {
-                            let far = dist(&now[i], &eval[i]) + (sum - sum_eval[i]);
-                            far * (1.0 + ROUNDING) >= far_budget(&eval[i], r.get())
-                        };
-                    spent.then_some(i)
+            let spent = |(i, (rel, checked)): (usize, (&mut f64, &mut f64))| {
+                let spent = relative_spent(i, now, watched, rel, checked, sum, budget[i], r)
+                    // Boundary: the particles away from the witness, by the movement of
+                    // everything (module docs, "Boundary budget").
+                    || labels[i] && {
+                        let far = dist(&now[i], &eval[i]) + (sum - sum_eval[i]);
+                        far * (1.0 + ROUNDING) >= far_budget(&eval[i], r.get())
+                    };
+                spent.then_some(i)
+            };
+            let (relative, checked) = (&mut track.relative, &mut track.sum_checked);
+            let list: Vec<usize> = if in_pieces {
+                workers.run(|| {
+                    relative
+                        .par_iter_mut()
+                        .zip(checked)
+                        .enumerate()
+                        .with_min_len(PASS_PIECE)
+                        .filter_map(spent)
+                        .collect()
                 })
-                .collect();
+            } else {
+                relative
+                    .iter_mut()
+                    .zip(checked)
+                    .enumerate()
+                    .filter_map(spent)
+                    .collect()
+            };
             if list.len() as f64 > FULL_FRACTION * count as f64 {
                 track.stale = track.backoff;
                 track.backoff = (2 * track.backoff).min(MAX_BACKOFF);
@@ -817,14 +911,14 @@ impl<const D: usize> Track<D> {
         };
         let Some(recompute) = recompute else {
             let set = ParticleSet::new(std::mem::take(&mut track.positions))?;
-            let detected = detect_with::<D, C>(&set, count, r, 0.0);
+            let detected = workers.run(|| detect_with::<D, C>(&set, count, r, 0.0));
             track.positions = set.into_positions();
             track.labels = detected?.0.labels.as_slice().to_vec();
             track.budget.iter_mut().for_each(|b| *b = 0.0);
             track.watched.clear();
             return Ok((track, count));
         };
-        track.evaluate::<C>(&recompute, r.get())?;
+        track.evaluate::<C>(&recompute, r.get(), workers)?;
         Ok((track, recompute.len()))
     }
 
@@ -834,7 +928,13 @@ impl<const D: usize> Track<D> {
     /// order), arrivals get slots at the end, where they are now (they have not moved).
     /// Budgets are revoked where a particle that left was in the certificate or one that came
     /// may cover the witness.
-    fn remap(&mut self, map: &[u32], fluid: &[Point<D>], r: f64) -> Result<(), DetectError>
+    fn remap(
+        &mut self,
+        map: &[u32],
+        fluid: &[Point<D>],
+        r: f64,
+        workers: Workers<'_>,
+    ) -> Result<(), DetectError>
     where
         boundary_core::Dim<D>: boundary_core::SupportedDim,
     {
@@ -944,14 +1044,10 @@ impl<const D: usize> Track<D> {
         if !arrivals.is_empty() {
             let added = ParticleSet::new(arrivals.iter().map(|&k| fluid[k as usize]).collect())?;
             let reach = ((1.0 + WITNESS_REACH) * r) * (1.0 + ROUNDING);
-            let grid = NeighbourGrid::new(&added, reach)?;
+            let grid = workers.grid(&added, reach)?;
             let (budget, labels, eval) = (&mut self.budget, &self.labels, &self.eval);
-            budget
-                .par_iter_mut()
-                .zip(labels)
-                .zip(eval)
-                .filter(|((b, &boundary), _)| **b > 0.0 && boundary)
-                .for_each(|((b, _), e)| {
+            let revoke = |((b, &boundary), e): ((&mut f64, &bool), &Point<D>)| {
+                if *b > 0.0 && boundary {
                     // Grown by ROUNDING for the rounding of the distances and of `e`'s
                     // witness point.
                     let reach = reach + witness_rounding(e, r);
@@ -960,7 +1056,20 @@ impl<const D: usize> Track<D> {
                     if near {
                         *b = 0.0;
                     }
+                }
+            };
+            if count >= 2 * PASS_PIECE {
+                workers.run(|| {
+                    budget
+                        .par_iter_mut()
+                        .zip(labels)
+                        .zip(eval)
+                        .with_min_len(PASS_PIECE)
+                        .for_each(revoke)
                 });
+            } else {
+                budget.iter_mut().zip(labels).zip(eval).for_each(revoke);
+            }
         }
         Ok(())
     }
@@ -977,7 +1086,12 @@ impl<const D: usize> Track<D> {
 
     /// Evaluates the fluid particles `which` (ascending) at `positions`: their labels and
     /// budgets.
-    fn evaluate<C>(&mut self, which: &[usize], r: f64) -> Result<(), DetectError>
+    fn evaluate<C>(
+        &mut self,
+        which: &[usize],
+        r: f64,
+        workers: Workers<'_>,
+    ) -> Result<(), DetectError>
     where
         C: ConvexCell<D> + Default + Send + Clone,
         boundary_core::Dim<D>: boundary_core::SupportedDim,
@@ -986,7 +1100,7 @@ impl<const D: usize> Track<D> {
             return Ok(());
         }
         let positions = std::mem::take(&mut self.positions);
-        let evaluated = self.evaluate_in::<C>(&positions, which, r);
+        let evaluated = self.evaluate_in::<C>(&positions, which, r, workers);
         self.positions = positions;
         evaluated
     }
@@ -996,6 +1110,7 @@ impl<const D: usize> Track<D> {
         positions: &[Point<D>],
         which: &[usize],
         r: f64,
+        workers: Workers<'_>,
     ) -> Result<(), DetectError>
     where
         C: ConvexCell<D> + Default + Send + Clone,
@@ -1013,7 +1128,7 @@ impl<const D: usize> Track<D> {
             _ => {
                 self.grid_sum = self.sum;
                 let set = ParticleSet::new(positions.to_vec())?;
-                (NeighbourGrid::new(&set, r * crate::GRID_CELL)?, 0.0)
+                (workers.grid(&set, r * crate::GRID_CELL)?, 0.0)
             }
         };
         let within = Within {
@@ -1024,20 +1139,27 @@ impl<const D: usize> Track<D> {
         // Per piece: (particle, label, budget, how many neighbours it watches), and those
         // neighbours one after the other.
         type Piece = (Vec<(usize, bool, f64, u32)>, Vec<u32>);
-        let pieces: Vec<Piece> = which
-            .par_iter()
-            .with_min_len(EVALUATION_PIECE)
-            .fold(
-                || (Scratch::<D, C>::default(), Vec::new(), Vec::new()),
-                |(mut scratch, mut results, mut watched), &i| {
-                    let before = watched.len();
-                    let (label, budget) = evaluate_one(&within, i, r, &mut scratch, &mut watched);
-                    results.push((i, label, budget, (watched.len() - before) as u32));
-                    (scratch, results, watched)
-                },
-            )
-            .map(|(_, results, watched)| (results, watched))
-            .collect();
+        let start = || (Scratch::<D, C>::default(), Vec::new(), Vec::new());
+        let one = |(mut scratch, mut results, mut watched): (Scratch<D, C>, Vec<_>, Vec<u32>),
+                   &i: &usize| {
+            let before = watched.len();
+            let (label, budget) = evaluate_one(&within, i, r, &mut scratch, &mut watched);
+            results.push((i, label, budget, (watched.len() - before) as u32));
+            (scratch, results, watched)
+        };
+        let pieces: Vec<Piece> = if which.len() < EVALUATION_PARALLEL {
+            let (_, results, watched) = which.iter().fold(start(), one);
+            vec![(results, watched)]
+        } else {
+            workers.run(|| {
+                which
+                    .par_iter()
+                    .with_min_len(EVALUATION_PIECE)
+                    .fold(start, one)
+                    .map(|(_, results, watched)| (results, watched))
+                    .collect()
+            })
+        };
         for (results, watched) in pieces {
             let mut at = 0;
             for (i, label, budget, len) in results {

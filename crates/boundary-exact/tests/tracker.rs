@@ -833,3 +833,133 @@ fn slow_shear_at_extreme_scales_matches_full_detection_and_saves_alike() {
     let spread = saved.iter().max().unwrap() - saved.iter().min().unwrap();
     assert!(spread <= saved[1] / 10 + 5, "{saved:?}");
 }
+
+/// A set large enough for the passes over every particle to be split among the workers
+/// (16,384 particles and more), with steps that hand 128 and more evaluations, a new grid and
+/// the revocations of an inflow to them too: the labels of a full detection at every step, on
+/// a pool of the tracker's own and on the pool the update is called on.
+#[test]
+fn a_large_set_splits_its_work_among_the_workers_with_the_same_labels() {
+    let mut rng = Rng(41);
+    let side = 132;
+    let mut rows = jittered_square(side, 0.2, &mut rng);
+    let mut ids: Vec<u64> = (0..rows.len() as u64).collect();
+    let n = rows.len();
+    assert!(n >= 16_384);
+    let mut frames = vec![(rows.clone(), ids.clone())];
+    // A slow shear: few evaluations, the passes in pieces.
+    for _ in 0..2 {
+        rows.iter_mut()
+            .for_each(|p| p[0] += 0.001 * p[1] / side as f64);
+        frames.push((rows.clone(), ids.clone()));
+    }
+    // 400 particles jump by 0.4 spacings: as many evaluations.
+    for k in 0..400 {
+        let i = (k * 7919) % n;
+        rows[i][0] += 0.4;
+    }
+    frames.push((rows.clone(), ids.clone()));
+    // Everything moves 0.6 spacings (more than the grid's skin at r = 0.9): a new grid, and
+    // the boundary particles evaluated again (far budget).
+    rows.iter_mut().for_each(|p| p[1] += 0.6);
+    frames.push((rows.clone(), ids.clone()));
+    // Outflow of the first column, inflow of a new one, and the order reversed.
+    let keep: Vec<usize> = (0..rows.len()).filter(|&i| rows[i][0] > 0.5).collect();
+    rows = keep.iter().map(|&i| rows[i]).collect();
+    ids = keep.iter().map(|&i| ids[i]).collect();
+    for k in 0..side {
+        rows.push([side as f64, k as f64 + 0.6 + 0.1 * (rng.next() - 0.5)]);
+        ids.push((n + k) as u64);
+    }
+    rows.reverse();
+    ids.reverse();
+    frames.push((rows, ids));
+
+    let radius = Radius::new(0.9).unwrap();
+    let expected: Vec<Labels> = frames
+        .iter()
+        .map(|(rows, _)| {
+            ExactDetector::default()
+                .detect(&set2(rows), radius)
+                .unwrap()
+                .labels
+        })
+        .collect();
+    let on_own_pool = Tracker::new(radius, Some(2), Domain::new()).unwrap();
+    let on_callers_pool = Tracker::new(radius, None, Domain::new()).unwrap();
+    for mut tracker in [on_own_pool, on_callers_pool] {
+        let mut recomputed = vec![];
+        for (step, (rows, ids)) in frames.iter().enumerate() {
+            let labels = tracker.update_with_ids(&set2(rows), ids).unwrap();
+            assert_eq!(
+                first_difference(labels, &expected[step]),
+                None,
+                "step {step}"
+            );
+            recomputed.push(tracker.recomputed());
+        }
+        assert_eq!(recomputed[0], n);
+        assert!(
+            recomputed[1..3].iter().all(|&c| c < n / 20),
+            "{recomputed:?}"
+        );
+        assert!(
+            recomputed[3] >= 400 && recomputed[3] < n / 2,
+            "{recomputed:?}"
+        );
+        assert!(recomputed[4] >= 128, "{recomputed:?}");
+    }
+}
+
+/// An update that evaluates few particles runs on the calling thread alone: with the pool's
+/// only worker held busy, updates after the first still finish, with the labels of a full
+/// detection (an update that waited for the pool would never return).
+#[test]
+fn small_updates_run_on_the_calling_thread_alone() {
+    use std::sync::{mpsc, Arc};
+    use std::time::Duration;
+
+    let mut rng = Rng(43);
+    let base = jittered_square(20, 0.2, &mut rng);
+    let radius = Radius::new(0.8).unwrap();
+    let pool = Arc::new(
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap(),
+    );
+    let mut tracker = Tracker::with_pool(radius, Arc::clone(&pool), Domain::new());
+    // The first update evaluates all 400 particles, on the pool.
+    tracker.update(&set2(&base)).unwrap();
+    assert_eq!(tracker.recomputed(), base.len());
+
+    let (started, is_busy) = mpsc::channel();
+    let (release, hold) = mpsc::channel::<()>();
+    pool.spawn(move || {
+        started.send(()).unwrap();
+        let _ = hold.recv();
+    });
+    is_busy.recv().unwrap();
+    let (done, finished) = mpsc::channel();
+    std::thread::spawn(move || {
+        let mut steps = vec![];
+        for step in 1..=6 {
+            let rows: Vec<[f64; 2]> = base
+                .iter()
+                .map(|p| [p[0] + 0.0005 * step as f64 * p[1], p[1]])
+                .collect();
+            let set = set2(&rows);
+            let full = ExactDetector::default().detect(&set, radius).unwrap();
+            let labels = tracker.update(&set).unwrap();
+            steps.push((first_difference(labels, &full.labels), tracker.recomputed()));
+        }
+        let _ = done.send(steps);
+    });
+    let outcome = finished.recv_timeout(Duration::from_secs(120));
+    release.send(()).unwrap();
+    let steps = outcome.expect("an update waited for the pool's busy worker");
+    for (step, (difference, recomputed)) in steps.into_iter().enumerate() {
+        assert_eq!(difference, None, "step {}", step + 1);
+        assert!(recomputed < 128, "step {}: {recomputed}", step + 1);
+    }
+}

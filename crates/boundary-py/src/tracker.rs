@@ -1,18 +1,26 @@
 //! `boundary_particles.Tracker`: the library's incremental tracker (`boundary::Tracker`) for Python.
-//! Translation only: arguments checked and converted as `detect` does, the update run on the
-//! tracker's own worker pool with the GIL released and Ctrl-C honoured.
+//! Translation only: arguments checked and converted as `detect` does, the update run with the
+//! GIL released: a small set's on the calling thread (the tracker hands its large parts to
+//! the tracker's own worker pool), a large set's on that pool with Ctrl-C honoured.
 
 use super::{
     attach_radii, bool_array, checks_plausibility, concern_of, detector, fixed_radius,
-    interruptible_pool, param_pairs, periodic_axes, phase_numbers, radius_factors, radius_input,
-    read_points_in, refuse_h_over_r, resolve_radius, run_on, value_error, warn_concern,
-    whole_numbers, Plane, RadiusArg, Walls,
+    interruptible_pool, panic_text, param_pairs, periodic_axes, phase_numbers, radius_factors,
+    radius_input, read_points_in, refuse_h_over_r, resolve_radius, run_on, value_error,
+    warn_concern, whole_numbers, Plane, RadiusArg, Walls,
 };
 use boundary::stop::StopToken;
 use boundary::{Domain, HalfSpace, Periodic, Radius, Tracker};
-use pyo3::exceptions::PyTypeError;
+use pyo3::exceptions::{PyRuntimeError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
+use std::sync::Arc;
+
+/// Updates of fewer particles run on the calling thread: the longest of them (a first update,
+/// every particle evaluated) takes some tens of milliseconds, the longest a Ctrl-C waits;
+/// handing a few-thousand-particle update to a worker and back cost as much as the update.
+/// Larger sets run on the worker pool, interruptible.
+const CALLING_THREAD_BELOW: usize = 16_384;
 
 /// What to say when ids are missing or unusable: the solver's own stable id, or none.
 pub(crate) const IDS_GUIDANCE: &str = "ids are one unique whole number per particle that \
@@ -33,7 +41,9 @@ pub(crate) const IDS_GUIDANCE: &str = "ids are one unique whole number per parti
 /// update passes others).
 ///
 /// update(points, ids=None, *, radii=None, walls=None, wall_radii=None, phases=None,
-/// dim=None) -> labels, or (labels, interface) with phases.
+/// dim=None) -> labels, or (labels, interface) with phases. An update of fewer than 16,384
+/// particles runs on the calling thread (its large parts on the `threads` workers), Ctrl-C
+/// seen when it returns; a larger one on the workers, interruptible.
 /// recomputed: how many particles the last update recomputed.
 #[derive(Debug)]
 #[pyclass(name = "Tracker", module = "boundary_particles._native")]
@@ -44,8 +54,8 @@ pub struct PyTracker {
     r: Option<Radius>,
     threads: Option<usize>,
     /// The worker pool of the updates and its stop token, built at the first update and kept
-    /// (a new one after an interrupted update).
-    pool: Option<(StopToken, rayon::ThreadPool)>,
+    /// (a new one after an interrupted update); the tracker holds the pool too.
+    pool: Option<(StopToken, Arc<rayon::ThreadPool>)>,
     /// `None` before the first update and after an interrupted one (the abandoned one keeps
     /// it): the next update starts over with a new tracker.
     tracker: Option<Tracker>,
@@ -163,6 +173,15 @@ impl PyTracker {
             None => set,
         };
         let new_walls = Walls::read(walls, wall_radii, Some(set.dim()))?;
+        let (token, pool) = match self.pool.take() {
+            Some(pool) => pool,
+            None => {
+                let (token, pool) = interruptible_pool(self.threads)?;
+                // A new pool (the first update, or after an interrupt): a new tracker on it.
+                self.tracker = None;
+                (token, Arc::new(pool))
+            }
+        };
         let mut tracker = match self.tracker.take() {
             Some(t) => t,
             None => {
@@ -174,8 +193,8 @@ impl PyTracker {
                 for &axis in &self.periodic {
                     domain = domain.with_periodic(axis);
                 }
-                // The update runs on the interruptible pool of `threads` workers.
-                Tracker::new(r, None, domain).map_err(value_error)?
+                // The tracker's large parts run on the interruptible pool of `threads` workers.
+                Tracker::with_pool(r, Arc::clone(&pool), domain)
             }
         };
         // Walls given to this update replace the tracker's (the same walls change nothing);
@@ -195,12 +214,9 @@ impl PyTracker {
         }
         let with_phases = phases.is_some();
         tracker.set_phases(phases);
-        let (token, pool) = match self.pool.take() {
-            Some(pool) => pool,
-            None => interruptible_pool(self.threads)?,
-        };
         let check = self.check && radii.is_none();
-        let (tracker, outcome, concern) = run_on(py, &token, &pool, move || {
+        let inline = set.len() < CALLING_THREAD_BELOW;
+        let job = move || {
             let concern = if check { concern_of(&set, r) } else { None };
             let outcome = match &ids {
                 Some(ids) => tracker.update_with_ids(&set, ids),
@@ -208,7 +224,18 @@ impl PyTracker {
             }
             .map(|labels| labels.as_slice().to_vec());
             (tracker, outcome, concern)
-        })?;
+        };
+        let (tracker, outcome, concern) = if inline {
+            py.detach(move || std::panic::catch_unwind(std::panic::AssertUnwindSafe(job)))
+                .map_err(|payload| {
+                    PyRuntimeError::new_err(format!(
+                        "internal error (please report it): {}",
+                        panic_text(payload.as_ref())
+                    ))
+                })?
+        } else {
+            run_on(py, &token, &pool, job)?
+        };
         if !token.is_stopped() {
             self.pool = Some((token, pool));
         }

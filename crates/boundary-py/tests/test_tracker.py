@@ -225,3 +225,26 @@ def test_ids_errors_say_what_to_pass_without_stable_ids():
         tracker.update(water, ids=unset)
     # Without ids the particles are matched by their place.
     np.testing.assert_array_equal(tracker.update(water), boundary.detect(water, 1.2, walls=walls))
+
+
+def test_tracker_gives_the_labels_of_detect_on_any_thread_and_at_any_size():
+    # A small set's updates run on the calling thread, a large one's (16,384 particles and
+    # more) on the tracker's workers: the labels of detect either way, from whichever Python
+    # thread calls.
+    import threading
+
+    rng = np.random.default_rng(9)
+    for side in [40, 130]:
+        k = np.arange(side * side)
+        points = np.column_stack([k % side, k // side]).astype(np.float64)
+        points += rng.uniform(-0.15, 0.15, points.shape)
+        tracker = boundary.Tracker(0.8, threads=2)
+        np.testing.assert_array_equal(tracker.update(points), boundary.detect(points, 0.8))
+        got = []
+        for step in range(1, 4):
+            moved = points * (1.0 + 0.001 * step)
+            worker = threading.Thread(target=lambda m=moved: got.append(tracker.update(m)))
+            worker.start()
+            worker.join()
+            np.testing.assert_array_equal(got[-1], boundary.detect(moved, 0.8))
+            assert tracker.recomputed < len(points) // 2, (side, step, tracker.recomputed)
