@@ -82,7 +82,8 @@ class LabelledDamBreak2D(DamBreak2D):
             self.tracker = bp.Tracker(
                 h=self.h, walls=np.column_stack([walls.x, walls.y])
             )
-        labels = self.tracker.update(np.column_stack([fluid.x, fluid.y]), ids=fluid.label_id)
+        # PySPH's own coordinate arrays, read in place (no (n, 2) array built per step).
+        labels = self.tracker.update(columns=(fluid.x, fluid.y), ids=fluid.label_id)
         fluid.boundary_label[:] = labels
         elapsed = time.perf_counter() - start
         if self.started is None:

@@ -223,12 +223,32 @@ fn read_points_in(
     let array = float_array(points, "points", "an (n, 2) or (n, 3) array of reals")?;
     let readonly = array.readonly();
     let (stride, flat) = coordinates(&readonly)?;
+    set_of_rows(flat, stride, dim, Layout::Rows)
+}
+
+/// How a set's coordinates were given: the words of its errors.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Layout {
+    /// An `(n, 2)` or `(n, 3)` array, `points`.
+    Rows,
+    /// Two or three arrays of `n` values, `columns`.
+    Columns,
+}
+
+/// [`read_points_in`] of the rows of `flat` (`stride` coordinates each), given as `layout`.
+fn set_of_rows(
+    flat: &[f64],
+    stride: usize,
+    dim: Option<usize>,
+    layout: Layout,
+) -> PyResult<(AnyParticleSet, Option<Plane>)> {
     match (dim, stride) {
         (None, _) | (Some(2), 2) | (Some(3), 3) => {}
         (Some(3), _) => {
-            return Err(value_error(
-                "dim=3 but points is an (n, 2) array: a 2D set has no z",
-            ))
+            return Err(value_error(match layout {
+                Layout::Rows => "dim=3 but points is an (n, 2) array: a 2D set has no z",
+                Layout::Columns => "dim=3 but columns has two arrays: a 2D set has no z",
+            }))
         }
         (Some(2), _) => {
             let constant = |axis: usize| flat.chunks_exact(3).all(|row| row[axis] == flat[axis]);
@@ -255,22 +275,119 @@ fn read_points_in(
     if dim == Some(3) {
         return Ok((set, None));
     }
+    refuse_flat(set, layout).map(|set| (set, None))
+}
+
+/// `set` unless it is flat (3D with one constant axis, or without extent): read as 3D,
+/// every particle of a flat set would be boundary. The error names `dim=2` and what to pass.
+fn refuse_flat(set: AnyParticleSet, layout: Layout) -> PyResult<AnyParticleSet> {
+    let what = match layout {
+        Layout::Rows => "points",
+        Layout::Columns => "columns",
+    };
     match set.flatness() {
-        None => Ok((set, None)),
+        None => Ok(set),
         Some(flatness @ Flatness::Plane { axis, .. }) => {
-            let slice = match axis {
-                2 => "points[:, :2] (x and y)",
-                1 => "points[:, [0, 2]] (x and z)",
-                _ => "points[:, 1:] (y and z)",
+            let slice = match (layout, axis) {
+                (Layout::Rows, 2) => "points[:, :2] (x and y)",
+                (Layout::Rows, 1) => "points[:, [0, 2]] (x and z)",
+                (Layout::Rows, _) => "points[:, 1:] (y and z)",
+                (Layout::Columns, 2) => "columns=(x, y)",
+                (Layout::Columns, 1) => "columns=(x, z)",
+                (Layout::Columns, _) => "columns=(y, z)",
             };
             Err(value_error(format!(
-                "points: {flatness}: a flat set is 2D, and as an (n, 3) array every particle \
-                 would be boundary; pass dim=2 (or {slice}), or dim=3 to keep it 3D"
+                "{what}: {flatness}: a flat set is 2D, and read as 3D every particle would be \
+                 boundary; pass dim=2 (or {slice}), or dim=3 to keep it 3D"
             )))
         }
         Some(flatness) => Err(value_error(format!(
-            "points: {flatness}: the set has no extent, and every particle would be boundary"
+            "{what}: {flatness}: the set has no extent, and every particle would be boundary"
         ))),
+    }
+}
+
+/// The particle set of a Python `columns` argument: two or three one-dimensional arrays of
+/// reals, `(x, y)` or `(x, y, z)`, one value per particle each (a solver's structure of
+/// arrays), read in place when they are contiguous `float64`. `dim` as [`read_points_in`].
+fn read_columns_in(
+    columns: &Bound<'_, PyAny>,
+    dim: Option<usize>,
+) -> PyResult<(AnyParticleSet, Option<Plane>)> {
+    const EXPECTED: &str = "a sequence of two or three one-dimensional arrays of reals, \
+        (x, y) or (x, y, z)";
+    let count = columns
+        .len()
+        .map_err(|_| value_error(format!("columns must be {EXPECTED}")))?;
+    if !(count == 2 || count == 3) {
+        return Err(value_error(format!(
+            "columns must be {EXPECTED}, got {count} array{}",
+            if count == 1 { "" } else { "s" }
+        )));
+    }
+    let mut arrays = Vec::with_capacity(count);
+    for k in 0..count {
+        let what = format!("columns[{k}]");
+        let array = float_array(
+            &columns.get_item(k)?,
+            &what,
+            "a one-dimensional array of reals",
+        )?;
+        if array.ndim() != 1 {
+            return Err(value_error(format!(
+                "{what} must be a one-dimensional array, got shape {}",
+                shape_text(array.shape())
+            )));
+        }
+        arrays.push(array.readonly());
+    }
+    let mut values = Vec::with_capacity(count);
+    for (k, array) in arrays.iter().enumerate() {
+        values.push(
+            array
+                .as_slice()
+                .map_err(|e| value_error(format!("columns[{k}]: {e}")))?,
+        );
+    }
+    if let Some(k) = values.iter().position(|v| v.len() != values[0].len()) {
+        return Err(value_error(format!(
+            "columns: every array has one value per particle, but columns[0] has {} and \
+             columns[{k}] has {}",
+            values[0].len(),
+            values[k].len()
+        )));
+    }
+    match (count, dim) {
+        (2, None | Some(2)) => {
+            let rows = values[0]
+                .iter()
+                .zip(values[1])
+                .map(|(&x, &y)| Point::<2>::new(x, y));
+            let set = ParticleSet::new(rows.collect()).map_err(value_error)?;
+            Ok((set.into(), None))
+        }
+        (3, None | Some(3)) => {
+            let rows = values[0]
+                .iter()
+                .zip(values[1])
+                .zip(values[2])
+                .map(|((&x, &y), &z)| Point::<3>::new(x, y, z));
+            let set = AnyParticleSet::from(ParticleSet::new(rows.collect()).map_err(value_error)?);
+            if dim == Some(3) {
+                Ok((set, None))
+            } else {
+                refuse_flat(set, Layout::Columns).map(|set| (set, None))
+            }
+        }
+        _ => {
+            // Another `dim` (or dropping an axis): the rows' rules and messages.
+            let n = values[0].len();
+            let mut flat = Vec::with_capacity(n * count);
+            for i in 0..n {
+                flat.extend(values.iter().map(|v| v[i]));
+            }
+            set_of_rows(&flat, count, dim, Layout::Columns)
+        }
     }
 }
 

@@ -6,8 +6,8 @@
 use super::{
     attach_radii, bool_array, checks_plausibility, concern_of, detector, fixed_radius,
     interruptible_pool, panic_text, param_pairs, periodic_axes, phase_numbers, radius_factors,
-    radius_input, read_points_in, refuse_h_over_r, resolve_radius, run_on, value_error,
-    warn_concern, whole_numbers, Plane, RadiusArg, Walls,
+    radius_input, read_columns_in, read_points_in, refuse_h_over_r, resolve_radius, run_on,
+    value_error, warn_concern, whole_numbers, Plane, RadiusArg, Walls,
 };
 use boundary::stop::StopToken;
 use boundary::{Domain, HalfSpace, Periodic, Radius, Tracker};
@@ -40,8 +40,10 @@ pub(crate) const IDS_GUIDANCE: &str = "ids are one unique whole number per parti
 /// it is their scale, default 1); the domain as `detect` takes it (the walls fixed until an
 /// update passes others).
 ///
-/// update(points, ids=None, *, radii=None, walls=None, wall_radii=None, phases=None,
-/// dim=None) -> labels, or (labels, interface) with phases. An update of fewer than 16,384
+/// update(points=None, ids=None, *, columns=None, radii=None, walls=None, wall_radii=None,
+/// phases=None, dim=None) -> labels, or (labels, interface) with phases: the positions as
+/// `points`, an (n, 2) or (n, 3) array, or as `columns=(x, y)` or `(x, y, z)`, one array per
+/// coordinate (a solver's own arrays, read in place when contiguous float64). An update of fewer than 16,384
 /// particles runs on the calling thread (its large parts on the `threads` workers), Ctrl-C
 /// seen when it returns; a larger one on the workers, interruptible.
 /// recomputed: how many particles the last update recomputed.
@@ -135,22 +137,37 @@ impl PyTracker {
     /// The labels of this step's positions (an (n, 2) or (n, 3) array-like of reals), the
     /// particles matched by `ids` when given, in the tracker's domain.
     #[pyo3(signature = (
-        points, ids = None, *, radii = None, walls = None, wall_radii = None, phases = None,
-        dim = None
+        points = None, ids = None, *, columns = None, radii = None, walls = None,
+        wall_radii = None, phases = None, dim = None
     ))]
     #[allow(clippy::too_many_arguments)] // the Python signature: keyword arguments with defaults
     fn update<'py>(
         &mut self,
         py: Python<'py>,
-        points: &Bound<'py, PyAny>,
+        points: Option<&Bound<'py, PyAny>>,
         ids: Option<&Bound<'py, PyAny>>,
+        columns: Option<&Bound<'py, PyAny>>,
         radii: Option<&Bound<'py, PyAny>>,
         walls: Option<&Bound<'py, PyAny>>,
         wall_radii: Option<&Bound<'py, PyAny>>,
         phases: Option<&Bound<'py, PyAny>>,
         dim: Option<usize>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let (set, plane) = read_points_in(points, dim)?;
+        let (set, plane) = match (points, columns) {
+            (Some(points), None) => read_points_in(points, dim)?,
+            (None, Some(columns)) => read_columns_in(columns, dim)?,
+            (Some(_), Some(_)) => {
+                return Err(PyTypeError::new_err(
+                    "Tracker.update() takes the positions as points or as columns, not both",
+                ))
+            }
+            (None, None) => {
+                return Err(PyTypeError::new_err(
+                    "Tracker.update() missing the positions: points (an (n, 2) or (n, 3) \
+                     array) or columns=(x, y) / (x, y, z) (one array per coordinate)",
+                ))
+            }
+        };
         let ids = ids
             .map(|ids| whole_numbers(ids, "ids", "id", u64::MAX))
             .transpose()

@@ -248,3 +248,51 @@ def test_tracker_gives_the_labels_of_detect_on_any_thread_and_at_any_size():
             worker.join()
             np.testing.assert_array_equal(got[-1], boundary.detect(moved, 0.8))
             assert tracker.recomputed < len(points) // 2, (side, step, tracker.recomputed)
+
+
+def test_tracker_takes_one_array_per_coordinate():
+    # A solver's structure of arrays (PySPH's fluid.x, fluid.y), contiguous or strided views:
+    # the labels of the (n, d) array, and errors that say what is wrong.
+    rng = np.random.default_rng(11)
+    k = np.arange(900)
+    points = np.column_stack([k % 30, k // 30, np.zeros(900)]).astype(np.float64)
+    points[:, :2] += rng.uniform(-0.15, 0.15, (900, 2))
+    flat = points[:, :2]
+    by_rows = boundary.Tracker(0.8, threads=1)
+    by_columns = boundary.Tracker(0.8, threads=1)
+    for step in range(4):
+        moved = flat * (1.0 + 0.002 * step)
+        x, y = np.ascontiguousarray(moved[:, 0]), np.ascontiguousarray(moved[:, 1])
+        expected = by_rows.update(moved)
+        np.testing.assert_array_equal(by_columns.update(columns=(x, y)), expected)
+        assert by_columns.recomputed == by_rows.recomputed
+        # Strided views and a list work alike.
+        np.testing.assert_array_equal(
+            boundary.Tracker(0.8).update(columns=[moved[:, 0], moved[:, 1]]), expected
+        )
+    # Three columns: 3D, and dim=2 drops the constant one as for an (n, 3) array.
+    cube = rng.uniform(0, 5, (500, 3))
+    np.testing.assert_array_equal(
+        boundary.Tracker(0.8).update(columns=tuple(cube.T)), boundary.detect(cube, 0.8)
+    )
+    x, y, z = (np.ascontiguousarray(c) for c in points.T)
+    np.testing.assert_array_equal(
+        boundary.Tracker(0.8).update(columns=(x, y, z), dim=2), boundary.detect(flat, 0.8)
+    )
+    with pytest.raises(ValueError, match=r"dim=2 \(or columns=\(x, y\)\)"):
+        boundary.Tracker(0.8).update(columns=(x, y, z))
+    tracker = boundary.Tracker(0.8)
+    with pytest.raises(ValueError, match="got 1 array$"):
+        tracker.update(columns=(x,))
+    with pytest.raises(ValueError, match=r"columns\[0\] has 900 and columns\[1\] has 899"):
+        tracker.update(columns=(x, y[1:]))
+    with pytest.raises(ValueError, match=r"columns\[1\] must be a one-dimensional array"):
+        tracker.update(columns=(x, points))
+    bad = x.copy()
+    bad[17] = np.inf
+    with pytest.raises(ValueError, match="particle 17"):
+        tracker.update(columns=(bad, y))
+    with pytest.raises(TypeError, match="not both"):
+        tracker.update(flat, columns=(x, y))
+    with pytest.raises(TypeError, match="missing the positions"):
+        tracker.update()

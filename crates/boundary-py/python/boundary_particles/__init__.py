@@ -596,7 +596,10 @@ class Tracker:
     spacing : float, optional
         The particle spacing: ``r = RADIUS_PER_SPACING * spacing``.
     threads : int, optional
-        Worker threads of each update (default: all cores), started once.
+        Worker threads of the updates (default: all cores), started once. An update of fewer
+        than 16,384 particles runs on the calling thread and hands only its large parts (a
+        first update, a step that recomputes 128 particles or more) to them: waking sleeping
+        workers costs about as much as such an update.
     walls : array_like, shape (m, d), optional
         Fixed covering-only particles (a solver's wall particles), as in :func:`detect`.
         ``(m, 3)`` walls beside ``(n, 3)`` points updated with ``dim=2`` lie in the points'
@@ -683,9 +686,10 @@ class Tracker:
     @overload
     def update(
         self,
-        points: ArrayLike,
+        points: Optional[ArrayLike] = None,
         ids: Optional[ArrayLike] = None,
         *,
+        columns: Optional[Sequence[ArrayLike]] = None,
         radii: Optional[ArrayLike] = None,
         walls: Optional[ArrayLike] = None,
         wall_radii: Optional[ArrayLike] = None,
@@ -695,9 +699,10 @@ class Tracker:
     @overload
     def update(
         self,
-        points: ArrayLike,
+        points: Optional[ArrayLike] = None,
         ids: Optional[ArrayLike] = None,
         *,
+        columns: Optional[Sequence[ArrayLike]] = None,
         radii: Optional[ArrayLike] = None,
         walls: Optional[ArrayLike] = None,
         wall_radii: Optional[ArrayLike] = None,
@@ -706,9 +711,10 @@ class Tracker:
     ) -> Tuple[Labels, Labels]: ...
     def update(
         self,
-        points: ArrayLike,
+        points: Optional[ArrayLike] = None,
         ids: Optional[ArrayLike] = None,
         *,
+        columns: Optional[Sequence[ArrayLike]] = None,
         radii: Optional[ArrayLike] = None,
         walls: Optional[ArrayLike] = None,
         wall_radii: Optional[ArrayLike] = None,
@@ -721,7 +727,11 @@ class Tracker:
         ----------
         points : array_like, shape (n, 2) or (n, 3)
             Without ``ids``: the same particles in the same order as at the previous step;
-            another count starts over with a full detection.
+            another count starts over with a full detection. Or give ``columns``.
+        columns : sequence of array_like, ``(x, y)`` or ``(x, y, z)``, each shape (n,)
+            The positions as one array per coordinate, as a solver that stores its particles
+            as a structure of arrays has them (PySPH's ``fluid.x, fluid.y``): read in place
+            when contiguous ``float64``, without building an ``(n, d)`` array first.
         ids : array_like of int, shape (n,), optional
             A stable id per particle (whole numbers >= 0, unique) that follows the particle
             when the solver reorders, e.g. the solver's global particle id: particles are
@@ -754,11 +764,15 @@ class Tracker:
         ------
         ValueError
             Positions that are not finite reals (naming the particle), a flat ``(n, 3)``
-            array without ``dim=2``; ``ids`` of another length than ``points``, negative, not
-            integers or repeated (naming the particles, and saying what to pass instead);
-            bad walls, radii or phases.
+            array without ``dim=2``, ``columns`` of different lengths or not one-dimensional;
+            ``ids`` of another length than ``points``, negative, not integers or repeated
+            (naming the particles, and saying what to pass instead); bad walls, radii or
+            phases.
+        TypeError
+            Both ``points`` and ``columns``, or neither.
         KeyboardInterrupt
-            On Ctrl-C, after the workers have stopped; the next update starts over.
+            On Ctrl-C, after the workers have stopped (an update of 16,384 particles or more;
+            a smaller one sees it when it returns); the next update starts over.
 
         Examples
         --------
@@ -775,10 +789,17 @@ class Tracker:
         True
         >>> tracker.recomputed < int(stay.sum())
         True
+
+        A solver's own coordinate arrays, as they are:
+
+        >>> x, y, z = (np.ascontiguousarray(c) for c in points[stay].T)
+        >>> bool((tracker.update(columns=(x, y, z), ids=ids[stay]) == labels).all())
+        True
         """
         out: Any = self._native.update(
             points,
             ids,
+            columns=columns,
             radii=radii,
             walls=walls,
             wall_radii=wall_radii,

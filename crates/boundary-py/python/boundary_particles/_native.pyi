@@ -81,9 +81,10 @@ class Tracker:
     def recomputed(self) -> int: ...
     def update(
         self,
-        points: Any,
+        points: Any = None,
         ids: Any = None,
         *,
+        columns: Any = None,
         radii: Any = None,
         walls: Any = None,
         wall_radii: Any = None,
