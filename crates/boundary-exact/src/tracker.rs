@@ -442,9 +442,25 @@ impl Tracker {
         Ok(Tracker::build(r, pool, domain))
     }
 
-    /// A tracker at radius `r` in `domain` whose parallel parts run on `pool`, a pool the
+    /// A tracker at radius `r` in `domain` whose large parts run on `pool`, a pool the
     /// caller keeps (one pool for several trackers, or a pool whose workers a
     /// [`StopToken`](boundary_core::stop::StopToken) can stop).
+    ///
+    /// ```
+    /// use std::sync::Arc;
+    /// use boundary_core::{Domain, ParticleSet, Radius};
+    /// use boundary_exact::Tracker;
+    ///
+    /// let pool = Arc::new(rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap());
+    /// let r = Radius::new(0.8).unwrap();
+    /// // Two particle sets of one solver, one pool.
+    /// let mut water = Tracker::with_pool(r, Arc::clone(&pool), Domain::new());
+    /// let mut oil = Tracker::with_pool(r, pool, Domain::new());
+    /// let rows: Vec<[f64; 2]> = (0..100).map(|k| [(k % 10) as f64, (k / 10) as f64]).collect();
+    /// let set = ParticleSet::from_rows(&rows).unwrap().to_any();
+    /// assert_eq!(water.update(&set).unwrap().boundary_count(), 36);
+    /// assert_eq!(oil.update(&set).unwrap().boundary_count(), 36);
+    /// ```
     pub fn with_pool(r: Radius, pool: Arc<rayon::ThreadPool>, domain: Domain) -> Tracker {
         Tracker::build(r, Some(pool), domain)
     }
