@@ -43,9 +43,9 @@ pub(crate) const IDS_GUIDANCE: &str = "ids are one unique whole number per parti
 /// update(points=None, ids=None, *, columns=None, radii=None, walls=None, wall_radii=None,
 /// phases=None, dim=None) -> labels, or (labels, interface) with phases: the positions as
 /// `points`, an (n, 2) or (n, 3) array, or as `columns=(x, y)` or `(x, y, z)`, one array per
-/// coordinate (a solver's own arrays, read in place when contiguous float64). An update of fewer than 16,384
-/// particles runs on the calling thread (its large parts on the `threads` workers), Ctrl-C
-/// seen when it returns; a larger one on the workers, interruptible.
+/// coordinate (a solver's own arrays, read in place when contiguous float64). An update of
+/// fewer than 16,384 particles runs on the calling thread (its large parts on the `threads`
+/// workers), Ctrl-C seen when it returns; a larger one on the workers, interruptible.
 /// recomputed: how many particles the last update recomputed.
 #[derive(Debug)]
 #[pyclass(name = "Tracker", module = "boundary_particles._native")]
@@ -134,8 +134,9 @@ impl PyTracker {
         })
     }
 
-    /// The labels of this step's positions (an (n, 2) or (n, 3) array-like of reals), the
-    /// particles matched by `ids` when given, in the tracker's domain.
+    /// The labels of this step's positions (an (n, 2) or (n, 3) array-like of reals, or one
+    /// array per coordinate), the particles matched by `ids` when given, in the tracker's
+    /// domain.
     #[pyo3(signature = (
         points = None, ids = None, *, columns = None, radii = None, walls = None,
         wall_radii = None, phases = None, dim = None
