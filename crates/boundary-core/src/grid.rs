@@ -41,10 +41,6 @@ const GATHER_SLACK: usize = 64;
 /// some tens of microseconds, more than handing it to another worker costs).
 const MOVE_PIECE: usize = 16384;
 
-/// [`NeighbourGrid::new`] sorts fewer particles than this on the calling thread (a fraction
-/// of a millisecond: less than waking the workers of a pool costs, twice).
-const SORT_IN_PARALLEL_FROM: usize = 2 * MOVE_PIECE;
-
 /// Whether `n` particles take the dense layout over a bounding box of `total` cells: at most
 /// `max(4n, 4096)` cells (memory `O(n)`) and at most [`MAX_DENSE_CELLS`] (`u32` indices).
 fn dense_fits(n: usize, total: f64) -> bool {
@@ -81,9 +77,14 @@ enum Layout<const D: usize> {
 }
 
 impl<const D: usize> NeighbourGrid<D> {
+    /// [`NeighbourGrid::new`] sorts fewer particles than this on the calling thread (a
+    /// fraction of a millisecond: less than waking the workers of a pool costs, twice), and
+    /// more on the rayon pool the call runs on.
+    pub const SORTED_IN_PARALLEL_FROM: usize = 2 * MOVE_PIECE;
+
     /// Builds the grid with cells of side `cell` (finite, positive). Sets of fewer than
-    /// 32,768 particles are sorted on the calling thread, larger ones on the rayon pool the
-    /// call runs on.
+    /// [`NeighbourGrid::SORTED_IN_PARALLEL_FROM`] particles are sorted on the calling thread,
+    /// larger ones on the rayon pool the call runs on.
     ///
     /// Fails with [`CoreError::GridTooFine`] when the bounding box spans more than `2^52`
     /// cells along an axis (e.g. coordinates `1e9` apart with `cell = 1e-9`).
@@ -146,7 +147,7 @@ impl<const D: usize> NeighbourGrid<D> {
             // In range: `idx < ncells <= MAX_DENSE_CELLS` (`dense_fits`).
             idx as u32
         };
-        let linear: Vec<u32> = if positions.len() < SORT_IN_PARALLEL_FROM {
+        let linear: Vec<u32> = if positions.len() < Self::SORTED_IN_PARALLEL_FROM {
             positions.iter().map(index).collect()
         } else {
             positions.par_iter().map(index).collect()
@@ -174,7 +175,7 @@ impl<const D: usize> NeighbourGrid<D> {
     fn fill_hashed(mut self, positions: &[Point<D>]) -> Self {
         let key = |(i, p): (usize, &Point<D>)| (self.cell_of(p), i as u32);
         let mut keyed: Vec<([i64; D], u32)>;
-        if positions.len() < SORT_IN_PARALLEL_FROM {
+        if positions.len() < Self::SORTED_IN_PARALLEL_FROM {
             keyed = positions.iter().enumerate().map(key).collect();
             keyed.sort_unstable();
         } else {

@@ -129,7 +129,7 @@
 //! set of ten thousand particles. So only the large parts go to the workers (the tracker's
 //! pool, or the rayon pool the update is called on): the passes over every particle from
 //! 16,384 particles on (in pieces of 8,192), the evaluations from 128 in one step, a new
-//! neighbour grid from 16,384 particles, a full detection. Smaller parts run on the calling
+//! neighbour grid from 32,768 particles, a full detection. Smaller parts run on the calling
 //! thread, and an update that has only those never touches the pool.
 //!
 //! # Fallbacks and scope
@@ -344,15 +344,14 @@ impl Workers<'_> {
         }
     }
 
-    /// The neighbour grid of `set` with cells of side `cell`, sorted on the workers when the
-    /// set is large (a grid of fewer than `2·PASS_PIECE` particles is sorted on the calling
-    /// thread alone: [`NeighbourGrid::new`] sorts up to 32,768 there).
+    /// The neighbour grid of `set` with cells of side `cell`: on the calling thread where
+    /// [`NeighbourGrid::new`] sorts there, on the workers otherwise.
     fn grid<const D: usize>(
         self,
         set: &ParticleSet<D>,
         cell: f64,
     ) -> Result<NeighbourGrid<D>, CoreError> {
-        if set.len() < 2 * PASS_PIECE {
+        if set.len() < NeighbourGrid::<D>::SORTED_IN_PARALLEL_FROM {
             NeighbourGrid::new(set, cell)
         } else {
             self.run(|| NeighbourGrid::new(set, cell))

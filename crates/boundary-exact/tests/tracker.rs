@@ -835,9 +835,10 @@ fn slow_shear_at_extreme_scales_matches_full_detection_and_saves_alike() {
 }
 
 /// A set large enough for the passes over every particle to be split among the workers
-/// (16,384 particles and more), with steps that hand 128 and more evaluations, a new grid and
-/// the revocations of an inflow to them too: the labels of a full detection at every step, on
-/// a pool of the tracker's own and on the pool the update is called on.
+/// (16,384 particles and more), with steps that hand 128 and more evaluations and the
+/// revocations of an inflow to them too, and a step past the grid's skin: the labels of a full
+/// detection at every step, on a pool of the tracker's own and on the pool the update is
+/// called on.
 #[test]
 fn a_large_set_splits_its_work_among_the_workers_with_the_same_labels() {
     let mut rng = Rng(41);

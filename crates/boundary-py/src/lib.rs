@@ -328,11 +328,10 @@ fn read_columns_in(
     let mut arrays = Vec::with_capacity(count);
     for k in 0..count {
         let what = format!("columns[{k}]");
-        let array = float_array(
-            &columns.get_item(k)?,
-            &what,
-            "a one-dimensional array of reals",
-        )?;
+        let column = columns
+            .get_item(k)
+            .map_err(|_| value_error(format!("columns must be {EXPECTED}")))?;
+        let array = float_array(&column, &what, "a one-dimensional array of reals")?;
         if array.ndim() != 1 {
             return Err(value_error(format!(
                 "{what} must be a one-dimensional array, got shape {}",

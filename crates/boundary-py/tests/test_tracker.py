@@ -284,6 +284,8 @@ def test_tracker_takes_one_array_per_coordinate():
     tracker = boundary.Tracker(0.8)
     with pytest.raises(ValueError, match="got 1 array$"):
         tracker.update(columns=(x,))
+    with pytest.raises(ValueError, match="columns must be a sequence"):
+        tracker.update(columns={"x": x, "y": y})
     with pytest.raises(ValueError, match=r"columns\[0\] has 900 and columns\[1\] has 899"):
         tracker.update(columns=(x, y[1:]))
     with pytest.raises(ValueError, match=r"columns\[1\] must be a one-dimensional array"):
