@@ -492,28 +492,50 @@ impl<const D: usize> NeighbourGrid<D> {
     pub fn for_each_cell_block(
         &self,
         radius: f64,
+        visit: impl FnMut(std::ops::Range<usize>, &[std::ops::Range<usize>]),
+    ) -> bool {
+        self.for_each_cell_block_in(0..self.sorted.len(), radius, visit)
+    }
+
+    /// [`NeighbourGrid::for_each_cell_block`] over the slots `slots` of the cell order only:
+    /// the cells that hold any of them, in the cell order, each with `cell` cut to `slots`
+    /// (the candidates are those of the whole cell). Sweeps over consecutive ranges of slots
+    /// visit each particle once, so they can run in parallel.
+    pub fn for_each_cell_block_in(
+        &self,
+        slots: std::ops::Range<usize>,
+        radius: f64,
         mut visit: impl FnMut(std::ops::Range<usize>, &[std::ops::Range<usize>]),
     ) -> bool {
         let Layout::Dense { dims, starts } = &self.layout else {
             return false;
         };
-        if radius.is_nan() || radius < 0.0 {
+        if radius.is_nan() || radius < 0.0 || slots.start >= slots.end.min(self.sorted.len()) {
             return true;
         }
         let radius = radius + self.pad;
         let mut rows: Vec<std::ops::Range<usize>> = Vec::new();
-        for cell in 0..starts.len() - 1 {
-            let (a, b) = (starts[cell] as usize, starts[cell + 1] as usize);
-            if a == b {
+        // The cell of the first slot: the last cell that starts at or before it.
+        let first = starts.partition_point(|&s| s as usize <= slots.start) - 1;
+        for cell in first..starts.len() - 1 {
+            let (a, b) = (
+                (starts[cell] as usize).max(slots.start),
+                (starts[cell + 1] as usize).min(slots.end),
+            );
+            if starts[cell] as usize >= slots.end {
+                break;
+            }
+            if a >= b {
                 continue;
             }
+            let whole = starts[cell] as usize..starts[cell + 1] as usize;
             // The union of the query boxes of the cell's particles: the box of their bounding
             // box, each side widened as a query at that coordinate is (monotone cells).
             let mut lo = [0i64; D];
             let mut hi = [0i64; D];
             for k in 0..D {
                 let (mut min, mut max) = (f64::INFINITY, f64::NEG_INFINITY);
-                for p in &self.sorted[a..b] {
+                for p in &self.sorted[whole.clone()] {
                     min = min.min(p[k]);
                     max = max.max(p[k]);
                 }
@@ -906,6 +928,56 @@ mod tests {
         let far = ParticleSet::<2>::from_rows(&[[0.0, 0.0], [1.0, 0.5]]).unwrap();
         let g = NeighbourGrid::new(&far, 1e-12).unwrap();
         assert!(!g.for_each_cell_block(1.0, |_, _| panic!("hashed: no block")));
+        assert!(!g.for_each_cell_block_in(0..2, 1.0, |_, _| panic!("hashed: no block")));
+    }
+
+    /// Consecutive slot ranges, cut anywhere (inside cells, at their ends, empty, past the
+    /// end), visit exactly the blocks of the whole sweep, each cell cut to the range and with
+    /// the candidates of the whole cell.
+    #[test]
+    fn cell_blocks_of_slot_ranges_are_the_whole_sweep_cut() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(5);
+        let rows: Vec<[f64; 3]> = (0..400)
+            .map(|_| std::array::from_fn(|_| rng.gen_range(-3.0..3.0)))
+            .collect();
+        let set = ParticleSet::<3>::from_rows(&rows).unwrap();
+        let g = NeighbourGrid::new(&set, 1.0).unwrap();
+        type Block = (std::ops::Range<usize>, Vec<std::ops::Range<usize>>);
+        let mut whole: Vec<Block> = Vec::new();
+        g.for_each_cell_block(1.0, |cell, rows| whole.push((cell, rows.to_vec())));
+        for cuts in [
+            vec![0, 400],
+            vec![0, 1, 2, 399, 400],
+            vec![0, 17, 17, 150, 151, 260, 400, 500],
+            (0..=40).map(|k| k * 10).collect(),
+        ] {
+            let mut got: Vec<Block> = Vec::new();
+            for pair in cuts.windows(2) {
+                assert!(
+                    g.for_each_cell_block_in(pair[0]..pair[1], 1.0, |cell, rows| {
+                        assert!(cell.start >= pair[0] && cell.end <= pair[1] && !cell.is_empty());
+                        got.push((cell, rows.to_vec()));
+                    })
+                );
+            }
+            // Slot by slot: each visited once, in order, within one whole cell, with the
+            // candidates of that cell.
+            let of_slot = |blocks: &[Block]| -> Vec<(usize, Vec<std::ops::Range<usize>>)> {
+                blocks
+                    .iter()
+                    .flat_map(|(cell, rows)| cell.clone().map(move |s| (s, rows.clone())))
+                    .collect()
+            };
+            assert_eq!(of_slot(&got), of_slot(&whole), "cuts {cuts:?}");
+            for (piece, _) in &got {
+                assert!(
+                    whole
+                        .iter()
+                        .any(|(c, _)| c.start <= piece.start && piece.end <= c.end),
+                    "{piece:?} within one cell"
+                );
+            }
+        }
     }
 
     proptest::proptest! {

@@ -90,6 +90,10 @@ const LIST_BLOCK: usize = 1024;
 /// grid again for their sums. The 3D balls of the benchmarks have about 60 at `h = r`.
 const LIST_BUDGET: usize = 160;
 
+/// Fewest blocks of [`LIST_BLOCK`] slots in a range of the parallel pair sweep: the pairs
+/// across a cut are tested twice, so a range is kept much thicker than the support.
+const SWEEP_MIN_BLOCKS: usize = 8;
+
 /// The neighbours within the support of the particles of one block of [`LIST_BLOCK`] slots of
 /// the grid's cell order (each particle itself included), as slots of that order, in the order
 /// [`NeighbourGrid::for_each_within`] reports them.
@@ -187,44 +191,122 @@ fn density_and_lists<const D: usize>(
     (density, lists)
 }
 
-/// [`density_and_lists`] for one thread, on a dense grid: a sweep over the cells in the cell
-/// order that tests each pair of particles once, from the one earlier in that order. The pair
-/// `(a, t)`, `a < t`, adds its kernel value to both number densities; as the sweep goes in the
-/// cell order, every particle receives its terms in the order of its own neighbour query
-/// (earlier slots first, itself, then later slots), with the same arithmetic
-/// (`x_t − x_a = −(x_a − x_t)` exactly), so the densities and lists are those of
-/// [`density_and_lists`], bit for bit, for half the distance tests and kernel values. `None`
-/// for the hashed layout, or where the pairs pass half of [`LIST_BUDGET`] per particle (then
-/// the caller's per-particle pass keeps what fits).
+/// [`density_and_lists`] on a dense grid by a sweep over the cells in the cell order that
+/// tests each pair of particles once, from the one earlier in that order, cut into
+/// consecutive ranges of `chunk` slots (a multiple of [`LIST_BLOCK`]) swept in parallel.
+///
+/// Within a range, the pair `(a, t)`, `a < t`, adds its kernel value to both number
+/// densities; a particle first receives the terms of its neighbours before its range, found
+/// by its own test against them ([`sweep_range`]), so every particle receives its terms in
+/// the order of its own neighbour query (earlier slots first, itself, then later slots), with
+/// the same arithmetic (`x_t − x_a = −(x_a − x_t)` exactly): the densities and lists are
+/// those of [`density_and_lists`], bit for bit, for any `chunk`, for about half the distance
+/// tests and kernel values (the pairs across a cut are tested from both sides). `None` for
+/// the hashed layout, or where the pairs of a range pass half of [`LIST_BUDGET`] per particle
+/// (then the caller's per-particle pass keeps what fits).
 fn density_and_lists_sweep<const D: usize>(
     grid: &NeighbourGrid<D>,
     kernel: &SphKernel<D>,
+    chunk: usize,
+) -> Option<(Vec<f64>, Vec<ListBlock>)> {
+    debug_assert!(chunk > 0 && chunk.is_multiple_of(LIST_BLOCK));
+    let n = grid.cell_sorted_positions().len();
+    if grid.is_hashed() {
+        return None;
+    }
+    let firsts: Vec<usize> = (0..n).step_by(chunk.max(LIST_BLOCK)).collect();
+    let pieces: Vec<Option<(Vec<f64>, Vec<ListBlock>)>> = firsts
+        .into_par_iter()
+        .map(|first| sweep_range(grid, kernel, first..(first + chunk).min(n)))
+        .collect();
+    let mut density = Vec::with_capacity(n);
+    let mut lists = Vec::with_capacity(n.div_ceil(LIST_BLOCK));
+    for piece in pieces {
+        let (d, l) = piece?;
+        density.extend(d);
+        lists.extend(l);
+    }
+    Some((density, lists))
+}
+
+/// The densities and lists of the slots `range` (its start a multiple of [`LIST_BLOCK`]):
+/// first each particle's terms from the neighbours before the range, in slot order; then the
+/// sweep of the range's pairs, where a pair beyond the range counts for its earlier particle
+/// only (the later one belongs to the next range, which tests the pair again).
+fn sweep_range<const D: usize>(
+    grid: &NeighbourGrid<D>,
+    kernel: &SphKernel<D>,
+    range: std::ops::Range<usize>,
 ) -> Option<(Vec<f64>, Vec<ListBlock>)> {
     let sorted = grid.cell_sorted_positions();
-    let n = sorted.len();
+    let (s0, s1) = (range.start, range.end);
+    let len = s1 - s0;
     let support = kernel.support();
     let r2 = support * support;
     let inv_h = 1.0 / kernel.h();
-    let most = LIST_BUDGET / 2 * n;
-    let mut density = vec![0.0; n];
-    // The later neighbours of each slot, `forward[starts[a]..starts[a + 1]]`.
-    let mut starts: Vec<usize> = Vec::with_capacity(n + 1);
-    starts.push(0);
-    let mut forward: Vec<u32> = Vec::new();
-    let mut over = false;
+    let most = LIST_BUDGET / 2 * len;
+    // The range's densities, and one spare term for the pairs beyond it.
+    let mut density = vec![0.0; len + 1];
+    // The neighbours before the range of the range's `k`-th slot,
+    // `before[before_starts[k]..before_starts[k + 1]]`.
+    let mut before_starts: Vec<usize> = Vec::with_capacity(len + 1);
+    before_starts.push(0);
+    let mut before: Vec<u32> = Vec::new();
     // The candidates of a particle within the support, first written in place for all
     // candidates (a candidate out of reach is overwritten by the next): no branch per
     // candidate, whose outcome is a coin toss (about one in six is a neighbour).
     let mut near: Vec<u32> = Vec::new();
-    let dense = grid.for_each_cell_block(support, |cell, rows| {
-        if over || boundary_core::stop::requested() {
-            over = true;
-            return;
-        }
+    let mut over = false;
+    let room = |near: &mut Vec<u32>, rows: &[std::ops::Range<usize>]| {
         let most_candidates: usize = rows.iter().map(|r| r.len()).sum();
         if near.len() < most_candidates {
             near.resize(most_candidates, 0);
         }
+    };
+    if s0 == 0 {
+        before_starts.resize(len + 1, 0);
+    } else {
+        let dense = grid.for_each_cell_block_in(range.clone(), support, |cell, rows| {
+            if over || boundary_core::stop::requested() {
+                over = true;
+                return;
+            }
+            room(&mut near, rows);
+            for t in cell {
+                let x = sorted[t];
+                let mut found = 0;
+                // Rows ascend: the first that starts in the range ends the search.
+                for row in rows.iter().take_while(|row| row.start < s0) {
+                    let end = row.end.min(s0);
+                    for (a, p) in (row.start..end).zip(&sorted[row.start..end]) {
+                        near[found] = a as u32;
+                        found += (dist2(&x, p) <= r2) as usize;
+                    }
+                }
+                let mut sum = 0.0;
+                for &a in &near[..found] {
+                    sum += kernel.reduced_value(((x - sorted[a as usize]) * inv_h).norm());
+                }
+                density[t - s0] = sum;
+                before.extend_from_slice(&near[..found]);
+                before_starts.push(before.len());
+            }
+            over |= before.len() > most;
+        });
+        if !dense || over {
+            return None;
+        }
+    }
+    // The later neighbours of each slot of the range, `forward[starts[k]..starts[k + 1]]`.
+    let mut starts: Vec<usize> = Vec::with_capacity(len + 1);
+    starts.push(0);
+    let mut forward: Vec<u32> = Vec::new();
+    let dense = grid.for_each_cell_block_in(range.clone(), support, |cell, rows| {
+        if over || boundary_core::stop::requested() {
+            over = true;
+            return;
+        }
+        room(&mut near, rows);
         for a in cell {
             let p = sorted[a];
             let mut found = 0;
@@ -238,13 +320,13 @@ fn density_and_lists_sweep<const D: usize>(
                 }
             }
             // Itself: `x − x = 0` exactly for finite coordinates, so `q = 0` as in its query.
-            let mut sum = density[a] + kernel.reduced_value(0.0);
+            let mut sum = density[a - s0] + kernel.reduced_value(0.0);
             for &t in &near[..found] {
                 let w = kernel.reduced_value(((sorted[t as usize] - p) * inv_h).norm());
                 sum += w;
-                density[t as usize] += w;
+                density[(t as usize).min(s1) - s0] += w;
             }
-            density[a] = sum;
+            density[a - s0] = sum;
             forward.extend_from_slice(&near[..found]);
             starts.push(forward.len());
         }
@@ -253,21 +335,29 @@ fn density_and_lists_sweep<const D: usize>(
     if !dense || over {
         return None;
     }
-    // Each slot's list: its earlier neighbours (the slots whose forward lists hold it, in
-    // increasing order), itself, its later neighbours.
-    let mut earlier = vec![0u32; n];
+    density.truncate(len);
+    // Each slot's list: its neighbours before the range, its earlier neighbours in the range
+    // (the slots whose forward lists hold it, in increasing order), itself, its later
+    // neighbours.
+    let mut earlier = vec![0u32; len];
     for &t in &forward {
-        earlier[t as usize] += 1;
+        // A later neighbour is after its particle, so after `s0`; one past `s1` is not ours.
+        if (t as usize) < s1 {
+            earlier[t as usize - s0] += 1;
+        }
     }
-    let mut lists: Vec<ListBlock> = (0..n)
+    let mut lists: Vec<ListBlock> = (0..len)
         .step_by(LIST_BLOCK)
         .map(|first| {
-            let slots = first..(first + LIST_BLOCK).min(n);
+            let slots = first..(first + LIST_BLOCK).min(len);
             let mut offsets = Vec::with_capacity(slots.len() + 1);
             offsets.push(0u32);
             let mut total = 0usize;
-            for s in slots.clone() {
-                total += earlier[s] as usize + 1 + (starts[s + 1] - starts[s]);
+            for k in slots.clone() {
+                total += before_starts[k + 1] - before_starts[k]
+                    + earlier[k] as usize
+                    + 1
+                    + (starts[k + 1] - starts[k]);
                 offsets.push(total as u32);
             }
             if total > LIST_BUDGET * slots.len() {
@@ -279,24 +369,37 @@ fn density_and_lists_sweep<const D: usize>(
             }
         })
         .collect();
-    // `earlier` becomes the next free place of each slot's earlier part.
-    for (s, next) in earlier.iter_mut().enumerate() {
-        let block = &lists[s / LIST_BLOCK];
-        *next = block.offsets.get(s % LIST_BLOCK).copied().unwrap_or(0);
+    // `earlier` becomes the next free place of each slot's earlier part, after the
+    // neighbours before the range.
+    for (k, next) in earlier.iter_mut().enumerate() {
+        let block = &mut lists[k / LIST_BLOCK];
+        if block.slots.is_empty() {
+            continue;
+        }
+        let place = block.offsets[k % LIST_BLOCK] as usize;
+        let from_before = &before[before_starts[k]..before_starts[k + 1]];
+        block.slots[place..place + from_before.len()].copy_from_slice(from_before);
+        *next = (place + from_before.len()) as u32;
     }
-    for a in 0..n {
-        let later = &forward[starts[a]..starts[a + 1]];
+    for k in 0..len {
+        let a = s0 + k;
+        let later = &forward[starts[k]..starts[k + 1]];
         for &t in later {
-            let block = &mut lists[t as usize / LIST_BLOCK];
+            // Ascending: the first past the range ends the range's part.
+            if t as usize >= s1 {
+                break;
+            }
+            let j = t as usize - s0;
+            let block = &mut lists[j / LIST_BLOCK];
             if !block.slots.is_empty() {
-                let place = &mut earlier[t as usize];
+                let place = &mut earlier[j];
                 block.slots[*place as usize] = a as u32;
                 *place += 1;
             }
         }
-        let block = &mut lists[a / LIST_BLOCK];
+        let block = &mut lists[k / LIST_BLOCK];
         if !block.slots.is_empty() {
-            let place = earlier[a] as usize;
+            let place = earlier[k] as usize;
             block.slots[place] = a as u32;
             block.slots[place + 1..place + 1 + later.len()].copy_from_slice(later);
         }
@@ -309,25 +412,39 @@ impl<'a, const D: usize> SphContext<'a, D> {
     /// only positions are needed). Fails only where the grid does (a bounding box of more
     /// than `2^52` support radii along an axis).
     pub fn new(set: &'a ParticleSet<D>, kernel: SphKernel<D>) -> Result<Self, CoreError> {
+        // One range of the pair sweep per thread, of at least `SWEEP_MIN_BLOCKS` blocks.
+        let blocks = set.len().div_ceil(LIST_BLOCK);
+        let chunk = blocks
+            .div_ceil(rayon::current_num_threads())
+            .max(SWEEP_MIN_BLOCKS)
+            * LIST_BLOCK;
+        Self::with_sweep_ranges(set, kernel, chunk)
+    }
+
+    /// [`Self::new`] with the pair sweep cut into ranges of `chunk` slots (a multiple of
+    /// [`LIST_BLOCK`]): the same numbers for every `chunk`.
+    fn with_sweep_ranges(
+        set: &'a ParticleSet<D>,
+        kernel: SphKernel<D>,
+        chunk: usize,
+    ) -> Result<Self, CoreError> {
         let positions = set.positions();
         let grid = NeighbourGrid::new(set, kernel.support())?;
-        // One thread: the pair sweep; several: a query per particle, in parallel. The same
-        // numbers either way.
-        let (density, lists) = if rayon::current_num_threads() == 1 {
-            density_and_lists_sweep(&grid, &kernel)
-        } else {
-            None
-        }
-        .unwrap_or_else(|| density_and_lists(&grid, &kernel));
-        let sorted_volumes: Vec<f64> = density.iter().map(|n| 1.0 / n).collect();
-        let mut reduced_volumes = vec![0.0; positions.len()];
+        // The pair sweep, else a query per particle, in parallel. The same numbers either way.
+        let (density, lists) = density_and_lists_sweep(&grid, &kernel, chunk)
+            .unwrap_or_else(|| density_and_lists(&grid, &kernel));
+        let sorted_volumes: Vec<f64> = density.par_iter().map(|n| 1.0 / n).collect();
+        let order = grid.cell_order();
         let mut slot_of = vec![0u32; positions.len()];
-        for (s, &i) in grid.cell_order().iter().enumerate() {
-            reduced_volumes[i as usize] = sorted_volumes[s];
+        for (s, &i) in order.iter().enumerate() {
             slot_of[i as usize] = s as u32;
         }
+        let reduced_volumes: Vec<f64> = slot_of
+            .par_iter()
+            .map(|&s| sorted_volumes[s as usize])
+            .collect();
         let h_d = kernel.h().powi(D as i32);
-        let volumes = reduced_volumes.iter().map(|v| v * h_d).collect();
+        let volumes = reduced_volumes.par_iter().map(|v| v * h_d).collect();
         Ok(SphContext {
             positions,
             grid,
@@ -636,15 +753,32 @@ mod tests {
         (volumes, sums)
     }
 
-    fn assert_same_as_queries<const D: usize>(set: &ParticleSet<D>, kernel: SphKernel<D>) {
-        let (volumes, expected) = queried_sums(set, &kernel);
+    /// The context of `set` on 1 and 2 threads, with the pair sweep's default ranges and with
+    /// ranges of one block (several ranges whenever the set has more than one block).
+    fn contexts<'a, const D: usize>(
+        set: &'a ParticleSet<D>,
+        kernel: SphKernel<D>,
+    ) -> Vec<(String, SphContext<'a, D>)> {
+        let mut out = Vec::new();
         for threads in [1, 2] {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .unwrap();
             let ctx = pool.install(|| SphContext::new(set, kernel)).unwrap();
-            assert_eq!(ctx.reduced_volumes(), &volumes[..], "{threads} threads");
+            out.push((format!("{threads} threads"), ctx));
+            let ctx = pool
+                .install(|| SphContext::with_sweep_ranges(set, kernel, LIST_BLOCK))
+                .unwrap();
+            out.push((format!("{threads} threads, ranges of one block"), ctx));
+        }
+        out
+    }
+
+    fn assert_same_as_queries<const D: usize>(set: &ParticleSet<D>, kernel: SphKernel<D>) {
+        let (volumes, expected) = queried_sums(set, &kernel);
+        for (threads, ctx) in contexts(set, kernel) {
+            assert_eq!(ctx.reduced_volumes(), &volumes[..], "{threads}");
             for (i, e) in expected.iter().enumerate() {
                 let s = ctx.local_sums(i);
                 let got = (
@@ -654,7 +788,7 @@ mod tests {
                     s.neighbours,
                     ctx.divergence_of_position(i).0,
                 );
-                assert_eq!(&got, e, "particle {i}, {threads} threads");
+                assert_eq!(&got, e, "particle {i}, {threads}");
                 assert_eq!(ctx.gradient_h(i), e.1);
                 assert_eq!(ctx.renormalisation_and_gradient_h(i), (e.2, e.1));
                 let mut via_index = Vec::new();
@@ -681,6 +815,13 @@ mod tests {
             assert_same_as_queries(&ball, SphKernel::new(kernel, 1.2));
             assert_same_as_queries(&disc, SphKernel::new(kernel, 1.3));
         }
+        // Every list kept (the sums above came from the sweep's lists, not from queries).
+        for (threads, ctx) in contexts(&ball, SphKernel::new(Kernel::WendlandC2, 1.2)) {
+            assert!((0..ball.len()).all(|i| ctx.list(i).is_some()), "{threads}");
+        }
+        for (threads, ctx) in contexts(&disc, SphKernel::new(Kernel::CubicSpline, 1.3)) {
+            assert!((0..disc.len()).all(|i| ctx.list(i).is_some()), "{threads}");
+        }
     }
 
     /// A cluster of duplicates over the list budget: its block is not kept (its particles
@@ -695,14 +836,9 @@ mod tests {
             rows.extend((0..5000).map(|k| [(k % 64) as f64 + 10.0, (k / 64) as f64]));
             let set = ParticleSet::from_rows(&rows).unwrap();
             let kernel = SphKernel::<2>::new(Kernel::WendlandC2, 1.0);
-            for threads in [1, 2] {
-                let pool = rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .build()
-                    .unwrap();
-                let ctx = pool.install(|| SphContext::new(&set, kernel)).unwrap();
-                assert!(ctx.list(0).is_none(), "{cluster}, {threads} threads");
-                assert!(ctx.list(rows.len() - 1).is_some(), "{threads} threads");
+            for (threads, ctx) in contexts(&set, kernel) {
+                assert!(ctx.list(0).is_none(), "{cluster}, {threads}");
+                assert!(ctx.list(rows.len() - 1).is_some(), "{threads}");
             }
             assert_same_as_queries(&set, kernel);
         }
