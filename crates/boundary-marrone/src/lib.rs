@@ -233,6 +233,11 @@ impl MarroneDetector {
         theta: f64,
     ) -> bool {
         let (renormalisation, gradient_h) = ctx.renormalisation_and_gradient_h(i);
+        // Most particles of a fluid: interior by a floor of λ_i, without the decomposition
+        // (the floor is never above the decomposition's λ_i, so the label is the same).
+        if SymmetricEigen::min_value_floor(&renormalisation) > self.params.lambda_interior {
+            return false;
+        }
         let eigen = SymmetricEigen::new(&renormalisation);
         let lambda = eigen.min_value();
         if lambda <= self.params.lambda_surface {

@@ -81,6 +81,35 @@ impl<const D: usize> SymmetricEigen<D> {
         }
     }
 
+    /// A floor of [`Self::new`]`(m).min_value()` without the decomposition: Gershgorin's
+    /// lower bound of the smallest eigenvalue of `(m + mᵀ)/2`, `min_k (a_kk − Σ_{j≠k} |a_kj|)`,
+    /// lowered by [`Self::FLOOR_ALLOWANCE`] times the Frobenius norm of `(m + mᵀ)/2` for the
+    /// rounding of the bound and of the Jacobi rotations (a few `1e-16` of the norm). Tight
+    /// where `m` is close to diagonal, as the renormalisation matrix is inside a fluid: a
+    /// test `floor > μ` then decides `min_value() > μ` without the rotations. NaN for a NaN
+    /// entry (any comparison with it is false).
+    pub fn min_value_floor(m: &SMatrix<f64, D, D>) -> f64 {
+        let a = (m + m.transpose()) * 0.5;
+        let mut floor = f64::INFINITY;
+        for k in 0..D {
+            let mut radius = 0.0;
+            for j in 0..D {
+                if j != k {
+                    radius += a[(k, j)].abs();
+                }
+            }
+            floor = floor.min(a[(k, k)] - radius);
+        }
+        let norm = a.norm();
+        if norm.is_nan() {
+            return f64::NAN;
+        }
+        floor - Self::FLOOR_ALLOWANCE * norm
+    }
+
+    /// The rounding allowance of [`Self::min_value_floor`], relative to the matrix's norm.
+    pub const FLOOR_ALLOWANCE: f64 = 1e-12;
+
     /// The smallest eigenvalue.
     pub fn min_value(&self) -> f64 {
         self.values[0]
@@ -147,10 +176,57 @@ mod tests {
         assert!((m * x - b).norm() < 1e-14);
     }
 
+    /// The floor is never above the decomposition's smallest eigenvalue: random symmetric
+    /// and positive semi-definite matrices, matrices near the identity (the renormalisation
+    /// matrix inside a fluid), diagonal ones (where Gershgorin's bound is the eigenvalue
+    /// itself), and rotations of a spectrum whose smallest value sits `1e-15..1e-6` from a
+    /// threshold; where the floor clears the threshold, the eigenvalue does too.
+    #[test]
+    fn the_floor_is_below_the_smallest_eigenvalue() {
+        fn check<const D: usize>(m: &SMatrix<f64, D, D>) -> (f64, f64) {
+            let floor = SymmetricEigen::min_value_floor(m);
+            let lambda = SymmetricEigen::new(m).min_value();
+            assert!(floor <= lambda, "{m}: floor {floor} > λ {lambda}");
+            (floor, lambda)
+        }
+        let mut rng = StdRng::seed_from_u64(9);
+        let mut cleared = 0;
+        for _ in 0..20_000 {
+            let a = SMatrix::<f64, 3, 3>::from_fn(|_, _| rng.gen_range(-1.0..1.0));
+            check(&(a + a.transpose()));
+            check(&(a * a.transpose()));
+            let b = SMatrix::<f64, 2, 2>::from_fn(|_, _| rng.gen_range(-1.0..1.0));
+            check(&(b * b.transpose()));
+            let eps: f64 = 10f64.powf(rng.gen_range(-6.0..-1.0));
+            let near = SMatrix::<f64, 3, 3>::identity() + (a + a.transpose()) * eps;
+            let (floor, _) = check(&near);
+            cleared += usize::from(floor > 0.75);
+            let d = SVector::<f64, 3>::from_fn(|_, _| rng.gen_range(0.0..2.0));
+            let (floor, lambda) = check(&SMatrix::<f64, 3, 3>::from_diagonal(&d));
+            assert!(lambda - floor <= 1e-11, "diagonal: the bound is tight");
+            // A spectrum just above or below 0.75, turned by a random rotation.
+            let gap = 10f64.powf(rng.gen_range(-15.0..-6.0)) * [-1.0, 1.0][rng.gen_range(0..2)];
+            let spectrum = SVector::<f64, 3>::new(0.75 + gap, 1.0, rng.gen_range(1.0..1.2));
+            let axis = SVector::<f64, 3>::from_fn(|_, _| rng.gen_range(-1.0..1.0));
+            let turn = boundary_core::nalgebra::Rotation3::new(axis * rng.gen_range(0.0..1e-3));
+            let q = turn.matrix();
+            let m = q * SMatrix::<f64, 3, 3>::from_diagonal(&spectrum) * q.transpose();
+            let (floor, lambda) = check(&m);
+            if floor > 0.75 {
+                assert!(lambda > 0.75);
+            }
+        }
+        assert!(
+            cleared > 10_000,
+            "the floor decides most near-identity matrices: {cleared}"
+        );
+    }
+
     #[test]
     fn nan_entries_do_not_panic() {
         let m = SMatrix::<f64, 3, 3>::from_element(f64::NAN);
         let e = SymmetricEigen::new(&m);
         assert!(e.min_value().is_nan());
+        assert!(SymmetricEigen::min_value_floor(&m).is_nan());
     }
 }
