@@ -321,6 +321,7 @@ use boundary_core::{
 };
 use cell::{Clipper, ConvexCell, Polygon, Polyhedron};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 
 /// The tolerance of the opt-in parameter `tie` up to release 0.1: with `--set tie=1e-9` a
 /// particle is boundary iff its float margin exceeds `1e-9·r` (lattice round-off counted as
@@ -607,20 +608,20 @@ where
     // each was a cache miss: 43 % of `classify`'s samples at 200k particles).
     let sorted_positions = grid.cell_sorted_positions();
     let key = |j: usize, slot: usize, d2: f64| (d2.to_bits(), j as u32, slot as u32);
-    // Particles in the grid's cell order: consecutive queries share cached cells.
-    let order: Vec<u32> = grid
-        .cell_order()
-        .iter()
-        .copied()
-        .filter(|&i| (i as usize) < count)
-        .collect();
-    let sorted: Vec<(f64, bool, bool)> = order
+    // The particles in the grid's cell order (consecutive queries share cached cells), each
+    // result stored straight at its input index, so that no serial pass puts them back in
+    // input order (on many threads such a pass is a large part of the time).
+    let margins: Vec<AtomicU64> = (0..count).map(|_| AtomicU64::new(0)).collect();
+    let boundary: Vec<AtomicBool> = (0..count).map(|_| AtomicBool::new(false)).collect();
+    let fallbacks = AtomicUsize::new(0);
+    grid.cell_order()
         .par_iter()
-        .map_init(Scratch::<D, C>::default, |scratch, &i| {
-            let p = positions[i as usize];
-            if boundary_core::stop::requested() {
-                return Default::default();
+        .for_each_init(Scratch::<D, C>::default, |scratch, &i| {
+            let i = i as usize;
+            if i >= count || boundary_core::stop::requested() {
+                return;
             }
+            let p = positions[i];
             // The neighbours within FIRST_REACH·r first (`cell_margin` gathers the rest when
             // the cell needs them); d2 == 0 is `i` itself or an exact duplicate, which does
             // not cover (crate docs).
@@ -629,33 +630,37 @@ where
             scratch.near.retain(|x| x.0 != 0);
             // Most particles of a bulk are settled here, before any cell is clipped (crate
             // docs, "The interior filter").
-            if let Some(reach) = interior::interior_reach(&p, sorted_positions, r, &scratch.near) {
-                return ((reach - 1.0) * r, false, false);
-            }
-            scratch.beyond = 0.5 * FIRST_REACH * (1.0 - 1e-9);
-            let gather_all = |near: &mut Vec<Near>| {
-                near.clear();
-                grid.gather_within(&p, 2.0 * r * (1.0 + NEAR_SLACK), near, key);
-                near.retain(|x| x.0 != 0);
+            let (margin, label, exact) = if let Some(reach) =
+                interior::interior_reach(&p, sorted_positions, r, &scratch.near)
+            {
+                ((reach - 1.0) * r, false, false)
+            } else {
+                scratch.beyond = 0.5 * FIRST_REACH * (1.0 - 1e-9);
+                let gather_all = |near: &mut Vec<Near>| {
+                    near.clear();
+                    grid.gather_within(&p, 2.0 * r * (1.0 + NEAR_SLACK), near, key);
+                    near.retain(|x| x.0 != 0);
+                };
+                classify(&p, sorted_positions, r, tie, scratch, &gather_all)
             };
-            classify(&p, sorted_positions, r, tie, scratch, &gather_all)
-        })
+            margins[i].store(margin.to_bits(), Ordering::Relaxed);
+            boundary[i].store(label, Ordering::Relaxed);
+            if exact {
+                fallbacks.fetch_add(1, Ordering::Relaxed);
+            }
+        });
+    // In place (same size and alignment): no copy.
+    let labels: Vec<bool> = boundary.into_iter().map(AtomicBool::into_inner).collect();
+    let margins: Vec<f64> = margins
+        .into_iter()
+        .map(|m| f64::from_bits(m.into_inner()))
         .collect();
-    // Back to input order, straight into the margins and labels (no third copy).
-    let mut margins = vec![0.0; count];
-    let mut boundary = vec![false; count];
-    let mut fallbacks = 0;
-    for (&i, (margin, label, exact)) in order.iter().zip(sorted) {
-        margins[i as usize] = margin;
-        boundary[i as usize] = label;
-        fallbacks += exact as usize;
-    }
     Ok((
         Detection {
-            labels: boundary.into_iter().collect(),
+            labels: Labels::new(labels),
             margin: Some(margins),
         },
-        fallbacks,
+        fallbacks.into_inner(),
     ))
 }
 
