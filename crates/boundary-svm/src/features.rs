@@ -160,7 +160,7 @@ pub fn particle_features<const D: usize>(
 /// input order, without keeping the features (a detector keeps its decision, 8 bytes, not
 /// the 72 of [`ParticleFeatures`]). `then` runs in parallel, right after each particle's
 /// features.
-pub fn map_particle_features<const D: usize, T: Send + Default>(
+pub fn map_particle_features<const D: usize, T: Send + Sync + Default>(
     set: &ParticleSet<D>,
     count: usize,
     r: Radius,

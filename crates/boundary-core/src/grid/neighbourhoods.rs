@@ -23,6 +23,7 @@ use super::{dist2, NeighbourGrid};
 use crate::Point;
 use rayon::prelude::*;
 use std::ops::Range;
+use std::sync::OnceLock;
 
 /// The particles within the radius of one particle, as [`NeighbourGrid::par_map_within`]
 /// gives them: in the order [`NeighbourGrid::for_each_within`] reports them.
@@ -104,22 +105,22 @@ impl<const D: usize> NeighbourGrid<D> {
         f: impl Fn(&mut S, usize, &Neighbourhood<'_, D>) -> T + Sync + Send,
     ) -> Vec<T>
     where
-        T: Send + Default,
+        T: Send + Sync + Default,
     {
         let count = count.min(self.order.len());
         let r2 = radius * radius;
-        // Results in the cell order, then permuted to input order.
-        let mut sorted_out: Vec<T> = Vec::with_capacity(self.order.len());
-        sorted_out.resize_with(self.order.len(), T::default);
-        sorted_out.par_chunks_mut(TASK).enumerate().for_each_init(
+        // Each result is set at its input index by the worker that computes it: no serial
+        // pass puts them back in input order (on many threads such a pass, a permutation of
+        // every result, was a large part of the time).
+        let results: Vec<OnceLock<T>> = (0..count).map(|_| OnceLock::new()).collect();
+        self.order.par_chunks(TASK).enumerate().for_each_init(
             || (init(), Scratch::default()),
-            |(state, scratch), (task, results)| {
+            |(state, scratch), (task, order)| {
                 if crate::stop::requested() {
                     return;
                 }
-                let first = task * TASK;
-                for (s, result) in (first..).zip(results.iter_mut()) {
-                    let i = self.order[s] as usize;
+                for (s, &i) in (task * TASK..).zip(order) {
+                    let i = i as usize;
                     if i >= count {
                         continue;
                     }
@@ -129,32 +130,15 @@ impl<const D: usize> NeighbourGrid<D> {
                         slots: &scratch.slots[..k],
                         d2: &scratch.d2[..k],
                     };
-                    *result = f(state, i, &n);
+                    // Set once: `order` lists each particle once.
+                    let _ = results[i].set(f(state, i, &n));
                 }
             },
         );
-        // In place (no second buffer of results): entry `s` belongs at `order[s]`; each cycle
-        // of that permutation is closed by swaps through its first place. The particles
-        // `>= count` (not computed) end up past `count`.
-        let mut placed = vec![false; sorted_out.len()];
-        for start in 0..sorted_out.len() {
-            if placed[start] {
-                continue;
-            }
-            let mut at = start;
-            loop {
-                let dest = self.order[at] as usize;
-                if dest == start {
-                    placed[start] = true;
-                    break;
-                }
-                sorted_out.swap(start, dest);
-                placed[dest] = true;
-                at = dest;
-            }
-        }
-        sorted_out.truncate(count);
-        sorted_out
+        results
+            .into_par_iter()
+            .map(|r| r.into_inner().unwrap_or_default())
+            .collect()
     }
 
     /// Writes the slots and squared distances of the particles within `radius` of `q`
