@@ -4,6 +4,7 @@ use crate::kernel::SphKernel;
 use boundary_core::nalgebra::SMatrix;
 use boundary_core::{CoreError, NeighbourGrid, ParticleSet, Point};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 /// The number density `n_i = Σ_j W_ij` of every particle (`j` over all particles within the
 /// support, `i` itself and its duplicates included), in input order. With a uniform mass `m`
@@ -434,11 +435,14 @@ impl<'a, const D: usize> SphContext<'a, D> {
         let (density, lists) = density_and_lists_sweep(&grid, &kernel, chunk)
             .unwrap_or_else(|| density_and_lists(&grid, &kernel));
         let sorted_volumes: Vec<f64> = density.par_iter().map(|n| 1.0 / n).collect();
-        let order = grid.cell_order();
-        let mut slot_of = vec![0u32; positions.len()];
-        for (s, &i) in order.iter().enumerate() {
-            slot_of[i as usize] = s as u32;
-        }
+        // The inverse of the cell order, on every thread (relaxed stores at distinct
+        // indices), then plain integers in place.
+        let slot_of: Vec<AtomicU32> = (0..positions.len()).map(|_| AtomicU32::new(0)).collect();
+        grid.cell_order()
+            .par_iter()
+            .enumerate()
+            .for_each(|(s, &i)| slot_of[i as usize].store(s as u32, Ordering::Relaxed));
+        let slot_of: Vec<u32> = slot_of.into_iter().map(AtomicU32::into_inner).collect();
         let reduced_volumes: Vec<f64> = slot_of
             .par_iter()
             .map(|&s| sorted_volumes[s as usize])
