@@ -230,6 +230,28 @@ fn density_and_lists_sweep<const D: usize>(
     Some((density, lists))
 }
 
+/// Writes the slots of `slots` (of the cell order) within `r2` (squared) of `p` to `near`
+/// from `found` on and returns the new count: every candidate is written and only a hit
+/// advances the count, with no branch per candidate, whose outcome is a coin toss (about one
+/// in six is a neighbour). `near` has room for every candidate; an empty range writes nothing.
+#[inline(always)]
+fn hits<const D: usize>(
+    sorted: &[Point<D>],
+    slots: std::ops::Range<usize>,
+    p: &Point<D>,
+    r2: f64,
+    near: &mut [u32],
+    mut found: usize,
+) -> usize {
+    if slots.start < slots.end {
+        for (t, x) in slots.clone().zip(&sorted[slots]) {
+            near[found] = t as u32;
+            found += (dist2(x, p) <= r2) as usize;
+        }
+    }
+    found
+}
+
 /// The densities and lists of the slots `range` (its start a multiple of [`LIST_BLOCK`]):
 /// first each particle's terms from the neighbours before the range, in slot order; then the
 /// sweep of the range's pairs, where a pair beyond the range counts for its earlier particle
@@ -253,9 +275,7 @@ fn sweep_range<const D: usize>(
     let mut before_starts: Vec<usize> = Vec::with_capacity(len + 1);
     before_starts.push(0);
     let mut before: Vec<u32> = Vec::new();
-    // The candidates of a particle within the support, first written in place for all
-    // candidates (a candidate out of reach is overwritten by the next): no branch per
-    // candidate, whose outcome is a coin toss (about one in six is a neighbour).
+    // The candidates of a particle within the support ([`hits`]).
     let mut near: Vec<u32> = Vec::new();
     let mut over = false;
     let room = |near: &mut Vec<u32>, rows: &[std::ops::Range<usize>]| {
@@ -278,11 +298,7 @@ fn sweep_range<const D: usize>(
                 let mut found = 0;
                 // Rows ascend: the first that starts in the range ends the search.
                 for row in rows.iter().take_while(|row| row.start < s0) {
-                    let end = row.end.min(s0);
-                    for (a, p) in (row.start..end).zip(&sorted[row.start..end]) {
-                        near[found] = a as u32;
-                        found += (dist2(&x, p) <= r2) as usize;
-                    }
+                    found = hits(sorted, row.start..row.end.min(s0), &x, r2, &mut near, found);
                 }
                 let mut sum = 0.0;
                 for &a in &near[..found] {
@@ -312,13 +328,14 @@ fn sweep_range<const D: usize>(
             let p = sorted[a];
             let mut found = 0;
             for row in rows {
-                let first = row.start.max(a + 1);
-                if first < row.end {
-                    for (t, x) in (first..row.end).zip(&sorted[first..row.end]) {
-                        near[found] = t as u32;
-                        found += (dist2(x, &p) <= r2) as usize;
-                    }
-                }
+                found = hits(
+                    sorted,
+                    row.start.max(a + 1)..row.end,
+                    &p,
+                    r2,
+                    &mut near,
+                    found,
+                );
             }
             // Itself: `x − x = 0` exactly for finite coordinates, so `q = 0` as in its query.
             let mut sum = density[a - s0] + kernel.reduced_value(0.0);
