@@ -234,8 +234,11 @@ impl MarroneDetector {
     ) -> bool {
         let (renormalisation, gradient_h) = ctx.renormalisation_and_gradient_h(i);
         // Most particles of a fluid: interior by a floor of λ_i, without the decomposition
-        // (the floor is never above the decomposition's λ_i, so the label is the same).
-        if SymmetricEigen::min_value_floor(&renormalisation) > self.params.lambda_interior {
+        // (the floor is never above the decomposition's λ_i, so the label is the same). The
+        // floor must clear both thresholds: the surface test comes first, and
+        // `lambda_surface > lambda_interior` is accepted.
+        let floor = SymmetricEigen::min_value_floor(&renormalisation);
+        if floor > self.params.lambda_interior && floor > self.params.lambda_surface {
             return false;
         }
         let eigen = SymmetricEigen::new(&renormalisation);
@@ -272,6 +275,30 @@ impl MarroneDetector {
 mod tests {
     use super::*;
     use boundary_core::BoundaryDetector;
+
+    /// With `lambda_surface > lambda_interior` there is no scan: a particle is boundary
+    /// exactly when its λ (the decomposition's, from `lambdas`) is at most
+    /// `lambda_surface`, including those whose λ lies above `lambda_interior` (the floor that
+    /// skips the decomposition must not call them interior). Jittered ball: many particles
+    /// have λ between the two thresholds.
+    #[test]
+    fn with_the_thresholds_crossed_the_surface_test_decides_alone() {
+        let (ball, _) = boundary_scenes::jittered_lattice_ball(3000, 0.15, 7);
+        let r = Radius::new(1.2).unwrap();
+        let d = MarroneDetector::try_new(MarroneParams {
+            lambda_surface: 0.95,
+            lambda_interior: 0.5,
+            ..MarroneParams::default()
+        })
+        .unwrap();
+        let lambdas = d.lambdas(&ball, r).unwrap();
+        let labels = d.detect_3d(&ball, r).unwrap().labels;
+        let between = lambdas.iter().filter(|&&l| l > 0.5 && l <= 0.95).count();
+        assert!(between > 100, "{between} particles between the thresholds");
+        for (i, &l) in lambdas.iter().enumerate() {
+            assert_eq!(labels.is_boundary(i), l <= 0.95, "particle {i}, λ {l}");
+        }
+    }
 
     #[test]
     fn parameters_are_checked_and_reported() {
