@@ -134,7 +134,6 @@ use boundary_sph::frame::{
 use boundary_sph::{
     Kernel, Smoothing, SphContext, SphCriterion, SphMethod, Verdict, SUPPORT_FACTOR,
 };
-use rayon::prelude::*;
 
 /// Default threshold on the asymmetry `a_i` (units of `h`), tuned as the crate documentation
 /// says.
@@ -178,32 +177,80 @@ impl AsymmetryDetector {
         r: Radius,
     ) -> Result<Vec<AsymmetryValue>, CoreError> {
         let ctx = SphContext::new(set, self.smoothing().kernel_at(r))?;
-        Ok((0..set.len())
-            .into_par_iter()
-            .map(|i| sums(&ctx, i).value())
-            .collect())
+        Ok(all_sums(&ctx, set.len(), |s| s.value()))
     }
 }
 
 /// The sums of particle `i` (one pass over its neighbours; the densities `n_j` come from the
 /// context's volumes, `n_j = h^D / V_j`).
 fn sums<const D: usize>(ctx: &SphContext<'_, D>, i: usize) -> AsymmetrySums<D> {
+    let (pair, term) = terms(ctx);
+    finish(ctx, i, ctx.particle_sums(i, start(ctx, i), &pair, &term))
+}
+
+/// `then(sums)` of the first `count` particles of `ctx`, in input order, from one pass over the
+/// pairs ([`SphContext::pair_sums`]): [`sums`], bit for bit.
+fn all_sums<const D: usize, R: Send>(
+    ctx: &SphContext<'_, D>,
+    count: usize,
+    then: impl Fn(AsymmetrySums<D>) -> R + Sync,
+) -> Vec<R> {
+    let (pair, term) = terms(ctx);
+    ctx.pair_sums(
+        count,
+        |i| start(ctx, i),
+        pair,
+        term,
+        |i, &acc| then(finish(ctx, i, acc)),
+    )
+}
+
+/// What one particle's pass accumulates: the kernel-weighted offset `Σ_j (x_j − x_i) W_ij / h`
+/// (units of `h`), the smallest volume seen (its own included) and whether a neighbour has
+/// weight.
+type Running<const D: usize> = (Point<D>, f64, bool);
+
+/// The start of particle `i`'s pass: no offset, its own volume, no neighbour.
+fn start<const D: usize>(ctx: &SphContext<'_, D>, i: usize) -> Running<D> {
+    (Point::<D>::zeros(), ctx.reduced_volumes()[i], false)
+}
+
+/// The pair part `(|x_j − x_i|, q, σ_D f(q))` and the term of one neighbour.
+#[allow(clippy::type_complexity)]
+fn terms<'c, const D: usize>(
+    ctx: &'c SphContext<'_, D>,
+) -> (
+    impl Fn(&Point<D>, f64) -> (f64, f64, f64) + Sync + 'c,
+    impl Fn(&mut Running<D>, &Point<D>, &(f64, f64, f64), f64) + Sync + 'c,
+) {
     let kernel = ctx.kernel();
     let inv_h = 1.0 / kernel.h();
-    let volumes = ctx.reduced_volumes();
-    let mut offset = Point::<D>::zeros();
-    let mut smallest_volume = volumes[i];
-    let mut has_neighbour = false;
-    ctx.for_each_neighbour_volume(i, |volume, xji, d| {
+    let pair = move |_: &Point<D>, d2: f64| {
+        let d = d2.sqrt();
         let q = d * inv_h;
-        offset += xji * (inv_h * kernel.reduced_value(q));
-        smallest_volume = smallest_volume.min(volume);
+        (d, q, kernel.reduced_value(q))
+    };
+    let term = move |(offset, smallest_volume, has_neighbour): &mut Running<D>,
+                     xji: &Point<D>,
+                     &(d, q, w): &(f64, f64, f64),
+                     volume: f64| {
+        *offset += xji * (inv_h * w);
+        *smallest_volume = smallest_volume.min(volume);
         // A particle on the support's sphere has no weight: not a neighbour.
-        has_neighbour |= d > 0.0 && q < SUPPORT_FACTOR;
-    });
+        *has_neighbour |= d > 0.0 && q < SUPPORT_FACTOR;
+    };
+    (pair, term)
+}
+
+/// The sums of particle `i` from its pass.
+fn finish<const D: usize>(
+    ctx: &SphContext<'_, D>,
+    i: usize,
+    (offset, smallest_volume, has_neighbour): Running<D>,
+) -> AsymmetrySums<D> {
     AsymmetrySums {
         offset,
-        density: 1.0 / volumes[i],
+        density: 1.0 / ctx.reduced_volumes()[i],
         reference_density: 1.0 / smallest_volume,
         has_neighbour,
     }
@@ -221,7 +268,18 @@ impl SphCriterion for AsymmetryDetector {
     }
 
     fn classify<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Verdict {
-        let v = sums(ctx, i).value();
+        self.verdict(&sums(ctx, i))
+    }
+
+    fn classify_all<const D: usize>(&self, ctx: &SphContext<'_, D>, count: usize) -> Vec<Verdict> {
+        all_sums(ctx, count, |s| self.verdict(&s))
+    }
+}
+
+impl AsymmetryDetector {
+    /// The verdict from a particle's sums.
+    fn verdict<const D: usize>(&self, sums: &AsymmetrySums<D>) -> Verdict {
+        let v = sums.value();
         let (t, ratio) = (self.params.threshold, self.params.density_ratio);
         Verdict {
             boundary: v.is_boundary(t, ratio),

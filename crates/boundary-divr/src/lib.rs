@@ -126,7 +126,6 @@ use boundary_sph::frame::{
     self, h_over_r_check, kernel_check, spread_within, H_OVER_R_DOC, KERNEL_DOC,
 };
 use boundary_sph::{Kernel, Smoothing, SphContext, SphCriterion, SphMethod, Verdict};
-use rayon::prelude::*;
 use std::fmt;
 
 const METHOD: &str = "divr";
@@ -260,7 +259,21 @@ impl DivrDetector {
     /// `∇·r`, the neighbour count, isolation and the label of particle `i` before the
     /// temporal and layer rules.
     fn evaluate<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Evaluation {
-        let (divergence, neighbours) = ctx.divergence_of_position(i);
+        self.evaluation::<D>(ctx.divergence_of_position(i))
+    }
+
+    /// The evaluation of the first `count` particles of `ctx`, in input order, from one pass
+    /// over the pairs: the same as [`Self::evaluate`] of each.
+    fn evaluate_all<const D: usize>(
+        &self,
+        ctx: &SphContext<'_, D>,
+        count: usize,
+    ) -> Vec<Evaluation> {
+        ctx.divergences_of_position(count, |_, &sums| self.evaluation::<D>(sums))
+    }
+
+    /// The evaluation of a particle from `(∇·r, neighbour count)`.
+    fn evaluation<const D: usize>(&self, (divergence, neighbours): (f64, usize)) -> Evaluation {
         let threshold = self.params.threshold.value(D);
         Evaluation {
             divergence,
@@ -280,15 +293,7 @@ impl DivrDetector {
     ) -> Result<DivrAnalysis, DetectError> {
         DetectError::check_uniform(METHOD, Self::RADII_REFUSAL, set.radii())?;
         let ctx = SphContext::new(set, self.smoothing().kernel_at(r))?;
-        let evaluations: Vec<Evaluation> = (0..set.len())
-            .into_par_iter()
-            .map(|i| {
-                if boundary_core::stop::requested() {
-                    return Evaluation::default();
-                }
-                self.evaluate(&ctx, i)
-            })
-            .collect();
+        let evaluations = self.evaluate_all(&ctx, set.len());
         let mut labels: Vec<bool> = evaluations.iter().map(|e| e.low || e.isolated).collect();
         self.finish(&ctx, &mut labels);
         boundary_core::stop::check()?;
@@ -344,6 +349,16 @@ struct Evaluation {
     margin: f64,
 }
 
+impl Evaluation {
+    /// The verdict before the temporal and layer rules: `∇·r < threshold`, or isolated.
+    fn verdict(&self) -> Verdict {
+        Verdict {
+            boundary: self.low || self.isolated,
+            margin: self.margin,
+        }
+    }
+}
+
 /// The criterion: `∇·r < threshold`, or isolated; then `layers`.
 impl SphCriterion for DivrDetector {
     const METHOD: &'static str = METHOD;
@@ -357,11 +372,11 @@ impl SphCriterion for DivrDetector {
     }
 
     fn classify<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Verdict {
-        let e = self.evaluate(ctx, i);
-        Verdict {
-            boundary: e.low || e.isolated,
-            margin: e.margin,
-        }
+        self.evaluate(ctx, i).verdict()
+    }
+
+    fn classify_all<const D: usize>(&self, ctx: &SphContext<'_, D>, count: usize) -> Vec<Verdict> {
+        ctx.divergences_of_position(count, |_, &sums| self.evaluation::<D>(sums).verdict())
     }
 
     fn finish<const D: usize>(&self, ctx: &SphContext<'_, D>, labels: &mut [bool]) {
@@ -387,7 +402,29 @@ impl SphCriterion for Following<'_> {
     }
 
     fn classify<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Verdict {
-        let e = self.detector.evaluate(ctx, i);
+        self.confirm(ctx, i, &self.detector.evaluate(ctx, i))
+    }
+
+    fn classify_all<const D: usize>(&self, ctx: &SphContext<'_, D>, count: usize) -> Vec<Verdict> {
+        ctx.divergences_of_position(count, |i, &sums| {
+            self.confirm(ctx, i, &self.detector.evaluation::<D>(sums))
+        })
+    }
+
+    fn finish<const D: usize>(&self, ctx: &SphContext<'_, D>, labels: &mut [bool]) {
+        self.detector.finish(ctx, labels);
+    }
+}
+
+impl Following<'_> {
+    /// The verdict of particle `i` from its evaluation `e`: a low `∇·r` confirmed by the
+    /// previous labels of `i` or of a neighbour, or isolated.
+    fn confirm<const D: usize>(
+        &self,
+        ctx: &SphContext<'_, D>,
+        i: usize,
+        e: &Evaluation,
+    ) -> Verdict {
         let confirmed = e.low && {
             let mut seen = self.previous[i];
             ctx.for_each_neighbour(i, |j, _, _| seen |= self.previous[j]);
@@ -397,10 +434,6 @@ impl SphCriterion for Following<'_> {
             boundary: confirmed || e.isolated,
             margin: e.margin,
         }
-    }
-
-    fn finish<const D: usize>(&self, ctx: &SphContext<'_, D>, labels: &mut [bool]) {
-        self.detector.finish(ctx, labels);
     }
 }
 

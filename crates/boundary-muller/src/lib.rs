@@ -110,7 +110,7 @@
 //! }
 //! ```
 
-use boundary_core::{CoreError, ParamSet, Params, ParticleSet, Radius};
+use boundary_core::{CoreError, ParamSet, Params, ParticleSet, Point, Radius};
 use boundary_sph::frame::{
     h_over_r_check, kernel_check, DEFAULT_H_OVER_R as FRAME_H_OVER_R, H_OVER_R_DOC, KERNEL_DOC,
 };
@@ -118,7 +118,6 @@ use boundary_sph::frame::{
 pub use boundary_sph::Kernel;
 
 use boundary_sph::{Smoothing, SphContext, SphCriterion, SphMethod, Verdict};
-use rayon::prelude::*;
 
 /// Default dimensionless threshold on `|∇c|·h` (see the crate documentation for how it was
 /// chosen).
@@ -162,15 +161,7 @@ impl MullerDetector {
         r: Radius,
     ) -> Result<Vec<f64>, CoreError> {
         let ctx = SphContext::new(set, self.smoothing().kernel_at(r))?;
-        Ok((0..set.len())
-            .into_par_iter()
-            .map(|i| {
-                if boundary_core::stop::requested() {
-                    return Default::default();
-                }
-                ctx.local_sums(i).gradient_h.norm()
-            })
-            .collect())
+        Ok(ctx.gradients_h(set.len(), |_, g| g.norm()))
     }
 }
 
@@ -187,7 +178,18 @@ impl SphCriterion for MullerDetector {
     }
 
     fn classify<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Verdict {
-        let margin = ctx.gradient_h(i).norm() - self.params.threshold;
+        self.verdict(&ctx.gradient_h(i))
+    }
+
+    fn classify_all<const D: usize>(&self, ctx: &SphContext<'_, D>, count: usize) -> Vec<Verdict> {
+        ctx.gradients_h(count, |_, g| self.verdict(g))
+    }
+}
+
+impl MullerDetector {
+    /// The verdict from `∇c_i · h`.
+    fn verdict<const D: usize>(&self, gradient_h: &Point<D>) -> Verdict {
+        let margin = gradient_h.norm() - self.params.threshold;
         Verdict {
             boundary: margin > 0.0,
             margin,

@@ -116,7 +116,7 @@
 //! ```
 
 use boundary_core::nalgebra::SMatrix;
-use boundary_core::{CoreError, ParamSet, Params, ParticleSet, Radius};
+use boundary_core::{CoreError, ParamSet, Params, ParticleSet, Point, Radius};
 use boundary_sph::frame::{
     h_over_r_check, kernel_check, DEFAULT_H_OVER_R, H_OVER_R_DOC, KERNEL_DOC,
 };
@@ -206,21 +206,44 @@ fn lambda<const D: usize>(ctx: &SphContext<'_, D>, i: usize) -> f64 {
     SymmetricEigen::new(&ctx.local_sums(i).renormalisation).min_value()
 }
 
-/// `B_i = Σ_j V_j (x_j − x_i) ⊗ ∇W_ij` alone, in units of `h` (the matrix of
-/// [`LocalSums::renormalisation`](boundary_sph::LocalSums), without the Shepard sum and the
-/// gradient the classification does not read).
+/// The lower triangle and the diagonal of `B_i = Σ_j V_j (x_j − x_i) ⊗ ∇W_ij`, in units of
+/// `h` (the entries of [`LocalSums::renormalisation`](boundary_sph::LocalSums) that
+/// [`positive_definite`] reads; the upper triangle is left 0), without the Shepard sum and
+/// the gradient the classification does not read.
 fn renormalisation<const D: usize>(ctx: &SphContext<'_, D>, i: usize) -> SMatrix<f64, D, D> {
+    let (pair, term) = renormalisation_terms(ctx);
+    ctx.particle_sums(i, SMatrix::zeros(), &pair, &term)
+}
+
+/// The pair part `(|x_j − x_i|, σ_D (−f'(q)/q))` and the term `(x w) ⊗ x`, on and below the
+/// diagonal (`x = (x_j − x_i)/h`, `w = V_j/h^D · σ_D (−f'(q)/q)`, for `q > 0` only), of
+/// [`renormalisation`], for [`SphContext::pair_sums`].
+#[allow(clippy::type_complexity)]
+fn renormalisation_terms<'c, const D: usize>(
+    ctx: &'c SphContext<'_, D>,
+) -> (
+    impl Fn(&Point<D>, f64) -> (f64, f64) + Sync + 'c,
+    impl Fn(&mut SMatrix<f64, D, D>, &Point<D>, &(f64, f64), f64) + Sync + 'c,
+) {
     let kernel = ctx.kernel();
     let inv_h = 1.0 / kernel.h();
-    let mut b = SMatrix::<f64, D, D>::zeros();
-    ctx.for_each_neighbour_volume(i, |volume, xji, d| {
-        if d > 0.0 {
-            let x = xji * inv_h;
-            let w = volume * kernel.reduced_gradient_weight(d * inv_h);
-            b += (x * w) * x.transpose();
-        }
-    });
-    b
+    let pair = move |_: &Point<D>, d2: f64| {
+        let d = d2.sqrt();
+        (d, kernel.reduced_gradient_weight(d * inv_h))
+    };
+    let term =
+        move |b: &mut SMatrix<f64, D, D>, xji: &Point<D>, &(d, weight): &(f64, f64), v: f64| {
+            if d > 0.0 {
+                let x = xji * inv_h;
+                let xw = x * (v * weight);
+                for c in 0..D {
+                    for r in c..D {
+                        b[(r, c)] += xw[r] * x[c];
+                    }
+                }
+            }
+        };
+    (pair, term)
 }
 
 /// Whether the symmetric matrix `m` is positive definite, by Cholesky factorisation: every
@@ -265,7 +288,25 @@ impl SphCriterion for RandlesDetector {
     }
 
     fn classify<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Verdict {
-        let shifted = renormalisation(ctx, i) - SMatrix::<f64, D, D>::identity() * self.mu(D);
+        self.verdict(&renormalisation(ctx, i))
+    }
+
+    fn classify_all<const D: usize>(&self, ctx: &SphContext<'_, D>, count: usize) -> Vec<Verdict> {
+        let (pair, term) = renormalisation_terms(ctx);
+        ctx.pair_sums(
+            count,
+            |_| SMatrix::zeros(),
+            pair,
+            term,
+            |_, b| self.verdict(b),
+        )
+    }
+}
+
+impl RandlesDetector {
+    /// The verdict from the renormalisation matrix: `λ_min(B) <= mu`.
+    fn verdict<const D: usize>(&self, b: &SMatrix<f64, D, D>) -> Verdict {
+        let shifted = b - SMatrix::<f64, D, D>::identity() * self.mu(D);
         Verdict::label(!positive_definite(&shifted))
     }
 }
@@ -306,6 +347,11 @@ mod tests {
             let shifted = b - SMatrix::<f64, 3, 3>::identity() * mu;
             let free = !positive_definite(&shifted);
             assert_eq!(free, is_free_surface(lambda, mu), "λ {lambda} μ {mu}");
+            // The classification accumulates the lower triangle only: the upper one is not
+            // read.
+            let lower =
+                SMatrix::<f64, 3, 3>::from_fn(|r, c| if r >= c { shifted[(r, c)] } else { 0.0 });
+            assert_eq!(positive_definite(&lower), !free, "λ {lambda} μ {mu}");
             both[usize::from(free)] += 1;
         }
         assert!(both[0] > 1000 && both[1] > 1000, "{both:?}");

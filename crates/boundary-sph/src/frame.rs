@@ -158,6 +158,22 @@ pub trait SphCriterion: Sync {
     /// every particle of the context, ghosts included, may serve as its neighbour.
     fn classify<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Verdict;
 
+    /// The verdicts of the first `count` particles, in order: the same as
+    /// [`SphCriterion::classify`] of each. Default: `classify` in parallel. A criterion whose
+    /// sums are sums over pairs overrides it with [`SphContext::pair_sums`] (or one of the
+    /// pair passes built on it), which evaluates each pair's kernel once for both particles.
+    fn classify_all<const D: usize>(&self, ctx: &SphContext<'_, D>, count: usize) -> Vec<Verdict> {
+        (0..count)
+            .into_par_iter()
+            .map(|i| {
+                if boundary_core::stop::requested() {
+                    return Verdict::label(false);
+                }
+                self.classify(ctx, i)
+            })
+            .collect()
+    }
+
     /// A pass over the labels of the classified particles once all are known (`labels[i]`
     /// for `i < labels.len()`), for criteria that spread a label to neighbours. Default:
     /// none.
@@ -193,15 +209,7 @@ pub fn classify_first<C: SphCriterion, const D: usize>(
     r: Radius,
 ) -> Result<Detection, CoreError> {
     let ctx = SphContext::new(set, criterion.smoothing().kernel_at(r))?;
-    let verdicts: Vec<Verdict> = (0..count)
-        .into_par_iter()
-        .map(|i| {
-            if boundary_core::stop::requested() {
-                return Verdict::label(false);
-            }
-            criterion.classify(&ctx, i)
-        })
-        .collect();
+    let verdicts = criterion.classify_all(&ctx, count);
     let mut labels: Vec<bool> = verdicts.iter().map(|v| v.boundary).collect();
     criterion.finish(&ctx, &mut labels);
     Ok(Detection {

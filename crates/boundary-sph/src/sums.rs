@@ -136,6 +136,8 @@ pub struct SphContext<'a, const D: usize> {
     slot_of: Vec<u32>,
     /// The neighbour lists, by blocks of [`LIST_BLOCK`] slots.
     lists: Vec<ListBlock>,
+    /// Slots per range of the parallel passes over pairs (a multiple of [`LIST_BLOCK`]).
+    chunk: usize,
 }
 
 /// The reduced number density `Σ_j σ_D f(q_ij)` of every particle in the grid's cell order,
@@ -475,6 +477,7 @@ impl<'a, const D: usize> SphContext<'a, D> {
             sorted_volumes,
             slot_of,
             lists,
+            chunk,
         })
     }
 
@@ -608,34 +611,70 @@ impl<const D: usize> SphContext<'_, D> {
     /// [`LocalSums::gradient_h`] of particle `i` alone (`∇c_i · h`), without the Shepard sum
     /// and the matrix: the same numbers, bit for bit, for a third of the work.
     pub fn gradient_h(&self, i: usize) -> Point<D> {
+        let (pair, term) = self.gradient_terms();
+        self.particle_sums(i, Point::<D>::zeros(), &pair, &term)
+    }
+
+    /// `finish(i, ∇c_i · h)` of the first `count` particles, in input order, each pair's
+    /// kernel evaluated once ([`Self::pair_sums`]): [`Self::gradient_h`], bit for bit.
+    pub fn gradients_h<R: Send>(
+        &self,
+        count: usize,
+        finish: impl Fn(usize, &Point<D>) -> R + Sync,
+    ) -> Vec<R> {
+        let (pair, term) = self.gradient_terms();
+        self.pair_sums(count, |_| Point::<D>::zeros(), pair, term, finish)
+    }
+
+    /// The pair part `(q, σ_D (−f'(q)/q))` and the term `V_j/h^D · w · (x_j − x_i)/h` of the
+    /// gradient (`q > 0` only: a duplicate has no direction).
+    #[allow(clippy::type_complexity)]
+    fn gradient_terms(
+        &self,
+    ) -> (
+        impl Fn(&Point<D>, f64) -> (f64, f64) + Sync + '_,
+        impl Fn(&mut Point<D>, &Point<D>, &(f64, f64), f64) + Sync + '_,
+    ) {
         let kernel = &self.kernel;
         let inv_h = 1.0 / kernel.h();
-        let p = self.positions[i];
-        let mut gradient = Point::<D>::zeros();
-        self.visit(i, |x, v| {
-            let xji = (x - p) * inv_h;
-            let q = xji.norm();
+        let pair = move |d: &Point<D>, _: f64| {
+            let q = (d * inv_h).norm();
+            (q, kernel.reduced_gradient_weight(q))
+        };
+        let term = move |g: &mut Point<D>, d: &Point<D>, &(q, w): &(f64, f64), v: f64| {
             if q > 0.0 {
-                gradient += xji * (v * kernel.reduced_gradient_weight(q));
+                *g += (d * inv_h) * (v * w);
             }
-        });
-        gradient
+        };
+        (pair, term)
     }
 
     /// [`LocalSums::renormalisation`] and [`LocalSums::gradient_h`] of particle `i`, without
     /// the Shepard sum: the same numbers, bit for bit.
     pub fn renormalisation_and_gradient_h(&self, i: usize) -> (SMatrix<f64, D, D>, Point<D>) {
-        let kernel = &self.kernel;
-        let inv_h = 1.0 / kernel.h();
-        let p = self.positions[i];
-        let mut gradient = Point::<D>::zeros();
-        let mut b = SMatrix::<f64, D, D>::zeros();
-        self.visit(i, |x, v| {
-            let xji = (x - p) * inv_h;
-            let q = xji.norm();
+        let (pair, term) = self.renormalisation_terms();
+        let zero = (SMatrix::<f64, D, D>::zeros(), Point::<D>::zeros());
+        self.particle_sums(i, zero, &pair, &term)
+    }
+
+    /// The pair part of [`Self::gradient_terms`] and the term of the matrix and the gradient.
+    #[allow(clippy::type_complexity)]
+    fn renormalisation_terms(
+        &self,
+    ) -> (
+        impl Fn(&Point<D>, f64) -> (f64, f64) + Sync + '_,
+        impl Fn(&mut (SMatrix<f64, D, D>, Point<D>), &Point<D>, &(f64, f64), f64) + Sync + '_,
+    ) {
+        let (pair, _) = self.gradient_terms();
+        let inv_h = 1.0 / self.kernel.h();
+        let term = move |(b, gradient): &mut (SMatrix<f64, D, D>, Point<D>),
+                         d: &Point<D>,
+                         &(q, w): &(f64, f64),
+                         v: f64| {
             if q > 0.0 {
-                let g = xji * (v * kernel.reduced_gradient_weight(q));
-                gradient += g;
+                let xji = d * inv_h;
+                let g = xji * (v * w);
+                *gradient += g;
                 // `b += xji ⊗ g`, entry by entry.
                 for c in 0..D {
                     for r in 0..D {
@@ -643,8 +682,185 @@ impl<const D: usize> SphContext<'_, D> {
                     }
                 }
             }
+        };
+        (pair, term)
+    }
+
+    /// The divergence of position `∇·r_i = Σ_{j≠i} V_j (x_j − x_i)·∇_i W_ij` of particle `i`
+    /// (dimensionless; the trace of [`LocalSums::renormalisation`], about `D` inside a full
+    /// neighbourhood) and the number of other particles within the support (duplicates of
+    /// `x_i` included; they add nothing to the sum). One neighbour pass without the matrix:
+    /// `Σ_j (V_j/h^D) · σ_D (−f'(q)/q) · q²` with `q = |x_j − x_i|/h`.
+    pub fn divergence_of_position(&self, i: usize) -> (f64, usize) {
+        let (pair, term) = self.divergence_terms();
+        self.particle_sums(i, (0.0, 0), &pair, &term)
+    }
+
+    /// `finish(i, &(∇·r_i, neighbour count))` of the first `count` particles, in input order,
+    /// each pair's kernel evaluated once ([`Self::pair_sums`]):
+    /// [`Self::divergence_of_position`], bit for bit.
+    pub fn divergences_of_position<R: Send>(
+        &self,
+        count: usize,
+        finish: impl Fn(usize, &(f64, usize)) -> R + Sync,
+    ) -> Vec<R> {
+        let (pair, term) = self.divergence_terms();
+        self.pair_sums(count, |_| (0.0, 0), pair, term, finish)
+    }
+
+    /// The pair part `(q², σ_D (−f'(q)/q))` and the term of the divergence.
+    #[allow(clippy::type_complexity)]
+    fn divergence_terms(
+        &self,
+    ) -> (
+        impl Fn(&Point<D>, f64) -> (f64, f64) + Sync + '_,
+        impl Fn(&mut (f64, usize), &Point<D>, &(f64, f64), f64) + Sync + '_,
+    ) {
+        let kernel = &self.kernel;
+        let inv_h = 1.0 / kernel.h();
+        let pair = move |d: &Point<D>, _: f64| {
+            let q2 = (d * inv_h).norm_squared();
+            (q2, kernel.reduced_gradient_weight(q2.sqrt()))
+        };
+        let term =
+            |(sum, count): &mut (f64, usize), _: &Point<D>, &(q2, w): &(f64, f64), v: f64| {
+                *sum += v * w * q2;
+                *count += 1;
+            };
+        (pair, term)
+    }
+
+    /// One particle's sums of [`Self::pair_sums`] (starting from `acc`), from its own
+    /// neighbours, in the same order and with the same arithmetic: for a criterion that
+    /// classifies one particle alone with the terms of its pass over every particle.
+    pub fn particle_sums<A, S, P, T>(&self, i: usize, mut acc: A, pair: &P, term: &T) -> A
+    where
+        P: Fn(&Point<D>, f64) -> S,
+        T: Fn(&mut A, &Point<D>, &S, f64),
+    {
+        let p = self.positions[i];
+        self.visit(i, |x, v| {
+            let d = x - p;
+            let s = pair(&d, dist2(x, &p));
+            term(&mut acc, &d, &s, v);
         });
-        (b, gradient)
+        acc
+    }
+
+    /// Sums over the neighbours of every particle, with each pair's shared part computed
+    /// once, and `finish(i, &acc_i)` of the first `count` particles, in input order. For
+    /// particle `i` (ghosts included) the sum starts from `init(i)` and takes
+    /// `term(&mut acc, &(x_j − x_i), &pair(&(x_j − x_i), |x_j − x_i|²), V_j/h^D)` for every
+    /// particle `j != i` within the support, in the order of
+    /// [`Self::for_each_neighbour_volume`] (the vector and the volume are those it reports;
+    /// the squared distance is the square of its distance before the root). `finish` reads
+    /// the sums where they were accumulated (no copy of them in input order).
+    ///
+    /// **Contract:** `pair` must give the same value for `x` and `−x` (depend on `x` through
+    /// its norm, its squared components or the squared distance only): it is computed once,
+    /// from the earlier particle of the pair in the grid's cell order, and serves both. Each
+    /// side's vector is its own subtraction, and `fl(a − b) = −fl(b − a)` exactly, so with
+    /// such a `pair` every particle receives the terms of its own neighbour query, bit for
+    /// bit, in the same order: the results are those of a loop over
+    /// [`Self::for_each_neighbour_volume`], whatever the number of threads.
+    ///
+    /// On a dense grid whose neighbour lists were all kept, the pass sweeps the pairs once,
+    /// in ranges of the cell order swept in parallel: a range first gives each of its
+    /// particles the terms of its neighbours before the range (from its own side), then
+    /// walks each particle's later neighbours, adding the term to both particles of a pair
+    /// within the range and to the earlier one only of a pair that leaves it. Otherwise
+    /// (hashed grid, a block over the list budget) each particle visits its own neighbours.
+    ///
+    /// # Panics
+    /// If `count` exceeds the number of particles.
+    pub fn pair_sums<A, R, S, I, P, T, F>(
+        &self,
+        count: usize,
+        init: I,
+        pair: P,
+        term: T,
+        finish: F,
+    ) -> Vec<R>
+    where
+        A: Send + Sync,
+        R: Send,
+        I: Fn(usize) -> A + Sync,
+        P: Fn(&Point<D>, f64) -> S + Sync,
+        T: Fn(&mut A, &Point<D>, &S, f64) + Sync,
+        F: Fn(usize, &A) -> R + Sync,
+    {
+        let n = self.positions.len();
+        assert!(count <= n, "{count} of {n} particles");
+        let all_kept = self.lists.iter().all(|block| !block.offsets.is_empty());
+        if self.grid.is_hashed() || !all_kept {
+            return (0..count)
+                .into_par_iter()
+                .map(|i| {
+                    let acc = if boundary_core::stop::requested() {
+                        init(i)
+                    } else {
+                        self.particle_sums(i, init(i), &pair, &term)
+                    };
+                    finish(i, &acc)
+                })
+                .collect();
+        }
+        let sorted = self.grid.cell_sorted_positions();
+        let order = self.grid.cell_order();
+        let volumes = &self.sorted_volumes;
+        let firsts: Vec<usize> = (0..n).step_by(self.chunk).collect();
+        let pieces: Vec<Vec<A>> = firsts
+            .into_par_iter()
+            .map(|s0| {
+                let s1 = (s0 + self.chunk).min(n);
+                let mut acc: Vec<A> = (s0..s1).map(|s| init(order[s] as usize)).collect();
+                if boundary_core::stop::requested() {
+                    return acc;
+                }
+                // The lists ascend (the cell order of the neighbour queries): first the
+                // neighbours before the range, ...
+                for a in s0..s1 {
+                    let xa = sorted[a];
+                    for &t in self.slot_list(a).iter().take_while(|&&t| (t as usize) < s0) {
+                        let xt = sorted[t as usize];
+                        let d = xt - xa;
+                        let s = pair(&d, dist2(&xt, &xa));
+                        term(&mut acc[a - s0], &d, &s, volumes[t as usize]);
+                    }
+                }
+                // ... then each pair of the range from its earlier particle, whose earlier
+                // partners have all given their terms by then.
+                for a in s0..s1 {
+                    let (xa, va) = (sorted[a], volumes[a]);
+                    let list = self.slot_list(a);
+                    let later = list.partition_point(|&t| t as usize <= a);
+                    for &t in &list[later..] {
+                        let t = t as usize;
+                        let xt = sorted[t];
+                        let d = xt - xa;
+                        let s = pair(&d, dist2(&xt, &xa));
+                        term(&mut acc[a - s0], &d, &s, volumes[t]);
+                        if t < s1 {
+                            term(&mut acc[t - s0], &(xa - xt), &s, va);
+                        }
+                    }
+                }
+                acc
+            })
+            .collect();
+        self.slot_of[..count]
+            .par_iter()
+            .enumerate()
+            .map(|(i, &s)| finish(i, &pieces[s as usize / self.chunk][s as usize % self.chunk]))
+            .collect()
+    }
+
+    /// The kept neighbour list of slot `s` (every list kept).
+    #[inline]
+    fn slot_list(&self, s: usize) -> &[u32] {
+        let block = &self.lists[s / LIST_BLOCK];
+        let k = s % LIST_BLOCK;
+        &block.slots[block.offsets[k] as usize..block.offsets[k + 1] as usize]
     }
 }
 
@@ -657,27 +873,6 @@ fn dist2<const D: usize>(p: &Point<D>, q: &Point<D>) -> f64 {
         d2 += d * d;
     }
     d2
-}
-
-impl<const D: usize> SphContext<'_, D> {
-    /// The divergence of position `∇·r_i = Σ_{j≠i} V_j (x_j − x_i)·∇_i W_ij` of particle `i`
-    /// (dimensionless; the trace of [`LocalSums::renormalisation`], about `D` inside a full
-    /// neighbourhood) and the number of other particles within the support (duplicates of
-    /// `x_i` included; they add nothing to the sum). One neighbour pass without the matrix:
-    /// `Σ_j (V_j/h^D) · σ_D (−f'(q)/q) · q²` with `q = |x_j − x_i|/h`.
-    pub fn divergence_of_position(&self, i: usize) -> (f64, usize) {
-        let kernel = &self.kernel;
-        let inv_h = 1.0 / kernel.h();
-        let p = self.positions[i];
-        let mut sum = 0.0;
-        let mut neighbours = 0;
-        self.visit(i, |x, v| {
-            let q2 = ((x - p) * inv_h).norm_squared();
-            sum += v * kernel.reduced_gradient_weight(q2.sqrt()) * q2;
-            neighbours += 1;
-        });
-        (sum, neighbours)
-    }
 }
 
 /// Outward unit normals from the colour-field gradient (Müller et al., SCA 2003, Sec. 5):
@@ -800,7 +995,20 @@ mod tests {
         let (volumes, expected) = queried_sums(set, &kernel);
         for (threads, ctx) in contexts(set, kernel) {
             assert_eq!(ctx.reduced_volumes(), &volumes[..], "{threads}");
+            // The pair passes, and the generic one recording what it gives each particle.
+            let n = set.len();
+            let gradients = ctx.gradients_h(n, |_, g| *g);
+            let divergences = ctx.divergences_of_position(n, |_, sums| *sums);
+            let recorded = ctx.pair_sums(
+                set.len(),
+                |_| Vec::new(),
+                |_, d2| d2.sqrt(),
+                |seen: &mut Vec<(f64, Point<D>, f64)>, x, &d, v| seen.push((v, *x, d)),
+                |_, seen| seen.clone(),
+            );
             for (i, e) in expected.iter().enumerate() {
+                assert_eq!(gradients[i], e.1, "particle {i}, {threads}");
+                assert_eq!(divergences[i], (e.4, e.3), "particle {i}, {threads}");
                 let s = ctx.local_sums(i);
                 let got = (
                     s.shepard,
@@ -818,6 +1026,7 @@ mod tests {
                 ctx.for_each_neighbour_volume(i, |v, x, d| via_volume.push((v, x, d)));
                 assert_eq!(via_index, via_volume);
                 assert_eq!(via_index.len(), s.neighbours);
+                assert_eq!(recorded[i], via_volume, "particle {i}, {threads}");
             }
         }
     }
