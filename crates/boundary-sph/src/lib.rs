@@ -17,6 +17,11 @@
 //!   `B_i = Σ_j V_j (x_j − x_i) ⊗ ∇W_ij`. Inside a uniform particle distribution they are
 //!   close to 1, 0 and the identity (tested on lattices); near a free surface the Shepard sum
 //!   drops, the gradient grows and `B_i` loses rank along the normal.
+//! - **Every particle at once** ([`SphContext::pair_sums`]): a sum over the neighbours of
+//!   every particle, each pair's distance and kernel evaluated once for both of its particles,
+//!   with the numbers of each particle's own pass ([`SphContext::particle_sums`]) bit for bit;
+//!   [`SphContext::gradients_h`] and [`SphContext::divergences_of_position`] are built on it.
+//!   A criterion classifies from it by overriding [`SphCriterion::classify_all`].
 //! - **Units of `h`.** Every sum of [`SphContext`] is computed with distances divided by `h`
 //!   and the kernel without its `h^-D` ([`SphKernel::reduced_value`],
 //!   [`SphKernel::reduced_gradient_weight`]), so the dimensionless results (Shepard sum,
