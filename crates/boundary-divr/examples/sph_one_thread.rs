@@ -8,7 +8,9 @@
 //! `N` particles (default 1,000,000), `ROUNDS` alternating rounds (default 3; the best of
 //! each method is reported), `METHODS` a comma-separated subset of
 //! `exact,divr,marrone,muller,asymmetry,randles` (default all; with one method and one round
-//! it is a profiling target for callgrind).
+//! it is a profiling target for callgrind). `BOUNDARY_THREADS=2` runs them on a pool of two
+//! threads instead of one (for a thread scan under `perf stat`, whose task clock shows the
+//! work the threads add).
 
 use boundary_asymmetry::AsymmetryDetector;
 use boundary_core::{BoundaryDetector, ParticleSet, Radius};
@@ -55,10 +57,14 @@ fn main() {
         });
     let (set, _) = jittered_lattice_ball(n, 0.15, 7);
     let r = Radius::new(1.2).expect("positive");
+    let threads: usize = std::env::var("BOUNDARY_THREADS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1);
     let one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
+        .num_threads(threads)
         .build()
-        .expect("a one-thread pool");
+        .expect("a thread pool");
     let mut best = vec![f64::INFINITY; methods.len()];
     let mut counts = vec![0; methods.len()];
     let mut out = std::io::stdout().lock();
@@ -72,7 +78,12 @@ fn main() {
         }
     }
     let exact = methods.iter().position(|m| m == "exact").map(|k| best[k]);
-    writeln!(out, "{} particles, one thread, best of {rounds}", set.len()).expect("stdout");
+    writeln!(
+        out,
+        "{} particles, {threads} thread(s), best of {rounds}",
+        set.len()
+    )
+    .expect("stdout");
     writeln!(
         out,
         "method     time_s  Mparticles/s  speed/exact  boundary"

@@ -82,6 +82,93 @@ fn the_pair_pass_gives_each_particles_own_verdict_bit_for_bit_3d() {
     rows.extend_from_within(1000..1020);
     let set = ParticleSet::from_rows(&rows).unwrap();
     every_method(&set, set.len() - 500, 1.2);
+    // Fewer than half the particles classified: each visits its own neighbours.
+    every_method(&set, set.len() / 3, 1.2);
+}
+
+/// `randles` (the lower triangle of its matrix only) and `asymmetry` against their sums
+/// written out here, per particle, over `for_each_neighbour_volume`, as the criteria were
+/// written before their pass over the pairs: the same labels and margins, bit for bit.
+#[test]
+fn randles_and_asymmetry_match_their_sums_written_out() {
+    use boundary_asymmetry::{AsymmetrySums, DEFAULT_DENSITY_RATIO, DEFAULT_THRESHOLD};
+    use boundary_core::nalgebra::SMatrix;
+    use boundary_core::Point;
+    use boundary_randles::positive_definite;
+    use boundary_sph::SUPPORT_FACTOR;
+
+    let (ball, _) = boundary_scenes::jittered_lattice_ball(20_000, 0.15, 13);
+    let r = Radius::new(1.2).unwrap();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let randles = RandlesDetector::default();
+    let asymmetry = AsymmetryDetector::default();
+    let (ctx_r, ctx_a) = pool.install(|| {
+        (
+            SphContext::new(&ball, randles.smoothing().kernel_at(r)).unwrap(),
+            SphContext::new(&ball, asymmetry.smoothing().kernel_at(r)).unwrap(),
+        )
+    });
+    let n = ball.len();
+    let (got_r, got_a) = pool.install(|| {
+        (
+            randles.classify_all(&ctx_r, n),
+            asymmetry.classify_all(&ctx_a, n),
+        )
+    });
+    let mu = randles.mu(3);
+    let (mut boundary_r, mut boundary_a) = (0, 0);
+    for i in 0..n {
+        let kernel = ctx_r.kernel();
+        let inv_h = 1.0 / kernel.h();
+        let mut b = SMatrix::<f64, 3, 3>::zeros();
+        ctx_r.for_each_neighbour_volume(i, |volume, xji, d| {
+            if d > 0.0 {
+                let x = xji * inv_h;
+                let w = volume * kernel.reduced_gradient_weight(d * inv_h);
+                b += (x * w) * x.transpose();
+            }
+        });
+        let expected = !positive_definite(&(b - SMatrix::<f64, 3, 3>::identity() * mu));
+        assert_eq!(got_r[i].boundary, expected, "randles: particle {i}");
+        boundary_r += usize::from(expected);
+
+        let kernel = ctx_a.kernel();
+        let inv_h = 1.0 / kernel.h();
+        let volumes = ctx_a.reduced_volumes();
+        let mut offset = Point::<3>::zeros();
+        let mut smallest = volumes[i];
+        let mut has_neighbour = false;
+        ctx_a.for_each_neighbour_volume(i, |volume, xji, d| {
+            let q = d * inv_h;
+            offset += xji * (inv_h * kernel.reduced_value(q));
+            smallest = smallest.min(volume);
+            has_neighbour |= d > 0.0 && q < SUPPORT_FACTOR;
+        });
+        let sums = AsymmetrySums {
+            offset,
+            density: 1.0 / volumes[i],
+            reference_density: 1.0 / smallest,
+            has_neighbour,
+        };
+        let (t, ratio) = (DEFAULT_THRESHOLD, DEFAULT_DENSITY_RATIO);
+        let value = sums.value();
+        assert_eq!(
+            got_a[i].boundary,
+            value.is_boundary(t, ratio),
+            "asymmetry: particle {i}"
+        );
+        assert_eq!(
+            got_a[i].margin.to_bits(),
+            value.margin(t, ratio).to_bits(),
+            "asymmetry: particle {i}"
+        );
+        boundary_a += usize::from(got_a[i].boundary);
+    }
+    assert!(boundary_r > 100 && boundary_r < n / 2, "{boundary_r}");
+    assert!(boundary_a > 100 && boundary_a < n / 2, "{boundary_a}");
 }
 
 #[test]

@@ -248,6 +248,7 @@ fn renormalisation_terms<'c, const D: usize>(
 
 /// Whether the symmetric matrix `m` is positive definite, by Cholesky factorisation: every
 /// pivot must be positive (Sylvester's criterion in the form that needs no determinant).
+/// Reads the diagonal and the lower triangle only (the symmetric matrix they define).
 /// `λ_min(B) <= mu` iff `B − mu·I` is not positive definite; the factorisation decides it
 /// without the eigen-decomposition, equal to the eigenvalue test up to the rounding of a few
 /// operations on the entries (a tie within that is decided either way).

@@ -757,11 +757,12 @@ impl<const D: usize> SphContext<'_, D> {
     /// the sums where they were accumulated (no copy of them in input order).
     ///
     /// **Contract:** `pair` must give the same value for `x` and `−x` (depend on `x` through
-    /// its norm, its squared components or the squared distance only): it is computed once,
-    /// from the earlier particle of the pair in the grid's cell order, and serves both. Each
-    /// side's vector is its own subtraction, and `fl(a − b) = −fl(b − a)` exactly, so with
-    /// such a `pair` every particle receives the terms of its own neighbour query, bit for
-    /// bit, in the same order: the results are those of a loop over
+    /// its norm, its squared components or the squared distance only): within a range of the
+    /// pass it is computed once, from the earlier particle of the pair in the grid's cell
+    /// order, and serves both. Each side's vector is its own subtraction, as in its own query,
+    /// and `fl(a − b) = −fl(b − a)` for `a ≠ b`, so the squares are those of the other side:
+    /// with such a `pair` every particle receives the terms of its own neighbour query, bit
+    /// for bit, in the same order; the results are those of a loop over
     /// [`Self::for_each_neighbour_volume`], whatever the number of threads.
     ///
     /// On a dense grid whose neighbour lists were all kept, the pass sweeps the pairs once,
@@ -769,7 +770,10 @@ impl<const D: usize> SphContext<'_, D> {
     /// particles the terms of its neighbours before the range (from its own side), then
     /// walks each particle's later neighbours, adding the term to both particles of a pair
     /// within the range and to the earlier one only of a pair that leaves it. Otherwise
-    /// (hashed grid, a block over the list budget) each particle visits its own neighbours.
+    /// (hashed grid, a block over the list budget), and where fewer than half of the
+    /// particles are asked for (`2 count < n`: a large halo of ghosts, whose pairs among
+    /// themselves the sweep would pay for), each particle asked for visits its own
+    /// neighbours. The stop token is checked once per block of the lists.
     ///
     /// # Panics
     /// If `count` exceeds the number of particles.
@@ -792,7 +796,7 @@ impl<const D: usize> SphContext<'_, D> {
         let n = self.positions.len();
         assert!(count <= n, "{count} of {n} particles");
         let all_kept = self.lists.iter().all(|block| !block.offsets.is_empty());
-        if self.grid.is_hashed() || !all_kept {
+        if self.grid.is_hashed() || !all_kept || 2 * count < n {
             return (0..count)
                 .into_par_iter()
                 .map(|i| {
@@ -814,12 +818,14 @@ impl<const D: usize> SphContext<'_, D> {
             .map(|s0| {
                 let s1 = (s0 + self.chunk).min(n);
                 let mut acc: Vec<A> = (s0..s1).map(|s| init(order[s] as usize)).collect();
-                if boundary_core::stop::requested() {
-                    return acc;
-                }
+                let stopped =
+                    |a: usize| a.is_multiple_of(LIST_BLOCK) && boundary_core::stop::requested();
                 // The lists ascend (the cell order of the neighbour queries): first the
                 // neighbours before the range, ...
                 for a in s0..s1 {
+                    if stopped(a) {
+                        return acc;
+                    }
                     let xa = sorted[a];
                     for &t in self.slot_list(a).iter().take_while(|&&t| (t as usize) < s0) {
                         let xt = sorted[t as usize];
@@ -831,6 +837,9 @@ impl<const D: usize> SphContext<'_, D> {
                 // ... then each pair of the range from its earlier particle, whose earlier
                 // partners have all given their terms by then.
                 for a in s0..s1 {
+                    if stopped(a) {
+                        return acc;
+                    }
                     let (xa, va) = (sorted[a], volumes[a]);
                     let list = self.slot_list(a);
                     let later = list.partition_point(|&t| t as usize <= a);
