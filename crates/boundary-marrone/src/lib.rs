@@ -109,8 +109,7 @@
 
 mod scan;
 
-use boundary_core::nalgebra::SMatrix;
-use boundary_core::{CoreError, ParamSet, Params, ParticleSet, Point, Radius};
+use boundary_core::{CoreError, ParamSet, Params, ParticleSet, Radius};
 use boundary_sph::frame::{
     h_over_r_check, kernel_check, DEFAULT_H_OVER_R as FRAME_H_OVER_R, H_OVER_R_DOC, KERNEL_DOC,
 };
@@ -186,8 +185,7 @@ impl SphCriterion for MarroneDetector {
 
     fn classify<const D: usize>(&self, ctx: &SphContext<'_, D>, i: usize) -> Verdict {
         let theta = self.params.cone_angle.to_radians();
-        let sums = ctx.renormalisation_and_gradient_h(i);
-        Verdict::label(self.is_free_surface(ctx, i, &sums, ctx.kernel().h(), theta))
+        Verdict::label(self.is_free_surface(ctx, i, ctx.kernel().h(), theta))
     }
 }
 
@@ -226,15 +224,15 @@ impl MarroneDetector {
             .collect())
     }
 
-    /// Both steps for particle `i`, whose renormalisation matrix and `∇c·h` are `sums`.
+    /// Both steps for particle `i`.
     fn is_free_surface<const D: usize>(
         &self,
         ctx: &SphContext<'_, D>,
         i: usize,
-        &(renormalisation, gradient_h): &(SMatrix<f64, D, D>, Point<D>),
         h: f64,
         theta: f64,
     ) -> bool {
+        let (renormalisation, gradient_h) = ctx.renormalisation_and_gradient_h(i);
         // Most particles of a fluid: interior by a floor of λ_i, without the decomposition
         // (the floor is never above the decomposition's λ_i, so the label is the same). The
         // floor must clear both thresholds: the surface test comes first, and
